@@ -1,0 +1,435 @@
+// level.json: a glTF plus sun, sky, extra lights, dynamic nodes, object paths
+// and camera paths (docs/level-format.md). Strict: unknown fields and values
+// of the wrong type or range are errors naming the field, since a typo that
+// is silently ignored costs a level designer an overnight bake.
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "scene_finalize.h"
+#include "svit/level.h"
+
+namespace svit {
+namespace {
+
+using Json = nlohmann::json;
+
+// Carries the level path so every error names file and field.
+struct LevelReader {
+  std::string path;
+
+  Status error(const std::string& field, const std::string& problem) const {
+    return Status(StatusCode::kInvalidInput, path + ": " + field + ": " + problem);
+  }
+
+  Status checkKeys(const Json& object, const std::string& field,
+                   const std::set<std::string>& allowed) const {
+    if (!object.is_object()) return error(field.empty() ? "level" : field, "must be a JSON object");
+    for (const auto& item : object.items()) {
+      if (!allowed.count(item.key())) {
+        std::string list;
+        for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        return error(field.empty() ? item.key() : field + "." + item.key(),
+                     "unknown field (expected one of: " + list + ")");
+      }
+    }
+    return Status();
+  }
+
+  Status number(const Json& value, const std::string& field, double& out) const {
+    if (!value.is_number()) return error(field, "must be a number");
+    out = value.get<double>();
+    if (!std::isfinite(out)) return error(field, "is not finite");
+    return Status();
+  }
+
+  Status nonNegative(const Json& value, const std::string& field, float& out) const {
+    double v = 0;
+    if (Status s = number(value, field, v); !s.ok()) return s;
+    if (v < 0) return error(field, std::to_string(v) + " is negative");
+    out = float(v);
+    return Status();
+  }
+
+  Status vector(const Json& value, const std::string& field, size_t n, float* out) const {
+    if (!value.is_array() || value.size() != n) {
+      return error(field, "must be an array of " + std::to_string(n) + " numbers");
+    }
+    for (size_t i = 0; i < n; ++i) {
+      double v = 0;
+      if (Status s = number(value[i], field + "[" + std::to_string(i) + "]", v); !s.ok()) return s;
+      out[i] = float(v);
+    }
+    return Status();
+  }
+
+  Status vec3(const Json& value, const std::string& field, Vec3& out) const {
+    float v[3];
+    if (Status s = vector(value, field, 3, v); !s.ok()) return s;
+    out = {v[0], v[1], v[2]};
+    return Status();
+  }
+
+  Status direction(const Json& value, const std::string& field, Vec3& out) const {
+    if (Status s = vec3(value, field, out); !s.ok()) return s;
+    const double length = std::sqrt(double(out.x) * out.x + double(out.y) * out.y + double(out.z) * out.z);
+    if (!(length > 1e-12)) return error(field, "has zero length");
+    out = {float(out.x / length), float(out.y / length), float(out.z / length)};
+    return Status();
+  }
+
+  // A colour or luminance: one number (grey) or [r, g, b], each >= 0.
+  Status rgb(const Json& value, const std::string& field, Rgb& out) const {
+    if (value.is_number()) {
+      float grey = 0;
+      if (Status s = nonNegative(value, field, grey); !s.ok()) return s;
+      out = {grey, grey, grey};
+      return Status();
+    }
+    float v[3];
+    if (Status s = vector(value, field, 3, v); !s.ok()) return s;
+    for (int i = 0; i < 3; ++i) {
+      if (v[i] < 0) return error(field + "[" + std::to_string(i) + "]", "is negative");
+    }
+    out = {v[0], v[1], v[2]};
+    return Status();
+  }
+
+  Status quat(const Json& value, const std::string& field, Quat& out) const {
+    float v[4];
+    if (Status s = vector(value, field, 4, v); !s.ok()) return s;
+    const double length = std::sqrt(double(v[0]) * v[0] + double(v[1]) * v[1] + double(v[2]) * v[2] + double(v[3]) * v[3]);
+    if (!(length > 1e-6)) return error(field, "quaternion has zero length");
+    out = {float(v[0] / length), float(v[1] / length), float(v[2] / length), float(v[3] / length)};
+    return Status();
+  }
+
+  Status boolean(const Json& value, const std::string& field, bool& out) const {
+    if (!value.is_boolean()) return error(field, "must be true or false");
+    out = value.get<bool>();
+    return Status();
+  }
+
+  Status string(const Json& value, const std::string& field, std::string& out) const {
+    if (!value.is_string()) return error(field, "must be a string");
+    out = value.get<std::string>();
+    return Status();
+  }
+
+  Status nodeByName(const Json& value, const std::string& field, const Scene& scene, int& node) const {
+    std::string name;
+    if (Status s = string(value, field, name); !s.ok()) return s;
+    node = scene.findNode(name);
+    if (node < 0) {
+      return error(field, "no node named '" + name + "' in " +
+                              std::filesystem::path(scene.gltf_path).filename().string());
+    }
+    return Status();
+  }
+
+  Status readSun(const Json& j, Sun& sun) const {
+    if (Status s = checkKeys(j, "sun", {"direction_to_sun", "illuminance_lux", "angular_radius_rad", "color"}); !s.ok()) return s;
+    if (!j.contains("direction_to_sun")) return error("sun.direction_to_sun", "is required");
+    if (!j.contains("illuminance_lux")) return error("sun.illuminance_lux", "is required");
+    if (Status s = direction(j["direction_to_sun"], "sun.direction_to_sun", sun.direction_to_sun); !s.ok()) return s;
+    if (Status s = nonNegative(j["illuminance_lux"], "sun.illuminance_lux", sun.illuminance_lux); !s.ok()) return s;
+    if (j.contains("angular_radius_rad")) {
+      if (Status s = nonNegative(j["angular_radius_rad"], "sun.angular_radius_rad", sun.angular_radius_rad); !s.ok()) return s;
+      if (sun.angular_radius_rad > 0.5f) return error("sun.angular_radius_rad", "must be <= 0.5");
+    }
+    if (j.contains("color")) {
+      if (Status s = rgb(j["color"], "sun.color", sun.color); !s.ok()) return s;
+    }
+    sun.enabled = true;
+    return Status();
+  }
+
+  Status readSky(const Json& j, Sky& sky) const {
+    if (Status s = checkKeys(j, "sky", {"model", "zenith_luminance", "horizon_luminance", "ground_luminance"}); !s.ok()) return s;
+    std::string model;
+    if (!j.contains("model")) return error("sky.model", "is required (\"uniform\" or \"gradient\")");
+    if (Status s = string(j["model"], "sky.model", model); !s.ok()) return s;
+    if (model == "uniform") {
+      sky.model = SkyModel::kUniform;
+      if (j.contains("horizon_luminance") || j.contains("ground_luminance")) {
+        return error("sky", "a uniform sky has only zenith_luminance");
+      }
+    } else if (model == "gradient") {
+      sky.model = SkyModel::kGradient;
+    } else {
+      return error("sky.model", "'" + model + "' is not \"uniform\" or \"gradient\"");
+    }
+    if (!j.contains("zenith_luminance")) return error("sky.zenith_luminance", "is required");
+    if (Status s = rgb(j["zenith_luminance"], "sky.zenith_luminance", sky.zenith_luminance); !s.ok()) return s;
+    sky.horizon_luminance = sky.zenith_luminance;
+    if (j.contains("horizon_luminance")) {
+      if (Status s = rgb(j["horizon_luminance"], "sky.horizon_luminance", sky.horizon_luminance); !s.ok()) return s;
+    }
+    if (j.contains("ground_luminance")) {
+      if (Status s = rgb(j["ground_luminance"], "sky.ground_luminance", sky.ground_luminance); !s.ok()) return s;
+    }
+    return Status();
+  }
+
+  Status readLight(const Json& j, const std::string& field, Light& light) const {
+    if (Status s = checkKeys(j, field, {"name", "type", "position", "direction", "color", "intensity_cd",
+                                        "illuminance_lux", "range_m", "inner_cone_rad",
+                                        "outer_cone_rad", "dynamic"});
+        !s.ok()) {
+      return s;
+    }
+    std::string type;
+    if (!j.contains("type")) return error(field + ".type", "is required");
+    if (Status s = string(j["type"], field + ".type", type); !s.ok()) return s;
+    std::set<std::string> required, forbidden;
+    if (type == "point") {
+      light.type = LightType::kPoint;
+      required = {"position", "intensity_cd"};
+      forbidden = {"direction", "illuminance_lux", "inner_cone_rad", "outer_cone_rad"};
+    } else if (type == "spot") {
+      light.type = LightType::kSpot;
+      required = {"position", "direction", "intensity_cd"};
+      forbidden = {"illuminance_lux"};
+    } else if (type == "directional") {
+      light.type = LightType::kDirectional;
+      required = {"direction", "illuminance_lux"};
+      forbidden = {"position", "intensity_cd", "range_m", "inner_cone_rad", "outer_cone_rad"};
+    } else {
+      return error(field + ".type", "'" + type + "' is not point, spot or directional");
+    }
+    for (const std::string& key : required) {
+      if (!j.contains(key)) return error(field + "." + key, "is required for a " + type + " light");
+    }
+    for (const std::string& key : forbidden) {
+      if (j.contains(key)) return error(field + "." + key, "does not apply to a " + type + " light");
+    }
+    light.name = field;
+    if (j.contains("name")) {
+      if (Status s = string(j["name"], field + ".name", light.name); !s.ok()) return s;
+    }
+    if (j.contains("position")) {
+      if (Status s = vec3(j["position"], field + ".position", light.position); !s.ok()) return s;
+    }
+    if (j.contains("direction")) {
+      if (Status s = direction(j["direction"], field + ".direction", light.direction); !s.ok()) return s;
+    }
+    if (j.contains("color")) {
+      if (Status s = rgb(j["color"], field + ".color", light.color); !s.ok()) return s;
+    }
+    const char* intensity_key = light.type == LightType::kDirectional ? "illuminance_lux" : "intensity_cd";
+    if (Status s = nonNegative(j[intensity_key], field + "." + intensity_key, light.intensity); !s.ok()) return s;
+    if (j.contains("range_m")) {
+      if (Status s = nonNegative(j["range_m"], field + ".range_m", light.range_m); !s.ok()) return s;
+    }
+    if (light.type == LightType::kSpot) {
+      if (j.contains("inner_cone_rad")) {
+        if (Status s = nonNegative(j["inner_cone_rad"], field + ".inner_cone_rad", light.inner_cone_rad); !s.ok()) return s;
+      }
+      if (j.contains("outer_cone_rad")) {
+        if (Status s = nonNegative(j["outer_cone_rad"], field + ".outer_cone_rad", light.outer_cone_rad); !s.ok()) return s;
+      }
+      if (!(light.inner_cone_rad < light.outer_cone_rad && light.outer_cone_rad <= 1.5707964f)) {
+        return error(field, "spot cone angles need 0 <= inner_cone_rad < outer_cone_rad <= pi/2");
+      }
+    }
+    if (j.contains("dynamic")) {
+      if (Status s = boolean(j["dynamic"], field + ".dynamic", light.dynamic); !s.ok()) return s;
+    }
+    return Status();
+  }
+
+  Status readPath(const Json& j, const std::string& field, Scene& scene, ObjectPath& path_out) const {
+    if (Status s = checkKeys(j, field, {"node", "loop", "keys", "animation"}); !s.ok()) return s;
+    if (!j.contains("node")) return error(field + ".node", "is required");
+    if (Status s = nodeByName(j["node"], field + ".node", scene, path_out.node); !s.ok()) return s;
+    if (j.contains("loop")) {
+      if (Status s = boolean(j["loop"], field + ".loop", path_out.loop); !s.ok()) return s;
+    }
+    if (j.contains("keys") == j.contains("animation")) {
+      return error(field, "needs exactly one of 'keys' and 'animation'");
+    }
+    if (j.contains("animation")) {
+      const Json& a = j["animation"];
+      if (a.is_number_integer()) {
+        const long index = a.get<long>();
+        if (index < 0 || size_t(index) >= scene.animations.size()) {
+          return error(field + ".animation", "index " + std::to_string(index) + " does not exist (the glTF has " +
+                                                 std::to_string(scene.animations.size()) + ")");
+        }
+        path_out.animation = int(index);
+      } else {
+        std::string name;
+        if (Status s = string(a, field + ".animation", name); !s.ok()) return s;
+        for (size_t i = 0; i < scene.animations.size(); ++i) {
+          if (scene.animations[i].name == name) path_out.animation = int(i);
+        }
+        if (path_out.animation < 0) return error(field + ".animation", "no animation named '" + name + "'");
+      }
+    } else {
+      const Json& keys = j["keys"];
+      if (!keys.is_array() || keys.empty()) return error(field + ".keys", "must be a non-empty array");
+      const Node& node = scene.nodes[size_t(path_out.node)];
+      for (size_t k = 0; k < keys.size(); ++k) {
+        const std::string key_field = field + ".keys[" + std::to_string(k) + "]";
+        if (Status s = checkKeys(keys[k], key_field, {"t_s", "translation", "rotation", "scale"}); !s.ok()) return s;
+        PathKey key{0, node.translation, node.rotation, node.scale};
+        if (!keys[k].contains("t_s")) return error(key_field + ".t_s", "is required");
+        double t = 0;
+        if (Status s = number(keys[k]["t_s"], key_field + ".t_s", t); !s.ok()) return s;
+        key.t_s = float(t);
+        if (k > 0 && !(key.t_s > path_out.keys.back().t_s)) return error(key_field + ".t_s", "must increase");
+        if (keys[k].contains("translation")) {
+          if (Status s = vec3(keys[k]["translation"], key_field + ".translation", key.translation); !s.ok()) return s;
+        }
+        if (keys[k].contains("rotation")) {
+          if (Status s = quat(keys[k]["rotation"], key_field + ".rotation", key.rotation); !s.ok()) return s;
+        }
+        if (keys[k].contains("scale")) {
+          if (Status s = vec3(keys[k]["scale"], key_field + ".scale", key.scale); !s.ok()) return s;
+        }
+        path_out.keys.push_back(key);
+      }
+    }
+    // A node with a path moves: the path marks it dynamic.
+    scene.nodes[size_t(path_out.node)].dynamic = true;
+    return Status();
+  }
+
+  Status readCameraPath(const Json& j, const std::string& field, CameraPath& camera) const {
+    if (Status s = checkKeys(j, field, {"name", "loop", "keys"}); !s.ok()) return s;
+    camera.name = field;
+    if (j.contains("name")) {
+      if (Status s = string(j["name"], field + ".name", camera.name); !s.ok()) return s;
+    }
+    if (j.contains("loop")) {
+      if (Status s = boolean(j["loop"], field + ".loop", camera.loop); !s.ok()) return s;
+    }
+    if (!j.contains("keys") || !j["keys"].is_array() || j["keys"].empty()) {
+      return error(field + ".keys", "must be a non-empty array");
+    }
+    const Json& keys = j["keys"];
+    for (size_t k = 0; k < keys.size(); ++k) {
+      const std::string key_field = field + ".keys[" + std::to_string(k) + "]";
+      if (Status s = checkKeys(keys[k], key_field, {"t_s", "position", "look_at", "yfov_rad"}); !s.ok()) return s;
+      CameraKey key;
+      for (const char* required : {"t_s", "position", "look_at"}) {
+        if (!keys[k].contains(required)) return error(key_field + "." + required, "is required");
+      }
+      double t = 0;
+      if (Status s = number(keys[k]["t_s"], key_field + ".t_s", t); !s.ok()) return s;
+      key.t_s = float(t);
+      if (k > 0 && !(key.t_s > camera.keys.back().t_s)) return error(key_field + ".t_s", "must increase");
+      if (Status s = vec3(keys[k]["position"], key_field + ".position", key.position); !s.ok()) return s;
+      if (Status s = vec3(keys[k]["look_at"], key_field + ".look_at", key.look_at); !s.ok()) return s;
+      if (key.position.x == key.look_at.x && key.position.y == key.look_at.y && key.position.z == key.look_at.z) {
+        return error(key_field + ".look_at", "equals position: no view direction");
+      }
+      if (keys[k].contains("yfov_rad")) {
+        double fov = 0;
+        if (Status s = number(keys[k]["yfov_rad"], key_field + ".yfov_rad", fov); !s.ok()) return s;
+        if (!(fov > 0 && fov < 3.14159)) return error(key_field + ".yfov_rad", "must be in (0, pi)");
+        key.yfov_rad = float(fov);
+      } else if (k > 0) {
+        key.yfov_rad = camera.keys.back().yfov_rad;
+      }
+      camera.keys.push_back(key);
+    }
+    return Status();
+  }
+};
+
+Expected<Scene> loadLevelJson(const std::string& path, const LoadOptions& options) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return Status(StatusCode::kNotFound, path + ": file not found");
+  std::ifstream file(path, std::ios::binary);
+  if (!file || std::filesystem::is_directory(path, ec)) {
+    return Status(StatusCode::kIoError, path + ": cannot open for reading");
+  }
+  std::stringstream text;
+  text << file.rdbuf();
+  Json root;
+  try {
+    root = Json::parse(text.str());
+  } catch (const Json::exception& e) {
+    return Status(StatusCode::kInvalidInput, path + ": not valid JSON: " + e.what());
+  }
+  const LevelReader reader{path};
+  if (Status s = reader.checkKeys(root, "", {"gltf", "description", "sun", "sky", "lights", "dynamic",
+                                             "paths", "camera_paths"});
+      !s.ok()) {
+    return s;
+  }
+  if (!root.contains("gltf")) return reader.error("gltf", "is required (the glTF file of the level)");
+  std::string gltf;
+  if (Status s = reader.string(root["gltf"], "gltf", gltf); !s.ok()) return s;
+  const std::string gltf_path = (std::filesystem::path(path).parent_path() / gltf).lexically_normal().string();
+
+  std::vector<int> roots;
+  Expected<Scene> imported = importGltfUnfinalized(gltf_path, options, roots);
+  if (!imported.ok()) {
+    return Status(imported.status().code(), path + ": gltf: " + imported.status().message());
+  }
+  Scene scene = std::move(imported).value();
+  scene.source_path = path;
+  scene.gltf_path = gltf_path;
+
+  if (root.contains("sun")) {
+    if (Status s = reader.readSun(root["sun"], scene.sun); !s.ok()) return s;
+  }
+  if (root.contains("sky")) {
+    if (Status s = reader.readSky(root["sky"], scene.sky); !s.ok()) return s;
+  }
+  if (root.contains("lights")) {
+    if (!root["lights"].is_array()) return reader.error("lights", "must be an array");
+    for (size_t i = 0; i < root["lights"].size(); ++i) {
+      Light light;
+      if (Status s = reader.readLight(root["lights"][i], "lights[" + std::to_string(i) + "]", light); !s.ok()) return s;
+      scene.lights.push_back(light);
+    }
+  }
+  if (root.contains("dynamic")) {
+    if (!root["dynamic"].is_array()) return reader.error("dynamic", "must be an array of node names");
+    for (size_t i = 0; i < root["dynamic"].size(); ++i) {
+      int node = -1;
+      if (Status s = reader.nodeByName(root["dynamic"][i], "dynamic[" + std::to_string(i) + "]", scene, node); !s.ok()) return s;
+      scene.nodes[size_t(node)].dynamic = true;
+    }
+  }
+  if (root.contains("paths")) {
+    if (!root["paths"].is_array()) return reader.error("paths", "must be an array");
+    for (size_t i = 0; i < root["paths"].size(); ++i) {
+      ObjectPath object_path;
+      if (Status s = reader.readPath(root["paths"][i], "paths[" + std::to_string(i) + "]", scene, object_path); !s.ok()) return s;
+      scene.object_paths.push_back(std::move(object_path));
+    }
+  }
+  if (root.contains("camera_paths")) {
+    if (!root["camera_paths"].is_array()) return reader.error("camera_paths", "must be an array");
+    for (size_t i = 0; i < root["camera_paths"].size(); ++i) {
+      CameraPath camera;
+      if (Status s = reader.readCameraPath(root["camera_paths"][i], "camera_paths[" + std::to_string(i) + "]", camera); !s.ok()) return s;
+      scene.camera_paths.push_back(std::move(camera));
+    }
+  }
+  if (Status s = finalizeScene(scene, roots); !s.ok()) return s;
+  return scene;
+}
+
+}  // namespace
+
+Expected<Scene> loadLevel(const std::string& path, const LoadOptions& options) {
+  const std::string extension = std::filesystem::path(path).extension().string();
+  if (extension == ".json" || extension == ".JSON") return loadLevelJson(path, options);
+  if (extension == ".gltf" || extension == ".glb" || extension == ".GLTF" || extension == ".GLB") {
+    return loadGltf(path, options);
+  }
+  return Status(StatusCode::kInvalidInput,
+                path + ": unknown level type '" + extension + "' (expected .gltf, .glb or .json)");
+}
+
+}  // namespace svit
