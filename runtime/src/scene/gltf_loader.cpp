@@ -64,6 +64,26 @@ Status checkReadable(const std::string& path) {
   return Status();
 }
 
+// tinygltf reports a cut GLB only as "Invalid glTF binary"; say what is wrong.
+Status checkGlbLength(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  unsigned char header[12] = {};
+  file.read(reinterpret_cast<char*>(header), 12);
+  const std::streamsize got = file.gcount();
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (got < 12 || std::memcmp(header, "glTF", 4) != 0) {
+    return Status(StatusCode::kInvalidInput, path + ": not a GLB file (no 12-byte 'glTF' header)");
+  }
+  const uint32_t declared = uint32_t(header[8]) | uint32_t(header[9]) << 8 | uint32_t(header[10]) << 16 |
+                            uint32_t(header[11]) << 24;
+  if (!ec && declared > size) {
+    return Status(StatusCode::kInvalidInput, path + ": truncated GLB: header length " + std::to_string(declared) +
+                                                 " bytes, file has " + std::to_string(size));
+  }
+  return Status();
+}
+
 }  // namespace
 
 Expected<Scene> importGltfUnfinalized(const std::string& path, const LoadOptions& options,
@@ -80,9 +100,15 @@ Expected<Scene> importGltfUnfinalized(const std::string& path, const LoadOptions
   std::string error, warning;
   const std::string extension = std::filesystem::path(path).extension().string();
   const bool binary = extension == ".glb" || extension == ".GLB";
+  if (binary) {
+    if (Status s = checkGlbLength(path); !s.ok()) return s;
+  }
   const bool loaded = binary ? loader.LoadBinaryFromFile(&model, &error, &warning, path)
                              : loader.LoadASCIIFromFile(&model, &error, &warning, path);
   if (!loaded) {
+    if (error.find("File not found") != std::string::npos) {
+      return Status(StatusCode::kNotFound, path + ": buffer file not found: " + trimmed(error));
+    }
     return Status(StatusCode::kInvalidInput,
                   path + ": not a valid glTF 2.0 file: " +
                       trimmed(error.empty() ? "tinygltf gave no reason" : error));

@@ -4,6 +4,7 @@
 // default intensity when the value is not a number.
 
 #include <cmath>
+#include <limits>
 
 #include <tiny_gltf.h>
 
@@ -79,7 +80,10 @@ Status lightNumber(const tinygltf::Value& object, const char* key, const std::st
   const tinygltf::Value& v = object.Get(key);
   if (!v.IsNumber()) return invalid(what + ": " + key + " is not a number");
   out = v.GetNumberAsDouble();
-  if (!std::isfinite(out)) return invalid(what + ": " + key + " is not finite");
+  // Values beyond float range turn into infinity when stored as float.
+  if (!std::isfinite(out) || std::abs(out) > double(std::numeric_limits<float>::max())) {
+    return invalid(what + ": " + key + " " + std::to_string(out) + " is not finite (as a 32-bit float)");
+  }
   return Status();
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -44,7 +45,9 @@ struct LevelReader {
   Status number(const Json& value, const std::string& field, double& out) const {
     if (!value.is_number()) return error(field, "must be a number");
     out = value.get<double>();
-    if (!std::isfinite(out)) return error(field, "is not finite");
+    if (!std::isfinite(out) || std::abs(out) > double(std::numeric_limits<float>::max())) {
+      return error(field, "is not finite (as a 32-bit float)");
+    }
     return Status();
   }
 
@@ -126,8 +129,8 @@ struct LevelReader {
     if (Status s = string(value, field, name); !s.ok()) return s;
     node = scene.findNode(name);
     if (node < 0) {
-      return error(field, "no node named '" + name + "' in " +
-                              std::filesystem::path(scene.gltf_path).filename().string());
+      return Status(StatusCode::kNotFound, path + ": " + field + ": no node named '" + name + "' in " +
+                                               std::filesystem::path(scene.gltf_path).filename().string());
     }
     return Status();
   }

@@ -1,0 +1,146 @@
+#pragma once
+// Hierarchical Monte Carlo radiosity with clusters and adaptive subdivision
+// (thesis ch. 4, static part): progressive shooting of equal-flux rays,
+// sparse hits propagated up to clusters, dense uneven hits subdividing the
+// receiver, resumable and anytime, bit-identical for a seed whatever the
+// thread count.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "svit/baker/bake_geometry.h"
+#include "svit/baker/ray_caster.h"
+#include "svit/scene.h"
+#include "svit/status.h"
+
+namespace svit::baker {
+
+struct RadiositySettings {
+  uint64_t seed = 1;
+  /// Worker threads for ray generation and casting; 0 = all cores. Results
+  /// do not depend on it.
+  int threads = 0;
+  /// SUBDIV of the thesis criterion (4.3.1):
+  /// dist(centroid, meanHit) * hits * SUBDIV > perimeter && perimeter > MIN_PERIMETER.
+  double subdiv = 1.0;
+  /// MIN_PERIMETER in metres; 0 = 2% of the scene's bounding-box diagonal.
+  double min_perimeter_m = 0.0;
+  /// An element keeps the hits of a batch only when it has at least this
+  /// many; fewer propagate up to its parent (sparse hits spread over clusters).
+  uint32_t min_hits_per_element = 8;
+  /// Rays of the first pass for the emitted flux; each later pass has
+  /// `pass_growth` times more. Small, so a coarse answer exists at once.
+  uint32_t first_pass_rays = 4096;
+  double pass_growth = 2.0;
+  /// Rays per batch at most (stop rules are checked between batches).
+  uint32_t max_batch_rays = 1u << 16;
+  /// A pass ends when the unshot flux is less than this many rays carry;
+  /// the rest is compensated as ambient light (thesis 5.5).
+  double pass_end_rays = 32.0;
+  /// An emitter splits while one half emits more than this many times the other.
+  double emitter_split_ratio = 2.0;
+  /// Vertex radiosity averages only elements whose normals differ by less (rad).
+  double hard_edge_rad = 0.5235987755982988;  // 30 degrees
+};
+
+/// Progress reported between batches.
+struct SolverProgress {
+  double elapsed_s = 0;
+  uint32_t passes_completed = 0;
+  uint64_t rays = 0;
+  double est_rel_error = 1.0;
+  double shot_fraction = 0.0;  ///< of the current pass's energy
+};
+
+/// When improve() stops; the first rule met wins. Checked between batches.
+struct StopRule {
+  double max_seconds = std::numeric_limits<double>::infinity();  ///< this call's wall time
+  double target_est_rel_error = 0.0;  ///< stop once the estimate is at or below (needs 2 passes)
+  double target_shot_fraction = 2.0;  ///< stop once the current pass has shot this share (<= 1)
+  uint32_t max_passes = std::numeric_limits<uint32_t>::max();  ///< stop once this many passes completed
+  uint64_t max_rays = std::numeric_limits<uint64_t>::max();    ///< over the solver's life
+  const std::atomic<bool>* cancel = nullptr;  ///< set from any thread to cancel
+  /// Called between batches; returning false cancels.
+  std::function<bool(const SolverProgress&)> progress;
+};
+
+/// One point of the error-versus-time series (what report.json carries).
+struct ErrorPoint {
+  double t_s = 0;                 ///< solver wall time so far
+  double est_rel_error = 1.0;     ///< estimate: pass variance and ambient share
+  double ref_rel_error = std::numeric_limits<double>::quiet_NaN();  ///< with a reference
+  uint64_t rays = 0;
+};
+
+struct SolverStats {
+  uint64_t rays = 0;
+  uint64_t hits = 0;
+  uint64_t back_absorbed = 0;   ///< hits on the black back of single-sided surfaces
+  uint64_t batches = 0;
+  uint32_t passes_completed = 0;
+  size_t nodes = 0;
+  size_t leaves = 0;
+  size_t elements = 0;          ///< triangle sides
+  uint64_t subdivisions = 0;    ///< leaves split (criterion and conformity)
+  uint64_t hit_elements = 0;    ///< leaves that received hits, summed over batches
+  uint64_t propagation_visits = 0;  ///< nodes touched by upward propagation
+  uint64_t propagation_bound = 0;   ///< sum over hit leaves of (depth + 1)
+  double cast_seconds = 0;      ///< inside the ray caster
+  double seconds = 0;           ///< solver wall time
+  std::string compensation = "ambient";  ///< how unshot energy is estimated (thesis 5.5)
+  double captured_fraction = 1; ///< surface rays that hit the scene (1 = closed)
+};
+
+enum class InterpolationMode {
+  kVertex,         ///< linear between vertex radiosities (area-weighted means)
+  kElementCentre,  ///< per element, fanned around a centre vertex carrying the element's own value
+};
+
+class ElementTree;
+
+class RadiositySolver {
+ public:
+  /// Sets up elements, clusters, emitters and light sources for the static
+  /// `geometry` of `scene`; `caster` must trace that geometry. All three must
+  /// outlive the solver. Errors: bad settings, albedo or emission not finite.
+  static Expected<std::unique_ptr<RadiositySolver>> create(const Scene& scene, const BakeGeometry& geometry,
+                                                           const RayCaster& caster,
+                                                           const RadiositySettings& settings);
+  ~RadiositySolver();
+
+  /// Shoots until `stop` says so. Resumable: a later call continues. Returns
+  /// kCancelled when cancelled (the solution so far stays usable).
+  /// Thread-safe: no; uses `settings.threads` workers inside.
+  Status improve(const StopRule& stop);
+
+  /// Mean irradiance (lux, per channel) over each triangle side, in
+  /// BakeGeometry order; back sides of single-sided triangles are zero.
+  std::vector<Rgb> triangleIrradiance(bool front = true) const;
+  /// Mean radiosity (exitance, lm/m2): emission + albedo * irradiance.
+  std::vector<Rgb> triangleRadiosity(bool front = true) const;
+  /// Irradiance (lux) at barycentric (u, v) of a triangle side, interpolated.
+  Rgb irradianceAt(uint32_t triangle, bool front, double u, double v, InterpolationMode mode) const;
+
+  /// Per-triangle front irradiance of a reference solution; from then on the
+  /// error series also carries the true relative error.
+  void setReference(std::vector<Rgb> front_irradiance);
+  /// Area-weighted RMS relative error of the front irradiance against `reference`.
+  double relativeErrorAgainst(const std::vector<Rgb>& reference) const;
+
+  double estimatedRelativeError() const;
+  const std::vector<ErrorPoint>& errorSeries() const;
+  SolverStats stats() const;
+  const ElementTree& tree() const;
+
+ private:
+  RadiositySolver();
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace svit::baker

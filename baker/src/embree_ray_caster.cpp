@@ -1,0 +1,314 @@
+// The production RayCaster: Embree 3 (third_party_notes/embree.md) over one
+// triangle geometry holding every BakeGeometry triangle, primID = triangle.
+
+#include <embree3/rtcore.h>
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <mutex>
+#include <string>
+#include <type_traits>
+
+#include "svit/baker/ray_caster.h"
+
+namespace svit::baker {
+namespace {
+
+const char* errorName(RTCError code) {
+  switch (code) {
+    case RTC_ERROR_NONE: return "no error";
+    case RTC_ERROR_UNKNOWN: return "unknown error";
+    case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
+    case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
+    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
+    case RTC_ERROR_CANCELLED: return "cancelled";
+  }
+  return "unrecognised error code";
+}
+
+/// The first message Embree's error callback reported. Embree keeps only the
+/// first error code per thread until rtcGetDeviceError reads it; the callback
+/// is where the explanatory text comes from. Thread-safe (Embree may call
+/// the callback from its build threads).
+class ErrorLog {
+ public:
+  static void callback(void* user, RTCError code, const char* message) {
+    auto* log = static_cast<ErrorLog*>(user);
+    const std::lock_guard<std::mutex> lock(log->mutex_);
+    if (log->first_.empty()) log->first_ = std::string(errorName(code)) + ": " + (message ? message : "");
+  }
+  std::string first() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return first_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::string first_;
+};
+
+struct DeviceRelease {
+  void operator()(RTCDevice device) const { rtcReleaseDevice(device); }
+};
+struct SceneRelease {
+  void operator()(RTCScene scene) const { rtcReleaseScene(scene); }
+};
+using DeviceHandle = std::unique_ptr<std::remove_pointer_t<RTCDevice>, DeviceRelease>;
+using SceneHandle = std::unique_ptr<std::remove_pointer_t<RTCScene>, SceneRelease>;
+
+/// Sets MXCSR flush-to-zero and denormals-are-zero on the calling thread for
+/// its lifetime and restores the caller's MXCSR after. Embree's "Performance
+/// Recommendations" (doc/src/api.md, "MXCSR control and status register")
+/// strongly recommend both on every thread that calls rtcIntersect*, since
+/// denormal assists can slow traversal badly. MXCSR is per thread, so doing
+/// it here (not once in main) covers whatever worker calls intersect(), and
+/// every call traces under the same mode whatever the caller set: results do
+/// not depend on which thread ran a batch (STYLE.md section 5).
+class FlushDenormalsScope {
+ public:
+  FlushDenormalsScope() : saved_(_mm_getcsr()) {
+    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+  }
+  ~FlushDenormalsScope() { _mm_setcsr(saved_); }
+  FlushDenormalsScope(const FlushDenormalsScope&) = delete;
+  FlushDenormalsScope& operator=(const FlushDenormalsScope&) = delete;
+
+ private:
+  unsigned int saved_;
+};
+
+bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+/// The ray's [t_near, t_far] as Embree may be given it, or false when the ray
+/// is garbage and must miss without reaching Embree: ray queries check
+/// nothing (man rtcIntersect1) and this build does not filter invalid rays,
+/// so a NaN would be undefined behaviour. Embree also requires
+/// 0 <= tnear <= tfar, so a negative t_near is raised to 0 (both casters
+/// do this; keep them in step with brute_force_ray_caster.cpp).
+bool usableSegment(const Ray& ray, float* t_near, float* t_far) {
+  if (!finite3(ray.origin) || !finite3(ray.direction)) return false;
+  if (ray.direction.x == 0.0f && ray.direction.y == 0.0f && ray.direction.z == 0.0f) return false;
+  if (!std::isfinite(ray.t_near) || std::isnan(ray.t_far)) return false;
+  *t_near = ray.t_near > 0.0f ? ray.t_near : 0.0f;
+  *t_far = ray.t_far;
+  return *t_near <= *t_far;
+}
+
+/// Whether a ray along `direction` arrives on the front of a triangle with
+/// geometric normal `normal`. In double so both casters agree bit for bit.
+bool arrivesOnFront(const Vec3& direction, const Vec3& normal) {
+  return double(direction.x) * normal.x + double(direction.y) * normal.y + double(direction.z) * normal.z < 0.0;
+}
+
+class EmbreeRayCaster final : public RayCaster {
+ public:
+  explicit EmbreeRayCaster(const BakeGeometry& geometry) : geometry_(geometry) {}
+
+  /// Creates the device and scene; a Status naming Embree's error on failure.
+  Status build() {
+    device_.reset(rtcNewDevice(nullptr));
+    if (!device_) {
+      return Status(StatusCode::kInternal, std::string("embree: rtcNewDevice failed: ") +
+                                               errorName(rtcGetDeviceError(nullptr)));
+    }
+    rtcSetDeviceErrorFunction(device_.get(), &ErrorLog::callback, error_log_.get());
+
+    scene_.reset(rtcNewScene(device_.get()));
+    if (scene_) {
+      rtcSetSceneFlags(scene_.get(), RTC_SCENE_FLAG_ROBUST);
+      rtcSetSceneBuildQuality(scene_.get(), RTC_BUILD_QUALITY_HIGH);
+      const size_t triangles = geometry_.triangleCount();
+      if (triangles > 0) {
+        RTCGeometry mesh = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+        if (mesh) {
+          // Copied, not shared: Embree wants every float3 element readable
+          // with a 16-byte load, which would read past the end of
+          // BakeGeometry::positions; rtcSetNewGeometryBuffer over-allocates.
+          auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+              mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), triangles * 3));
+          auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+              mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), triangles));
+          if (vertices && indices) {
+            for (size_t i = 0; i < triangles * 3; ++i) {
+              const Vec3& p = geometry_.positions[i];
+              vertices[i * 3 + 0] = p.x;
+              vertices[i * 3 + 1] = p.y;
+              vertices[i * 3 + 2] = p.z;
+              indices[i] = uint32_t(i);  // 3 unshared corners per triangle
+            }
+            rtcCommitGeometry(mesh);
+            rtcAttachGeometry(scene_.get(), mesh);  // geomID 0, the only one
+          }
+          rtcReleaseGeometry(mesh);  // the scene holds its own reference
+        }
+      }
+      rtcCommitScene(scene_.get());
+    }
+    // Errors are sticky (the first one stays until read), so one check after
+    // the whole sequence catches a failure at any step.
+    const RTCError code = rtcGetDeviceError(device_.get());
+    if (code != RTC_ERROR_NONE || !scene_) {
+      std::string message = error_log_->first();
+      if (message.empty()) message = errorName(code);
+      return Status(StatusCode::kInternal, "embree: building the scene of " +
+                                               std::to_string(geometry_.triangleCount()) +
+                                               " triangles failed: " + message);
+    }
+    return Status::okStatus();
+  }
+
+  void intersect(std::span<const Ray> rays, std::span<RayHit> hits) const override {
+    if (rays.size() != hits.size()) {
+      std::fprintf(stderr, "svit: EmbreeRayCaster::intersect: %zu rays but %zu hits\n", rays.size(), hits.size());
+      std::abort();  // a caller bug, not bad data
+    }
+    const FlushDenormalsScope denormals;
+    if (std::getenv("SVIT_PACKET16")) {
+      intersectPackets<RTCRayHit16, 16>(rays, hits);
+    } else if (std::getenv("SVIT_PACKET8")) {
+      intersectPackets<RTCRayHit8, 8>(rays, hits);
+    } else {
+      intersectSingles(rays, hits);
+    }
+  }
+
+  const char* name() const override { return "embree"; }
+
+ private:
+  void intersectSingles(std::span<const Ray> rays, std::span<RayHit> hits) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const Ray& ray = rays[i];
+      RayHit& out = hits[i];
+      out = RayHit{};
+      float t_near = 0.0f, t_far = 0.0f;
+      if (!usableSegment(ray, &t_near, &t_far)) continue;
+      alignas(16) RTCRayHit query;
+      query.ray.org_x = ray.origin.x;
+      query.ray.org_y = ray.origin.y;
+      query.ray.org_z = ray.origin.z;
+      query.ray.tnear = t_near;
+      query.ray.dir_x = ray.direction.x;
+      query.ray.dir_y = ray.direction.y;
+      query.ray.dir_z = ray.direction.z;
+      query.ray.time = 0.0f;
+      query.ray.tfar = t_far;
+      query.ray.mask = 0xffffffffu;
+      query.ray.id = 0;
+      query.ray.flags = 0;
+      query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      query.hit.primID = RTC_INVALID_GEOMETRY_ID;
+      query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(scene_.get(), &context, &query);
+      if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+      out.triangle = query.hit.primID;
+      out.t = query.ray.tfar;
+      out.u = query.hit.u;
+      out.v = query.hit.v;
+      out.front = arrivesOnFront(ray.direction, geometry_.normals[out.triangle]);
+    }
+  }
+
+  template <typename Packet, size_t kLanes>
+  void intersectPackets(std::span<const Ray> rays, std::span<RayHit> hits) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    alignas(64) Packet packet;
+    alignas(64) int valid[kLanes];
+    for (size_t base = 0; base < rays.size(); base += kLanes) {
+      const size_t count = std::min(kLanes, rays.size() - base);
+      std::memset(&packet, 0, sizeof(packet));
+      for (size_t lane = 0; lane < kLanes; ++lane) {
+        valid[lane] = 0;
+        packet.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+        packet.ray.mask[lane] = 0xffffffffu;
+        if (lane >= count) continue;
+        hits[base + lane] = RayHit{};
+        const Ray& ray = rays[base + lane];
+        float t_near = 0.0f, t_far = 0.0f;
+        if (!usableSegment(ray, &t_near, &t_far)) continue;
+        valid[lane] = -1;
+        packet.ray.org_x[lane] = ray.origin.x;
+        packet.ray.org_y[lane] = ray.origin.y;
+        packet.ray.org_z[lane] = ray.origin.z;
+        packet.ray.tnear[lane] = t_near;
+        packet.ray.dir_x[lane] = ray.direction.x;
+        packet.ray.dir_y[lane] = ray.direction.y;
+        packet.ray.dir_z[lane] = ray.direction.z;
+        packet.ray.tfar[lane] = t_far;
+      }
+      if constexpr (kLanes == 16) {
+        rtcIntersect16(valid, scene_.get(), &context, &packet);
+      } else {
+        rtcIntersect8(valid, scene_.get(), &context, &packet);
+      }
+      for (size_t lane = 0; lane < count; ++lane) {
+        if (!valid[lane] || packet.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) continue;
+        RayHit& out = hits[base + lane];
+        out.triangle = packet.hit.primID[lane];
+        out.t = packet.ray.tfar[lane];
+        out.u = packet.hit.u[lane];
+        out.v = packet.hit.v[lane];
+        out.front = arrivesOnFront(rays[base + lane].direction, geometry_.normals[out.triangle]);
+      }
+    }
+  }
+
+  const BakeGeometry& geometry_;
+  // Declared before the handles so it outlives them: the device may report
+  // errors while the scene is released.
+  std::unique_ptr<ErrorLog> error_log_ = std::make_unique<ErrorLog>();
+  DeviceHandle device_;
+  SceneHandle scene_;  // released before device_ (reverse declaration order)
+};
+
+/// Input Embree would silently drop or misread (man rtcCommitScene: it
+/// ignores primitives with NaN, Inf or coordinates beyond ~1.844e18).
+Status validate(const BakeGeometry& geometry) {
+  const size_t triangles = geometry.triangleCount();
+  if (geometry.positions.size() != triangles * 3 || geometry.normals.size() != triangles) {
+    return Status(StatusCode::kInvalidInput,
+                  "BakeGeometry: " + std::to_string(triangles) + " triangles but " +
+                      std::to_string(geometry.positions.size()) + " positions and " +
+                      std::to_string(geometry.normals.size()) + " normals (want 3 and 1 per triangle)");
+  }
+  // primID is a 32-bit value and RayHit::kNone is reserved; the index buffer
+  // counts corners in 32 bits too.
+  if (triangles * 3 >= size_t(RayHit::kNone)) {
+    return Status(StatusCode::kUnsupported, "BakeGeometry: " + std::to_string(triangles) +
+                                                " triangles exceed Embree's 32-bit index range");
+  }
+  // Embree's limit for a usable coordinate (man rtcCommitScene), metres.
+  constexpr float kEmbreeMaxCoordinate = 1.844e18f;
+  for (size_t t = 0; t < triangles; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& p = geometry.corner(t, k);
+      for (float c : {p.x, p.y, p.z}) {
+        if (!std::isfinite(c) || std::fabs(c) > kEmbreeMaxCoordinate) {
+          return Status(StatusCode::kInvalidInput, "BakeGeometry: triangle " + std::to_string(t) + " corner " +
+                                                       std::to_string(k) + ": coordinate " + std::to_string(c) +
+                                                       " is not a finite value Embree accepts");
+        }
+      }
+    }
+  }
+  return Status::okStatus();
+}
+
+}  // namespace
+
+Expected<std::unique_ptr<RayCaster>> makeEmbreeCaster(const BakeGeometry& geometry) {
+  if (Status status = validate(geometry); !status.ok()) return status;
+  auto caster = std::make_unique<EmbreeRayCaster>(geometry);
+  if (Status status = caster->build(); !status.ok()) return status;
+  return std::unique_ptr<RayCaster>(std::move(caster));
+}
+
+}  // namespace svit::baker

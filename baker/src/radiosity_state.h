@@ -1,0 +1,86 @@
+#pragma once
+// The solver's state, shared by radiosity_solver.cpp (shooting) and
+// radiosity_solution.cpp (reading the solution back); internal.
+
+#include <chrono>
+#include <memory>
+#include <set>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "element_tree.h"
+#include "light_sources.h"
+#include "svit/baker/radiosity.h"
+
+namespace svit::baker {
+
+inline double luminanceOf(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+struct RadiositySolver::State {
+  const Scene* scene = nullptr;
+  const BakeGeometry* geometry = nullptr;
+  const RayCaster* caster = nullptr;
+  RadiositySettings settings;
+  int threads = 1;
+  std::unique_ptr<ElementTree> tree;
+  std::vector<LightSource> lights;
+  std::vector<int> emitting_roots;  ///< object roots with emitted flux
+
+  // Per node, grown with the tree. Irradiance (lux) received at the node's
+  // own level: it applies uniformly to every leaf below (lazy push-down).
+  std::vector<glm::dvec3> e_pass;    ///< this pass
+  std::vector<glm::dvec3> e_unshot;  ///< part of e_pass not reflected onwards yet
+  std::vector<glm::dvec3> e_sum;     ///< sum over completed passes of weight * e_pass
+  std::set<int> pending;             ///< nodes with unshot energy (ordered: deterministic)
+
+  // The current pass.
+  bool started = false;
+  uint32_t pass = 0;
+  uint32_t batch = 0;
+  double pass_rays = 0;  ///< nominal rays of this pass for the emitted flux (its weight)
+  double ray_flux_y = 0;  ///< luminous flux per ray, lm
+  double shot_pass_y = 0;  ///< luminous flux shot so far in this pass
+  std::vector<double> light_unshot;     ///< fraction of each light's flux not yet shot
+  std::vector<double> emission_unshot;  ///< fraction of each emitting root's flux not yet shot
+
+  // Completed passes.
+  double weight_sum = 0;
+  glm::dvec3 ambient_sum{0.0};
+  std::vector<double> element_s1, element_s2;  ///< per element (triangle side): sum w*x, sum w*x^2
+
+  // Scene constants.
+  double emitted_y = 0;        ///< luminous flux of all sources, lm
+  double total_area_m2 = 0;    ///< all element sides
+  glm::dvec3 mean_albedo{0.0}; ///< area-weighted over element sides
+  uint64_t surface_rays = 0;   ///< rays leaving surfaces (for the captured fraction)
+  uint64_t surface_hits = 0;
+
+  SolverStats stats;
+  std::vector<ErrorPoint> series;
+  double last_estimate = 1.0;
+  double last_point_s = -1.0;
+  std::vector<Rgb> reference;
+  uint64_t version = 0;  ///< bumped whenever the solution or tree changes
+
+  // Caches for interpolation, valid for `cache_version`.
+  mutable uint64_t cache_version = ~0ull;
+  mutable std::vector<glm::dvec3> leaf_value;  ///< per node (leaves filled): irradiance incl. ambient
+  mutable std::vector<std::vector<int>> vertex_leaves;
+
+  void growNodeArrays();
+  void startPass();
+  void endPass();
+  /// Runs one batch; false when the pass ended instead.
+  void runBatch();
+  glm::dvec3 currentAmbient() const;
+  /// Irradiance per node at the node's own level for the current answer.
+  const std::vector<glm::dvec3>& currentLevels(std::vector<glm::dvec3>& scratch) const;
+  /// Mean irradiance per element (triangle side) for `levels` + `ambient`.
+  std::vector<glm::dvec3> elementMeans(const std::vector<glm::dvec3>& levels, const glm::dvec3& ambient) const;
+  double estimateError() const;
+  void recordPoint(double t_s);
+  double unshotY() const;
+};
+
+}  // namespace svit::baker

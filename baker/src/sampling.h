@@ -1,0 +1,71 @@
+#pragma once
+// Warps from the unit square to the directions and points the shooter needs.
+// Each maps uniform numbers to the stated density exactly (Shirley & Chiu
+// 1997 concentric disk for the cosine lobe, pbrt-v4 section A.5).
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/glm.hpp>
+
+namespace svit::baker {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// Orthonormal basis (t, b, n) around unit `n` (Duff et al. 2017, branchless).
+inline void basisAround(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
+  const double sign = std::copysign(1.0, n.z);
+  const double a = -1.0 / (sign + n.z);
+  const double c = n.x * n.y * a;
+  t = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * c, -sign * n.x);
+  b = glm::dvec3(c, sign + n.y * n.y * a, -n.y);
+}
+
+/// Uniform point on the unit disk (concentric map).
+inline glm::dvec2 concentricDisk(double u1, double u2) {
+  const double a = 2.0 * u1 - 1.0, b = 2.0 * u2 - 1.0;
+  if (a == 0.0 && b == 0.0) return {0.0, 0.0};
+  double r, phi;
+  if (std::abs(a) > std::abs(b)) {
+    r = a;
+    phi = (kPi / 4.0) * (b / a);
+  } else {
+    r = b;
+    phi = (kPi / 2.0) - (kPi / 4.0) * (a / b);
+  }
+  return {r * std::cos(phi), r * std::sin(phi)};
+}
+
+/// Cosine-weighted direction around unit `n` (pdf cos(theta)/pi).
+inline glm::dvec3 cosineHemisphere(const glm::dvec3& n, double u1, double u2) {
+  const glm::dvec2 d = concentricDisk(u1, u2);
+  const double z = std::sqrt(std::max(0.0, 1.0 - d.x * d.x - d.y * d.y));
+  glm::dvec3 t, b;
+  basisAround(n, t, b);
+  return d.x * t + d.y * b + z * n;
+}
+
+/// Uniform direction on the sphere.
+inline glm::dvec3 uniformSphere(double u1, double u2) {
+  const double z = 1.0 - 2.0 * u1;
+  const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+  const double phi = 2.0 * kPi * u2;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+/// Direction around unit `axis` with cos(angle) = `cos_theta`, azimuth 2*pi*u.
+inline glm::dvec3 directionAt(const glm::dvec3& axis, double cos_theta, double u) {
+  const double sin_theta = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+  const double phi = 2.0 * kPi * u;
+  glm::dvec3 t, b;
+  basisAround(axis, t, b);
+  return sin_theta * std::cos(phi) * t + sin_theta * std::sin(phi) * b + cos_theta * axis;
+}
+
+/// Uniform barycentrics (b1, b2) on a triangle (Osada et al. 2002).
+inline glm::dvec2 uniformTriangle(double u1, double u2) {
+  const double s = std::sqrt(u1);
+  return {s * (1.0 - u2), s * u2};  // weights of corners 1 and 2
+}
+
+}  // namespace svit::baker
