@@ -242,25 +242,16 @@ bool ElementTree::subdivide(int leaf, const std::function<void(int)>& on_split) 
 int ElementTree::locateLeaf(int element, double u, double v) const {
   int n = element;
   while (!nodes_[size_t(n)].isLeaf()) {
-    // Pick the child whose smallest barycentric coordinate of (u, v) is
-    // largest: robust for points on the shared edge or nudged off by rounding.
-    int best = nodes_[size_t(n)].child[0];
-    double best_score = -1e300;
-    for (int c : nodes_[size_t(n)].child) {
-      const TreeNode& child = nodes_[size_t(c)];
-      const double x0 = child.bary[0][0], y0 = child.bary[0][1];
-      const double x1 = child.bary[1][0] - x0, y1 = child.bary[1][1] - y0;
-      const double x2 = child.bary[2][0] - x0, y2 = child.bary[2][1] - y0;
-      const double det = x1 * y2 - x2 * y1;
-      const double px = u - x0, py = v - y0;
-      const double l1 = (px * y2 - x2 * py) / det, l2 = (x1 * py - px * y1) / det;
-      const double score = std::min({1.0 - l1 - l2, l1, l2});
-      if (score > best_score) {
-        best_score = score;
-        best = c;
-      }
-    }
-    n = best;
+    // Child 0 is (a, m, c) and child 1 is (m, b, c): the point belongs to
+    // child 0 when it lies on a's side of the line m-c (one 2-D cross
+    // product per level; points on the line may go either way).
+    const TreeNode& first = nodes_[size_t(nodes_[size_t(n)].child[0])];
+    const double ax = first.bary[0][0], ay = first.bary[0][1];
+    const double mx = first.bary[1][0], my = first.bary[1][1];
+    const double cx = first.bary[2][0] - mx, cy = first.bary[2][1] - my;
+    const double side_a = cx * (ay - my) - cy * (ax - mx);
+    const double side_p = cx * (v - my) - cy * (u - mx);
+    n = (side_p * side_a >= 0.0) ? nodes_[size_t(n)].child[0] : nodes_[size_t(n)].child[1];
   }
   return n;
 }

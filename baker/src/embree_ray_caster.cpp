@@ -1,5 +1,8 @@
 // The production RayCaster: Embree 3 (third_party_notes/embree.md) over one
 // triangle geometry holding every BakeGeometry triangle, primID = triangle.
+// Robust scene flag (no leaks through shared edges), high build quality
+// (the scene is built once and traced for minutes). Checked against the
+// brute-force caster in tests/baker/ray_caster_test.cpp.
 
 #include <embree3/rtcore.h>
 #include <pmmintrin.h>
@@ -8,7 +11,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <mutex>
 #include <string>
 #include <type_traits>
@@ -101,7 +103,8 @@ bool usableSegment(const Ray& ray, float* t_near, float* t_far) {
 }
 
 /// Whether a ray along `direction` arrives on the front of a triangle with
-/// geometric normal `normal`. In double so both casters agree bit for bit.
+/// geometric normal `normal`: from BakeGeometry's normal rather than Embree's
+/// unnormalised Ng, in double, so both casters agree bit for bit.
 bool arrivesOnFront(const Vec3& direction, const Vec3& normal) {
   return double(direction.x) * normal.x + double(direction.y) * normal.y + double(direction.z) * normal.z < 0.0;
 }
@@ -168,21 +171,35 @@ class EmbreeRayCaster final : public RayCaster {
       std::fprintf(stderr, "svit: EmbreeRayCaster::intersect: %zu rays but %zu hits\n", rays.size(), hits.size());
       std::abort();  // a caller bug, not bad data
     }
-    const FlushDenormalsScope denormals;
-    if (std::getenv("SVIT_PACKET16")) {
-      intersectPackets<RTCRayHit16, 16>(rays, hits);
-    } else if (std::getenv("SVIT_PACKET8")) {
-      intersectPackets<RTCRayHit8, 8>(rays, hits);
-    } else {
-      intersectSingles(rays, hits);
+    traceAll(rays, hits);
+    // Outside the flush-to-zero scope, so a denormal direction component
+    // decides front/back exactly as in the brute-force caster.
+    for (size_t i = 0; i < rays.size(); ++i) {
+      if (hits[i].hit()) hits[i].front = arrivesOnFront(rays[i].direction, geometry_.normals[hits[i].triangle]);
     }
   }
 
   const char* name() const override { return "embree"; }
 
  private:
-  void intersectSingles(std::span<const Ray> rays, std::span<RayHit> hits) const {
-    RTCIntersectContext context;
+  /// Closest hits, `front` left unset.
+  void traceAll(std::span<const Ray> rays, std::span<RayHit> hits) const {
+    const FlushDenormalsScope denormals;
+    // One rtcIntersect1 per ray, not rtcIntersect16 packets. Measured on this
+    // 2-core AMD EPYC (AVX2; Embree emulates 16-wide packets here, see
+    // third_party_notes/embree.md), one thread, 100k rays, median of 7:
+    //   Sponza 262k tris, rays from random surface points (cosine):
+    //     rtcIntersect1 0.83-0.88 Mrays/s, rtcIntersect16 0.85-0.86 Mrays/s
+    //   Sponza, 256 rays per origin triangle (a shooting pattern):
+    //     rtcIntersect1 1.48-1.57 Mrays/s, rtcIntersect16 1.52-1.59 Mrays/s
+    //   virtual_city 8.4k tris, shooting pattern:
+    //     rtcIntersect1 2.53-2.55 Mrays/s, rtcIntersect16 2.53-2.55 Mrays/s
+    // (rtcIntersect8, the native width here, was no different either.) A
+    // tie within noise, so single rays win on determinism: a single ray's
+    // BVH traversal order depends on that ray alone, so which of two
+    // exactly equidistant triangles is reported cannot depend on which other
+    // rays share its packet, i.e. on how the caller batched them.
+    RTCIntersectContext context;  // per call: concurrent calls share nothing
     rtcInitIntersectContext(&context);
     for (size_t i = 0; i < rays.size(); ++i) {
       const Ray& ray = rays[i];
@@ -190,7 +207,7 @@ class EmbreeRayCaster final : public RayCaster {
       out = RayHit{};
       float t_near = 0.0f, t_far = 0.0f;
       if (!usableSegment(ray, &t_near, &t_far)) continue;
-      alignas(16) RTCRayHit query;
+      alignas(16) RTCRayHit query;  // Embree requires 16-byte alignment
       query.ray.org_x = ray.origin.x;
       query.ray.org_y = ray.origin.y;
       query.ray.org_z = ray.origin.z;
@@ -200,7 +217,7 @@ class EmbreeRayCaster final : public RayCaster {
       query.ray.dir_z = ray.direction.z;
       query.ray.time = 0.0f;
       query.ray.tfar = t_far;
-      query.ray.mask = 0xffffffffu;
+      query.ray.mask = 0xffffffffu;  // every geometry (masks may be compiled in)
       query.ray.id = 0;
       query.ray.flags = 0;
       query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -208,56 +225,12 @@ class EmbreeRayCaster final : public RayCaster {
       query.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
       rtcIntersect1(scene_.get(), &context, &query);
       if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-      out.triangle = query.hit.primID;
-      out.t = query.ray.tfar;
+      out.triangle = query.hit.primID;  // one geometry, so primID = triangle
+      out.t = query.ray.tfar;           // Embree writes the hit distance here
+      // Embree's (u, v): p = (1-u-v)*p0 + u*p1 + v*p2 (RTC_GEOMETRY_TYPE_TRIANGLE(3)),
+      // the RayHit convention, and corners are in BakeGeometry order.
       out.u = query.hit.u;
       out.v = query.hit.v;
-      out.front = arrivesOnFront(ray.direction, geometry_.normals[out.triangle]);
-    }
-  }
-
-  template <typename Packet, size_t kLanes>
-  void intersectPackets(std::span<const Ray> rays, std::span<RayHit> hits) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    alignas(64) Packet packet;
-    alignas(64) int valid[kLanes];
-    for (size_t base = 0; base < rays.size(); base += kLanes) {
-      const size_t count = std::min(kLanes, rays.size() - base);
-      std::memset(&packet, 0, sizeof(packet));
-      for (size_t lane = 0; lane < kLanes; ++lane) {
-        valid[lane] = 0;
-        packet.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
-        packet.ray.mask[lane] = 0xffffffffu;
-        if (lane >= count) continue;
-        hits[base + lane] = RayHit{};
-        const Ray& ray = rays[base + lane];
-        float t_near = 0.0f, t_far = 0.0f;
-        if (!usableSegment(ray, &t_near, &t_far)) continue;
-        valid[lane] = -1;
-        packet.ray.org_x[lane] = ray.origin.x;
-        packet.ray.org_y[lane] = ray.origin.y;
-        packet.ray.org_z[lane] = ray.origin.z;
-        packet.ray.tnear[lane] = t_near;
-        packet.ray.dir_x[lane] = ray.direction.x;
-        packet.ray.dir_y[lane] = ray.direction.y;
-        packet.ray.dir_z[lane] = ray.direction.z;
-        packet.ray.tfar[lane] = t_far;
-      }
-      if constexpr (kLanes == 16) {
-        rtcIntersect16(valid, scene_.get(), &context, &packet);
-      } else {
-        rtcIntersect8(valid, scene_.get(), &context, &packet);
-      }
-      for (size_t lane = 0; lane < count; ++lane) {
-        if (!valid[lane] || packet.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) continue;
-        RayHit& out = hits[base + lane];
-        out.triangle = packet.hit.primID[lane];
-        out.t = packet.ray.tfar[lane];
-        out.u = packet.hit.u[lane];
-        out.v = packet.hit.v[lane];
-        out.front = arrivesOnFront(rays[base + lane].direction, geometry_.normals[out.triangle]);
-      }
     }
   }
 

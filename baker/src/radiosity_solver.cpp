@@ -265,6 +265,7 @@ void RadiositySolver::State::runBatch() {
   std::vector<Ray> batch_rays(rays);
   std::vector<RayPayload> payload(rays);
   std::vector<RayHit> hits(rays);
+  std::vector<int> hit_leaf(rays);
   const ElementTree& t = *tree;
   const auto generate = [&](size_t begin, size_t end) {
     for (size_t j = begin; j < end; ++j) {
@@ -310,6 +311,12 @@ void RadiositySolver::State::runBatch() {
     }
     caster->intersect(std::span<const Ray>(batch_rays.data() + begin, end - begin),
                       std::span<RayHit>(hits.data() + begin, end - begin));
+    // Point location reads the tree only; the tree changes after the batch.
+    for (size_t j = begin; j < end; ++j) {
+      const RayHit& h = hits[j];
+      const int element = h.hit() ? t.elementRoot(h.triangle, h.front) : -1;
+      hit_leaf[j] = element >= 0 ? t.locateLeaf(element, h.u, h.v) : -1;
+    }
   };
   const auto cast_start = Clock::now();
   parallelFor(rays, 1024, threads, generate);
@@ -340,7 +347,7 @@ void RadiositySolver::State::runBatch() {
     const glm::dvec3 c0 = dvec(geometry->corner(tri, 0));
     bh.position = c0 + double(h.u) * (dvec(geometry->corner(tri, 1)) - c0) + double(h.v) * (dvec(geometry->corner(tri, 2)) - c0);
     bh.flux = payload[j].flux;
-    const int leaf = t.locateLeaf(element, h.u, h.v);
+    const int leaf = hit_leaf[j];
     auto [it, inserted] = per_leaf.try_emplace(leaf);
     if (inserted) worklist.push_back(leaf);
     it->second.push_back(uint32_t(batch_hits.size()));
@@ -375,14 +382,8 @@ void RadiositySolver::State::runBatch() {
     const TreeNode& node = tree->node(leaf);
     const double spread = glm::length(node.centroid - mean) * double(list.size()) * settings.subdiv;
     if (spread > node.perimeter_m && node.perimeter_m > settings.min_perimeter_m) {
-      if (tree->subdivide(leaf, on_split)) {
-        growNodeArrays();
-        for (int c : tree->node(leaf).child) {
-          if (per_leaf.count(c) && std::find(worklist.begin() + long(w) + 1, worklist.end(), c) == worklist.end()) {
-            worklist.push_back(c);
-          }
-        }
-      }
+      // on_split moves the hits and queues the children that got some.
+      if (tree->subdivide(leaf, on_split)) growNodeArrays();
     }
   }
 

@@ -8,6 +8,7 @@
 // of the normal; near zero, where ULPs shrink towards denormals and the
 // surface's own error is no longer relative, it adds a small fixed distance.
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -17,8 +18,7 @@
 namespace svit::baker {
 namespace {
 
-// The paper's constants (section 6.2.2), tuned there on scenes of extent up
-// to ~1e5 units:
+// The paper's constants.
 // ULPs per unit of normal: a coordinate moves by up to 256 ULPs, i.e. at most
 // 256 * 2^-23 ~ 3.1e-5 of its magnitude.
 constexpr float kIntScale = 256.0f;
@@ -32,9 +32,10 @@ constexpr float kOriginThreshold = 1.0f / 32.0f;
 float offsetCoordinate(float p, float n) {
   if (!std::isfinite(p) || !std::isfinite(n)) return p;
   if (std::fabs(p) < kOriginThreshold) return p + kFloatScale * n;
-  // |n| <= 1 for a unit normal, so this fits easily; the cast truncates
-  // towards zero as in the paper (components below 1/256 add no ULPs).
-  const int32_t ulps = int32_t(kIntScale * n);
+  // A unit normal's components lie in [-1, 1]; the clamp keeps a sloppy one
+  // from overflowing the cast. The cast truncates towards zero as in the
+  // paper (components below 1/256 add no ULPs).
+  const int32_t ulps = int32_t(kIntScale * std::clamp(n, -1.0f, 1.0f));
   // Adding to the bit pattern grows the magnitude; for a negative p that
   // moves towards -infinity, so the ULP count flips sign with p.
   const int32_t bits = std::bit_cast<int32_t>(p);

@@ -172,9 +172,8 @@ TEST(RayCaster, EmbreeMatchesBruteForceOnRandomScenes) {
       EXPECT_NEAR(e.v, b.v, 1e-4);
       EXPECT_EQ(e.front, b.front);
     }
-    // Most rays from around the cube cross some of 200 triangles; a scene
-    // that is missed entirely would make the comparison vacuous.
-    std::printf("seed %d: %d hits, %d near ties\n", int(seed), hit_count, near_ties);
+    // About 55% of the rays hit (1090 / 1140 / 1117 of 2000 for seeds
+    // 1 / 2 / 3); a scene missed entirely would make the comparison vacuous.
     EXPECT_GT(hit_count, 500);
     // Seeds 1-3 give no near ties at all today; a handful would still be
     // legitimate, hundreds would mean the tie tolerance hides a bug.
@@ -327,8 +326,7 @@ TEST(RayCaster, SameHitsWhateverTheBatchingAndThreads) {
     ASSERT_TRUE(bitwiseEqual(whole[i], threaded[i])) << "ray " << i;
     hit_count += whole[i].hit() ? 1 : 0;
   }
-  std::printf("det hits %d\n", hit_count);
-  EXPECT_GT(hit_count, 2500);  // not vacuous
+  EXPECT_GT(hit_count, 2500);  // not vacuous: 5650 of 10000 hit
 }
 
 TEST(RayCaster, GarbageRaysMissWithoutCrashing) {
@@ -389,9 +387,11 @@ TEST(RayCaster, EmbreeRejectsGeometryItWouldSilentlyDrop) {
 // would be, so they sit up to ~1 ULP of |p| above or below the plane; rays
 // leave into the front hemisphere (including near-grazing ones).
 //
-// Measured with this seed, 4096 rays per distance: the un-offset origins
-// (t_near = 0) hit their own plane 0 / 0 / 0 / 0 times at 1e-3 / 1 / 1e4 / 1e5 m
-// (see the report in the test output); the offset origins never do.
+// Measured (Embree 3.13.5, AVX2), 4096 rays per distance: the un-offset
+// origins (t_near = 0) hit their own plane 2115 / 2223 / 1543 / 1782 times at
+// 1e-3 / 1 / 1e4 / 1e5 m, i.e. about every ray whose rounded origin fell on
+// or behind the plane, at every scale; the offset origins never do. Only the
+// offset case is asserted: Embree promises nothing for hits at t ~ t_near.
 TEST(RayCaster, OffsetOriginAvoidsSelfIntersection) {
   const double unit_centre[3] = {0.48, 0.6, 0.64};  // |.| = 1 exactly
   // A tilted normal, so no coordinate of the plane is exactly representable.
@@ -466,8 +466,8 @@ TEST(RayCaster, OffsetOriginAvoidsSelfIntersection) {
     for (const RayHit& hit : trace(*embree, raw_rays)) raw_self_hits += hit.hit() ? 1 : 0;
     // Every ray leaves the plane, so any hit is a self-intersection.
     EXPECT_EQ(offset_self_hits, 0);
-    std::printf("distance %g m: self-hits without offset %d / %d, with offset %d / %d\n", distance_m,
-                raw_self_hits, kRays, offset_self_hits, kRays);
+    RecordProperty("self_hits_without_offset_at_" + std::to_string(int64_t(distance_m * 1000.0)) + "_mm",
+                   raw_self_hits);
   }
 }
 
