@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "ray_rules.h"
 #include "svit/baker/ray_caster.h"
 
 namespace svit::baker {
@@ -24,23 +25,8 @@ DVec3 cross(const DVec3& a, const DVec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 
-bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-/// Same rules as embree_ray_caster.cpp (keep them in step): garbage rays
-/// miss; a negative t_near is raised to 0; t_near > t_far misses.
-bool usableSegment(const Ray& ray, float* t_near, float* t_far) {
-  if (!finite3(ray.origin) || !finite3(ray.direction)) return false;
-  if (ray.direction.x == 0.0f && ray.direction.y == 0.0f && ray.direction.z == 0.0f) return false;
-  if (!std::isfinite(ray.t_near) || std::isnan(ray.t_far)) return false;
-  *t_near = ray.t_near > 0.0f ? ray.t_near : 0.0f;
-  *t_far = ray.t_far;
-  return *t_near <= *t_far;
-}
 
-/// Same as embree_ray_caster.cpp: front when the ray runs against the normal.
-bool arrivesOnFront(const Vec3& direction, const Vec3& normal) {
-  return double(direction.x) * normal.x + double(direction.y) * normal.y + double(direction.z) * normal.z < 0.0;
-}
 
 class BruteForceRayCaster final : public RayCaster {
  public:

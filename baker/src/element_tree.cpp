@@ -256,7 +256,24 @@ int ElementTree::locateLeaf(int element, double u, double v) const {
   return n;
 }
 
+void ElementTree::setEmission(int n, const glm::dvec3& luminance) {
+  const glm::dvec3 flux = luminance * (kPi * nodes_[size_t(n)].area_m2);
+  const glm::dvec3 delta = flux - nodes_[size_t(n)].emitted_flux;
+  for (int p = n; p >= 0; p = nodes_[size_t(p)].parent) nodes_[size_t(p)].emitted_flux += delta;
+}
+
 void ElementTree::splitEmitters(int n) {
+  if (!nodes_[size_t(n)].isLeaf()) {
+    // A neighbour's conforming split already split this element: its leaves
+    // get their own mean emission below.
+    const int first = nodes_[size_t(n)].child[0], second = nodes_[size_t(n)].child[1];
+    splitEmitters(first);
+    splitEmitters(second);
+    return;
+  }
+  // Leaves made by conforming splits carry half their parent's mean; every
+  // leaf takes the mean over its own part of the texture.
+  setEmission(n, emission_over_(nodes_[size_t(n)].triangle, nodes_[size_t(n)].bary));
   const TreeNode& e = nodes_[size_t(n)];
   if (e.perimeter_m <= settings_.min_perimeter_m) return;
   // Evaluate both halves of a trial split before committing to it.
@@ -271,15 +288,11 @@ void ElementTree::splitEmitters(int n) {
   const double y0 = luminanceOf(l0), y1 = luminanceOf(l1);
   const double ratio = settings_.emitter_split_ratio;
   if (!(y0 > ratio * y1 || y1 > ratio * y0)) return;
-  const glm::dvec3 before = e.emitted_flux;
   if (!splitLeaf(n, {})) return;
-  // The conforming split may have split neighbours too; they keep their
-  // halves of the parent's mean, which is what they emitted before.
-  const double half_area = 0.5 * nodes_[size_t(n)].area_m2;
-  nodes_[size_t(nodes_[size_t(n)].child[0])].emitted_flux = l0 * (kPi * half_area);
-  nodes_[size_t(nodes_[size_t(n)].child[1])].emitted_flux = l1 * (kPi * half_area);
-  const glm::dvec3 delta = l0 * (kPi * half_area) + l1 * (kPi * half_area) - before;
-  for (int p = n; p >= 0; p = nodes_[size_t(p)].parent) nodes_[size_t(p)].emitted_flux += delta;
+  // The conforming split may have split neighbours too; they keep halves of
+  // their parent's mean until their own turn re-evaluates them.
+  setEmission(nodes_[size_t(n)].child[0], l0);
+  setEmission(nodes_[size_t(n)].child[1], l1);
   splitEmitters(nodes_[size_t(n)].child[0]);
   splitEmitters(nodes_[size_t(n)].child[1]);
 }

@@ -101,6 +101,8 @@ class ElementTree {
   void refineAcross(int f, uint32_t a, uint32_t b, const std::function<void(int)>& on_split);
   int buildCluster(std::vector<int>& elements, uint16_t depth);
   void splitEmitters(int n);
+  /// Sets leaf `n`'s emitted luminance (cd/m2) and updates the sums above it.
+  void setEmission(int n, const glm::dvec3& luminance);
   void setDepths(int n, uint16_t depth);
 
   const BakeGeometry& geometry_;

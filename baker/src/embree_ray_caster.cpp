@@ -15,6 +15,7 @@
 #include <string>
 #include <type_traits>
 
+#include "ray_rules.h"
 #include "svit/baker/ray_caster.h"
 
 namespace svit::baker {
@@ -85,29 +86,8 @@ class FlushDenormalsScope {
   unsigned int saved_;
 };
 
-bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-/// The ray's [t_near, t_far] as Embree may be given it, or false when the ray
-/// is garbage and must miss without reaching Embree: ray queries check
-/// nothing (man rtcIntersect1) and this build does not filter invalid rays,
-/// so a NaN would be undefined behaviour. Embree also requires
-/// 0 <= tnear <= tfar, so a negative t_near is raised to 0 (both casters
-/// do this; keep them in step with brute_force_ray_caster.cpp).
-bool usableSegment(const Ray& ray, float* t_near, float* t_far) {
-  if (!finite3(ray.origin) || !finite3(ray.direction)) return false;
-  if (ray.direction.x == 0.0f && ray.direction.y == 0.0f && ray.direction.z == 0.0f) return false;
-  if (!std::isfinite(ray.t_near) || std::isnan(ray.t_far)) return false;
-  *t_near = ray.t_near > 0.0f ? ray.t_near : 0.0f;
-  *t_far = ray.t_far;
-  return *t_near <= *t_far;
-}
 
-/// Whether a ray along `direction` arrives on the front of a triangle with
-/// geometric normal `normal`: from BakeGeometry's normal rather than Embree's
-/// unnormalised Ng, in double, so both casters agree bit for bit.
-bool arrivesOnFront(const Vec3& direction, const Vec3& normal) {
-  return double(direction.x) * normal.x + double(direction.y) * normal.y + double(direction.z) * normal.z < 0.0;
-}
 
 class EmbreeRayCaster final : public RayCaster {
  public:

@@ -151,11 +151,9 @@ std::vector<Rgb> RadiositySolver::triangleRadiosity(bool front) const {
   return irradiance;
 }
 
-Rgb RadiositySolver::irradianceAt(uint32_t triangle, bool front, double u, double v, InterpolationMode mode) const {
+void RadiositySolver::prepareQueries() const {
   const State& s = *state_;
   const ElementTree& tree = *s.tree;
-  const int root = tree.elementRoot(triangle, front);
-  if (root < 0) return {0, 0, 0};
   if (s.cache_version != s.version) {
     // Leaf values and vertex -> leaves incidence, rebuilt when the solution changed.
     std::vector<glm::dvec3> scratch;
@@ -181,6 +179,14 @@ Rgb RadiositySolver::irradianceAt(uint32_t triangle, bool front, double u, doubl
     for (auto& list : s.vertex_leaves) std::sort(list.begin(), list.end());
     s.cache_version = s.version;
   }
+}
+
+Rgb RadiositySolver::irradianceAt(uint32_t triangle, bool front, double u, double v, InterpolationMode mode) const {
+  const State& s = *state_;
+  const ElementTree& tree = *s.tree;
+  const int root = tree.elementRoot(triangle, front);
+  if (root < 0) return {0, 0, 0};
+  prepareQueries();
   const int leaf = tree.locateLeaf(root, u, v);
   const TreeNode& node = tree.node(leaf);
   const double cos_hard = std::cos(s.settings.hard_edge_rad);

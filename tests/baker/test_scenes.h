@@ -80,7 +80,9 @@ class SceneBuilder {
     std::vector<Vec3> corners;
     for (int i = 0; i < segments; ++i) {
       const double a0 = 2.0 * 3.14159265358979323846 * i / segments;
-      const double a1 = 2.0 * 3.14159265358979323846 * (i + 1) / segments;
+      // The last segment closes on angle 0 exactly (sin(2 pi) is not 0 in
+      // floating point, which would leave a seam of unwelded vertices).
+      const double a1 = 2.0 * 3.14159265358979323846 * ((i + 1) % segments) / segments;
       const Vec3 p0{centre.x + radius * float(std::cos(a0)), centre.y, centre.z + radius * float(std::sin(a0))};
       const Vec3 p1{centre.x + radius * float(std::cos(a1)), centre.y, centre.z + radius * float(std::sin(a1))};
       // Counter-clockwise seen from +y is (centre, p1, p0) for increasing angle in x-z.

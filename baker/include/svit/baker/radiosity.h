@@ -124,7 +124,11 @@ class RadiositySolver {
   /// Mean radiosity (exitance, lm/m2): emission + albedo * irradiance.
   std::vector<Rgb> triangleRadiosity(bool front = true) const;
   /// Irradiance (lux) at barycentric (u, v) of a triangle side, interpolated.
+  /// Thread-safe after prepareQueries() until the next improve().
   Rgb irradianceAt(uint32_t triangle, bool front, double u, double v, InterpolationMode mode) const;
+  /// Builds the interpolation caches (leaf values, vertex incidence) so that
+  /// irradianceAt may be called from many threads. Not thread-safe itself.
+  void prepareQueries() const;
 
   /// Per-triangle front irradiance of a reference solution; from then on the
   /// error series also carries the true relative error.

@@ -1,0 +1,60 @@
+#pragma once
+// The whole bake, as svit-bake runs it: load, radiosity, atlas, texels,
+// lighting passes, pages, bake file, report. Writes into a temporary
+// directory beside the output and swaps it in only on success, so a failed
+// or cancelled bake leaves the previous output intact.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "svit/baker/radiosity.h"
+#include "svit/status.h"
+
+namespace svit::baker {
+
+struct BakeOptions {
+  std::string level_path;
+  std::string out_dir;
+  uint64_t seed = 1;
+  /// Wall-time budget for the whole bake in seconds; infinity = none (quality decides).
+  double time_budget_s = std::numeric_limits<double>::infinity();
+  /// Quality in (0, 1]: sets the radiosity error target and lighting passes.
+  double quality = 0.5;
+  double texels_per_m = 0;  ///< 0: chosen from the level's size (about 256k texels)
+  int threads = 0;          ///< 0: all cores
+  std::string reference_dir;  ///< a previous bake of the same level and settings, for the true error
+  int max_page_size = 2048;
+};
+
+/// Checks option ranges (what the tool reports as bad usage, exit 2).
+Status validateBakeOptions(const BakeOptions& options);
+
+/// What the progress callback sees.
+struct BakeProgress {
+  std::string stage;       ///< "load", "radiosity", "atlas", "texels", "lighting", "pages", "runtime", "write"
+  double stage_fraction = 0;  ///< 0..1 within the stage
+  double elapsed_s = 0;
+  double eta_s = -1;       ///< estimated seconds left for the whole bake, < 0 when unknown
+};
+
+struct BakeResult {
+  std::string report_json;  ///< also written to OUT/report.json
+  double seconds = 0;
+  size_t pages = 0;
+  size_t covered_texels = 0;
+  double est_rel_error = 1;
+  double ref_rel_error = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// Runs the bake. `progress` is called from the calling thread (returning
+/// false cancels); `cancel` may be set from any thread or a signal handler.
+/// Returns kCancelled when cancelled, kInvalidInput for bad levels or
+/// references, kIoError for output problems; OUT is untouched unless Ok.
+Expected<BakeResult> bakeLevel(const BakeOptions& options, const std::function<bool(const BakeProgress&)>& progress,
+                               const std::atomic<bool>* cancel);
+
+}  // namespace svit::baker

@@ -1,0 +1,86 @@
+#pragma once
+// Lightmap UVs and the texels they cover: authored TEXCOORD_1 when every
+// static mesh has it, otherwise an xatlas atlas at a texel density; then
+// exact texel rasterization (coverage, position, normal, validity) with
+// sample points pulled out of walls so no light leaks.
+
+#include <cstdint>
+#include <vector>
+
+#include "svit/baker/bake_geometry.h"
+#include "svit/baker/ray_caster.h"
+#include "svit/scene.h"
+#include "svit/status.h"
+
+namespace svit::baker {
+
+struct AtlasSettings {
+  double texels_per_m = 32.0;  ///< xatlas texel density; also used to size authored-UV pages
+  int max_page_size = 2048;    ///< texels per side of an atlas page, power of two not required
+  int padding_texels = 2;      ///< gap between charts (xatlas), and dilation reach
+  int threads = 0;             ///< 0 = all cores
+};
+
+/// Where every static triangle (BakeGeometry order) lies in the lightmap.
+struct LightmapAtlas {
+  int page_width = 0;
+  int page_height = 0;
+  int page_count = 0;
+  bool authored = false;               ///< true: from TEXCOORD_1, false: xatlas
+  std::vector<uint32_t> triangle_page;  ///< per triangle
+  std::vector<Vec2> triangle_uv;       ///< 3 per triangle, page coordinates in [0, 1] (u right, v down the rows)
+  std::vector<uint32_t> triangle_chart; ///< per triangle: chart id (unique across pages); seams are chart borders
+};
+
+/// Builds the atlas. Instances of one mesh get their own texels.
+/// - Authored: used when every static instance's mesh has TEXCOORD_1 inside
+///   [0, 1]. Authored UVs of different meshes share one layout (a level
+///   unwrapped together), so instance i goes to the first page that does not
+///   hold another instance of its mesh; the page is square, sized from
+///   texels_per_m and the area the page holds, at most max_page_size.
+/// - Otherwise xatlas charts every static instance's world-space triangles
+///   separately (so instances never share texels) at texels_per_m with
+///   `padding_texels`, into as many pages of at most max_page_size as needed.
+/// Errors: xatlas failure, max_page_size < 16, texels_per_m not > 0.
+Expected<LightmapAtlas> buildLightmapAtlas(const Scene& scene, const BakeGeometry& geometry,
+                                           const AtlasSettings& settings);
+
+/// One texel that some triangle covers.
+struct TexelSample {
+  uint32_t page = 0;
+  uint32_t x = 0, y = 0;     ///< texel column and row
+  uint32_t triangle = 0;     ///< the covering triangle with most area in the texel
+  float u = 0, v = 0;        ///< barycentrics of the sample point in that triangle
+  Vec3 position;             ///< world sample point (moved off walls when needed), metres
+  Vec3 normal;               ///< world unit geometric normal of `triangle`
+  float coverage = 0;        ///< fraction of the texel's area covered by triangles, (0, 1]
+};
+
+/// All covered texels of all pages, and a per-texel index for lookups.
+struct TexelSet {
+  int page_width = 0, page_height = 0, page_count = 0;
+  std::vector<TexelSample> samples;       ///< in (page, y, x) order
+  std::vector<int32_t> texel_to_sample;   ///< page_count * width * height, -1 where nothing covers
+
+  int32_t sampleAt(uint32_t page, uint32_t x, uint32_t y) const {
+    return texel_to_sample[(size_t(page) * size_t(page_height) + y) * size_t(page_width) + x];
+  }
+};
+
+struct RasterSettings {
+  /// Sample points whose short probe rays find a back face within this many
+  /// texel sizes are inside or behind geometry and move out (or are dropped).
+  double leak_probe_texels = 1.0;
+  int threads = 0;
+};
+
+/// Rasterizes every triangle into its page with exact (polygon clipping)
+/// coverage; texels touched by several triangles take the one covering most,
+/// with the sample point at the centroid of the covered part clamped into
+/// it. Sample points that lie inside or behind geometry (a probe ray from
+/// them hits a back face first) are moved towards the covered part's visible
+/// side, or dropped when no point of the texel is outside. Deterministic.
+Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapAtlas& atlas, const RayCaster& caster,
+                                   const RasterSettings& settings);
+
+}  // namespace svit::baker

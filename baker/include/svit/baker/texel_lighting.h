@@ -1,0 +1,45 @@
+#pragma once
+// Irradiance per lightmap texel: direct light by shadow rays to light
+// samples, and indirect light (and the sky) by a final gather against the
+// interpolated radiosity solution, so the lightmap keeps texel detail while
+// the solver stays coarse (DESIGN.md "Lightmaps").
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "svit/baker/bake_geometry.h"
+#include "svit/baker/lightmap_atlas.h"
+#include "svit/baker/radiosity.h"
+#include "svit/baker/ray_caster.h"
+#include "svit/scene.h"
+#include "svit/status.h"
+
+namespace svit::baker {
+
+struct TexelLightingSettings {
+  uint64_t seed = 1;
+  int threads = 0;                 ///< 0 = all cores; results do not depend on it
+  uint32_t area_light_samples = 16;  ///< shadow rays per texel to emissive surfaces
+  uint32_t sun_samples = 8;        ///< shadow rays per texel across the sun's disk
+  uint32_t max_point_lights = 16;  ///< point/spot lights evaluated per texel; more are sampled by importance
+  uint32_t gather_rays = 64;       ///< final-gather rays per texel (indirect light and sky)
+};
+
+/// Direct and indirect irradiance of one texel, lux per channel.
+struct TexelIrradiance {
+  Rgb direct;
+  Rgb indirect;  ///< includes the sky
+};
+
+/// Lights every texel of `texels`. `solver` must hold a solution for the same
+/// geometry. `progress(done, total)` is called from the calling thread
+/// between chunks; returning false (or `cancel`) stops with kCancelled.
+Expected<std::vector<TexelIrradiance>> lightTexels(const Scene& scene, const BakeGeometry& geometry,
+                                                   const RayCaster& caster, const RadiositySolver& solver,
+                                                   const TexelSet& texels, const TexelLightingSettings& settings,
+                                                   const std::atomic<bool>* cancel = nullptr,
+                                                   const std::function<bool(size_t, size_t)>& progress = {});
+
+}  // namespace svit::baker

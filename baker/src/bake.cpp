@@ -1,0 +1,397 @@
+// The bake pipeline behind svit-bake (DESIGN.md "Command-line contracts").
+
+#include "svit/baker/bake.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "svit/bake_file.h"
+#include "svit/baker/bake_geometry.h"
+#include "svit/baker/lightmap_atlas.h"
+#include "svit/baker/lightmap_pages.h"
+#include "svit/baker/ray_caster.h"
+#include "svit/baker/runtime_sections.h"
+#include "svit/baker/texel_lighting.h"
+#include "svit/level.h"
+#include "svit/lightmap_image.h"
+#include "random.h"
+
+namespace svit::baker {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+namespace fs = std::filesystem;
+
+double luminanceOf(const Rgb& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+
+// Running per-texel mean and spread of the lighting passes.
+struct TexelAccumulator {
+  std::vector<TexelIrradiance> sum;
+  std::vector<double> sum_y, sum_y2;
+  uint32_t passes = 0;
+
+  void add(const std::vector<TexelIrradiance>& pass) {
+    if (sum.empty()) {
+      sum.assign(pass.size(), TexelIrradiance{});
+      sum_y.assign(pass.size(), 0.0);
+      sum_y2.assign(pass.size(), 0.0);
+    }
+    for (size_t i = 0; i < pass.size(); ++i) {
+      sum[i].direct = {sum[i].direct.r + pass[i].direct.r, sum[i].direct.g + pass[i].direct.g, sum[i].direct.b + pass[i].direct.b};
+      sum[i].indirect = {sum[i].indirect.r + pass[i].indirect.r, sum[i].indirect.g + pass[i].indirect.g,
+                         sum[i].indirect.b + pass[i].indirect.b};
+      const double y = luminanceOf(pass[i].direct) + luminanceOf(pass[i].indirect);
+      sum_y[i] += y;
+      sum_y2[i] += y * y;
+    }
+    ++passes;
+  }
+  std::vector<TexelIrradiance> mean() const {
+    std::vector<TexelIrradiance> out(sum.size());
+    const float k = passes > 0 ? 1.0f / float(passes) : 0.0f;
+    for (size_t i = 0; i < sum.size(); ++i) {
+      out[i].direct = {sum[i].direct.r * k, sum[i].direct.g * k, sum[i].direct.b * k};
+      out[i].indirect = {sum[i].indirect.r * k, sum[i].indirect.g * k, sum[i].indirect.b * k};
+    }
+    return out;
+  }
+  // RMS standard error of the texel means over the mean texel value; 1 with
+  // fewer than two passes (no spread to measure yet).
+  double relativeError() const {
+    if (passes < 2 || sum.empty()) return 1.0;
+    double variance = 0, mean = 0;
+    for (size_t i = 0; i < sum.size(); ++i) {
+      const double m = sum_y[i] / passes;
+      variance += std::max(0.0, (sum_y2[i] / passes - m * m) * passes / (passes - 1)) / passes;
+      mean += m;
+    }
+    mean /= double(sum.size());
+    return mean > 0 ? std::sqrt(variance / double(sum.size())) / mean : 0.0;
+  }
+};
+
+// Texel-wise RMS relative error (luminance) of covered texels against the reference pages.
+double referenceError(const TexelSet& texels, const std::vector<TexelIrradiance>& mean,
+                      const std::vector<LightmapImage>& reference) {
+  double difference = 0, sum = 0;
+  for (size_t i = 0; i < texels.samples.size(); ++i) {
+    const TexelSample& s = texels.samples[i];
+    const double mine = luminanceOf(mean[i].direct) + luminanceOf(mean[i].indirect);
+    const double theirs = luminanceOf(reference[s.page].texel(int(s.x), int(s.y)));
+    difference += (mine - theirs) * (mine - theirs);
+    sum += theirs;
+  }
+  const double n = double(std::max<size_t>(1, texels.samples.size()));
+  return sum > 0 ? std::sqrt(difference / n) / (sum / n) : 0.0;
+}
+
+nlohmann::ordered_json seriesJson(const std::vector<ErrorPoint>& series, bool with_reference) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const ErrorPoint& p : series) {
+    nlohmann::ordered_json point;
+    point["t_s"] = p.t_s;
+    point["est_rel_error"] = p.est_rel_error;
+    if (with_reference) point["ref_rel_error"] = std::isfinite(p.ref_rel_error) ? nlohmann::ordered_json(p.ref_rel_error) : nullptr;
+    out.push_back(point);
+  }
+  return out;
+}
+
+}  // namespace
+
+Status validateBakeOptions(const BakeOptions& o) {
+  auto bad = [](const std::string& m) { return Status(StatusCode::kInvalidInput, m); };
+  if (o.level_path.empty()) return bad("no level given");
+  if (o.out_dir.empty()) return bad("no output directory given (-o OUT)");
+  if (!(o.time_budget_s > 0)) return bad("--time must be a positive number of seconds");
+  if (!(o.quality > 0 && o.quality <= 1)) return bad("--quality must be in (0, 1]");
+  if (!(o.texels_per_m >= 0 && o.texels_per_m <= 4096)) return bad("--texels-per-m must be in (0, 4096]");
+  if (o.threads < 0 || o.threads > 1024) return bad("--threads must be in [0, 1024]");
+  if (o.max_page_size < 16 || o.max_page_size > 16384) return bad("page size must be in [16, 16384]");
+  return Status();
+}
+
+Expected<BakeResult> bakeLevel(const BakeOptions& options, const std::function<bool(const BakeProgress&)>& progress,
+                               const std::atomic<bool>* cancel) {
+  if (Status s = validateBakeOptions(options); !s.ok()) return s;
+  const auto start = Clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  std::vector<std::pair<std::string, double>> stage_seconds;
+  double stage_start = 0;
+  std::string stage = "load";
+  auto endStage = [&](const std::string& next) {
+    stage_seconds.push_back({stage, elapsed() - stage_start});
+    stage = next;
+    stage_start = elapsed();
+  };
+  auto report = [&](double fraction, double eta) {
+    if (cancel && cancel->load()) return false;
+    if (!progress) return true;
+    return progress(BakeProgress{stage, fraction, elapsed(), eta});
+  };
+  const Status cancelled(StatusCode::kCancelled, "bake cancelled; " + options.out_dir + " left as it was");
+  const double budget = options.time_budget_s;
+  auto remaining = [&] { return std::isfinite(budget) ? std::max(0.0, budget - elapsed()) : -1.0; };
+
+  // Load the level and, with --reference, the reference bake.
+  if (!report(0, remaining())) return cancelled;
+  Expected<Scene> scene = loadLevel(options.level_path);
+  if (!scene.ok()) return scene.status();
+  const uint64_t level_hash = hashLevel(*scene);
+  std::vector<LightmapImage> reference_pages;
+  if (!options.reference_dir.empty()) {
+    const std::string reference_file = (fs::path(options.reference_dir) / "bake.svit").string();
+    Expected<BakeData> reference = readBakeFile(reference_file);
+    if (!reference.ok()) return Status(reference.status().code(), "--reference: " + reference.status().message());
+    if (reference->level_hash != level_hash) {
+      return Status(StatusCode::kInvalidInput, "--reference: " + reference_file + " is a bake of another level (or of a changed one)");
+    }
+    for (const BakeLightmapPage& page : reference->pages) {
+      Expected<LightmapImage> image = readLightmapExr((fs::path(options.reference_dir) / page.file).string());
+      if (!image.ok()) return Status(image.status().code(), "--reference: " + image.status().message());
+      reference_pages.push_back(std::move(image).value());
+    }
+  }
+  size_t degenerate = 0;
+  Expected<BakeGeometry> geometry = flattenStaticGeometry(*scene, &degenerate);
+  if (!geometry.ok()) return geometry.status();
+  Expected<std::unique_ptr<RayCaster>> caster = makeEmbreeCaster(*geometry);
+  if (!caster.ok()) return caster.status();
+  endStage("radiosity");
+
+  // Radiosity: until the quality's error target, or 40% of the budget.
+  RadiositySettings solver_settings;
+  solver_settings.seed = options.seed;
+  solver_settings.threads = options.threads;
+  Expected<std::unique_ptr<RadiositySolver>> solver = RadiositySolver::create(*scene, *geometry, **caster, solver_settings);
+  if (!solver.ok()) return solver.status();
+  StopRule stop;
+  stop.target_est_rel_error = 0.005 + 0.05 * (1.0 - options.quality);
+  stop.max_seconds = std::isfinite(budget) ? 0.4 * budget : 600.0 * options.quality + 30.0;
+  stop.cancel = cancel;
+  stop.progress = [&](const SolverProgress& p) {
+    const double fraction = std::min(1.0, std::max(p.elapsed_s / stop.max_seconds,
+                                                   std::log(p.est_rel_error) / std::log(stop.target_est_rel_error)));
+    return report(std::max(0.0, fraction), remaining());
+  };
+  if (Status s = (*solver)->improve(stop); !s.ok()) return s.code() == StatusCode::kCancelled ? cancelled : s;
+  const double solver_error = (*solver)->estimatedRelativeError();
+  endStage("atlas");
+
+  // Atlas and texels.
+  double total_area = 0;
+  for (float a : geometry->areas_m2) total_area += a;
+  AtlasSettings atlas_settings;
+  atlas_settings.texels_per_m = options.texels_per_m > 0 ? options.texels_per_m
+                                                         : std::clamp(std::sqrt(262144.0 / std::max(total_area, 1e-9)), 1.0, 512.0);
+  atlas_settings.max_page_size = options.max_page_size;
+  atlas_settings.threads = options.threads;
+  if (!report(0, remaining())) return cancelled;
+  Expected<LightmapAtlas> atlas = buildLightmapAtlas(*scene, *geometry, atlas_settings);
+  if (!atlas.ok()) return atlas.status();
+  endStage("texels");
+  RasterSettings raster_settings;
+  raster_settings.threads = options.threads;
+  Expected<TexelSet> texels = rasterizeTexels(*geometry, *atlas, **caster, raster_settings);
+  if (!texels.ok()) return texels.status();
+  if (!reference_pages.empty()) {
+    const bool same = reference_pages.size() == size_t(texels->page_count) &&
+                      reference_pages[0].width == texels->page_width && reference_pages[0].height == texels->page_height;
+    if (!same) {
+      return Status(StatusCode::kInvalidInput,
+                    "--reference: its atlas differs from this bake's (" + std::to_string(reference_pages.size()) +
+                        " pages of " + std::to_string(reference_pages[0].width) + "x" + std::to_string(reference_pages[0].height) +
+                        " vs " + std::to_string(texels->page_count) + " of " + std::to_string(texels->page_width) + "x" +
+                        std::to_string(texels->page_height) + "); bake both with the same --texels-per-m");
+    }
+  }
+  endStage("lighting");
+
+  // Lighting passes, averaged: each is an independent estimate, so their
+  // spread is the lightmap's error estimate. Without a budget the quality
+  // sets the pass count; with one, passes continue while time remains.
+  std::vector<ErrorPoint> series = (*solver)->errorSeries();
+  const double solver_seconds = (*solver)->stats().seconds;
+  for (ErrorPoint& p : series) p.ref_rel_error = std::numeric_limits<double>::quiet_NaN();
+  const uint32_t quality_passes = std::max(1u, uint32_t(std::lround(8.0 * options.quality)));
+  TexelLightingSettings lighting_settings;
+  lighting_settings.threads = options.threads;
+  lighting_settings.gather_rays = 16;
+  lighting_settings.area_light_samples = 16;
+  lighting_settings.sun_samples = 2;
+  TexelAccumulator accumulator;
+  double pass_seconds = 0;
+  for (uint32_t pass = 0; pass < 256; ++pass) {
+    if (std::isfinite(budget)) {
+      if (pass > 0 && elapsed() + pass_seconds * 1.2 + 1.0 > budget) break;
+    } else if (pass >= quality_passes) {
+      break;
+    }
+    const double pass_start = elapsed();
+    lighting_settings.seed = hashIds(options.seed, 0x1a7, pass);
+    const uint32_t passes_planned = std::isfinite(budget) ? std::max(1u, uint32_t(remaining() / std::max(pass_seconds, 1e-3))) : quality_passes;
+    Expected<std::vector<TexelIrradiance>> lit = lightTexels(
+        *scene, *geometry, **caster, **solver, *texels, lighting_settings, cancel, [&](size_t done, size_t total) {
+          const double fraction = (double(pass) + double(done) / double(std::max<size_t>(total, 1))) / double(passes_planned + pass);
+          return report(std::min(1.0, fraction), remaining());
+        });
+    if (!lit.ok()) return lit.status().code() == StatusCode::kCancelled ? cancelled : lit.status();
+    accumulator.add(*lit);
+    pass_seconds = elapsed() - pass_start;
+    ErrorPoint point;
+    point.t_s = solver_seconds + (elapsed() - stage_start);
+    const double texel_error = accumulator.relativeError();
+    point.est_rel_error = std::sqrt(solver_error * solver_error + texel_error * texel_error);
+    point.rays = (*solver)->stats().rays;
+    if (!reference_pages.empty()) point.ref_rel_error = referenceError(*texels, accumulator.mean(), reference_pages);
+    series.push_back(point);
+  }
+  const std::vector<TexelIrradiance> lighting = accumulator.mean();
+  endStage("pages");
+  PageSettings page_settings;
+  page_settings.dilation_texels = atlas_settings.padding_texels;
+  page_settings.edge_aware_filter = true;  // gather noise; never crosses charts or creases
+  const LightmapPages pages = buildLightmapPages(*geometry, *atlas, *texels, lighting, page_settings);
+
+  // Bake data.
+  BakeData data;
+  data.level_hash = level_hash;
+  data.seed = options.seed;
+  for (size_t p = 0; p < pages.images.size(); ++p) {
+    BakeLightmapPage page;
+    page.width = uint32_t(pages.images[p].width);
+    page.height = uint32_t(pages.images[p].height);
+    page.file = "lightmap-" + std::to_string(p) + ".exr";
+    page.texel_hash = fnv1a64(pages.images[p].rgb.data(), pages.images[p].rgb.size() * sizeof(float));
+    data.pages.push_back(page);
+  }
+  for (size_t t = 0; t < geometry->triangleCount(); ++t) {
+    BakeTriangleUv uv;
+    uv.instance = geometry->instance[t];
+    uv.mesh_triangle = geometry->mesh_triangle[t];
+    uv.page = atlas->triangle_page[t];
+    for (int k = 0; k < 3; ++k) uv.uv[k] = atlas->triangle_uv[t * 3 + size_t(k)];
+    data.triangle_uvs.push_back(uv);
+  }
+  nlohmann::ordered_json left_out = nlohmann::ordered_json::array();
+  endStage("runtime");
+  if (levelNeedsRuntimeSections(*scene)) {
+    RuntimeSectionSettings runtime_settings;
+    runtime_settings.seed = options.seed;
+    runtime_settings.threads = options.threads;
+    if (Status s = buildRuntimeSections(*scene, *geometry, **caster, **solver, runtime_settings, data, cancel); !s.ok()) {
+      return s.code() == StatusCode::kCancelled ? cancelled : s;
+    }
+  } else {
+    for (const char* section : {"patches", "clusters", "emitters", "proxy", "probes"}) {
+      left_out.push_back({{"section", section}, {"reason", "the level has no dynamic objects and no runtime lights"}});
+    }
+  }
+  if (!report(1, remaining())) return cancelled;
+  endStage("write");
+
+  // Report.
+  const SolverStats stats = (*solver)->stats();
+  size_t covered = 0, dilated = 0;
+  for (const auto& valid : pages.valid) {
+    for (uint8_t v : valid) {
+      covered += v == 1;
+      dilated += v == 2;
+    }
+  }
+  nlohmann::ordered_json json;
+  json["level"] = fs::absolute(options.level_path).lexically_normal().string();
+  json["level_hash"] = level_hash;
+  json["seed"] = options.seed;
+  json["quality"] = options.quality;
+  json["time_budget_s"] = std::isfinite(budget) ? nlohmann::ordered_json(budget) : nullptr;
+  json["texels_per_m"] = atlas_settings.texels_per_m;
+  json["threads"] = options.threads;
+  json["machine"] = "CPU ray casting (Embree 3); no GPU used by the baker";
+  nlohmann::ordered_json timings = nlohmann::ordered_json::object();
+  for (const auto& [name, seconds] : stage_seconds) timings[name] = seconds;
+  json["stage_seconds"] = timings;
+  json["radiosity"] = {{"rays", stats.rays},
+                       {"rays_per_s", stats.seconds > 0 ? double(stats.rays) / stats.seconds : 0.0},
+                       {"passes", stats.passes_completed},
+                       {"elements", stats.elements},
+                       {"leaves", stats.leaves},
+                       {"subdivisions", stats.subdivisions},
+                       {"est_rel_error", solver_error},
+                       {"compensation", stats.compensation},
+                       {"captured_fraction", stats.captured_fraction}};
+  json["lightmap"] = {{"pages", pages.images.size()},
+                      {"page_width", texels->page_width},
+                      {"page_height", texels->page_height},
+                      {"atlas", atlas->authored ? "TEXCOORD_1" : "xatlas"},
+                      {"covered_texels", covered},
+                      {"dilated_texels", dilated},
+                      {"lighting_passes", accumulator.passes},
+                      {"gather_rays_per_texel", accumulator.passes * lighting_settings.gather_rays}};
+  nlohmann::ordered_json warnings = scene->warnings;
+  if (degenerate > 0) warnings.push_back(std::to_string(degenerate) + " static triangles flattened to zero area by their instance transform; skipped");
+  json["warnings"] = warnings;
+  nlohmann::ordered_json written = {"header", "pages", "triangle_uvs"};
+  if (data.has_runtime_sections) {
+    for (const char* section : {"patches", "clusters", "emitters", "proxy", "probes"}) written.push_back(section);
+  }
+  json["sections_written"] = written;
+  json["sections_left_out"] = left_out;
+  json["error_vs_time"] = seriesJson(series, !reference_pages.empty());
+
+  // Write into a fresh directory beside OUT, then swap it in.
+  const fs::path out = fs::path(options.out_dir);
+  const fs::path temporary = out.parent_path() / (out.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  std::error_code ec;
+  fs::remove_all(temporary, ec);
+  fs::create_directories(temporary, ec);
+  if (ec) return Status(StatusCode::kIoError, temporary.string() + ": cannot create: " + ec.message());
+  auto fail = [&](const Status& s) {
+    std::error_code ignored;
+    fs::remove_all(temporary, ignored);
+    return s;
+  };
+  for (size_t p = 0; p < pages.images.size(); ++p) {
+    if (Status s = writeLightmapExr(pages.images[p], (temporary / data.pages[p].file).string()); !s.ok()) return fail(s);
+    if (cancel && cancel->load()) return fail(cancelled);
+  }
+  if (Status s = writeBakeFile(data, (temporary / "bake.svit").string()); !s.ok()) return fail(s);
+  BakeResult result;
+  result.pages = pages.images.size();
+  result.covered_texels = covered;
+  result.est_rel_error = series.empty() ? 1.0 : series.back().est_rel_error;
+  result.ref_rel_error = series.empty() ? std::numeric_limits<double>::quiet_NaN() : series.back().ref_rel_error;
+  endStage("done");
+  json["stage_seconds"]["write"] = stage_seconds.back().second;
+  result.seconds = elapsed();
+  json["total_seconds"] = result.seconds;
+  result.report_json = json.dump(2) + "\n";
+  {
+    std::ofstream file(temporary / "report.json");
+    file << result.report_json;
+    if (!file) return fail(Status(StatusCode::kIoError, (temporary / "report.json").string() + ": cannot write"));
+  }
+  if (cancel && cancel->load()) return fail(cancelled);
+  const fs::path old = out.parent_path() / (out.filename().string() + ".old-" + std::to_string(::getpid()));
+  const bool had_previous = fs::exists(out, ec);
+  if (had_previous) {
+    fs::rename(out, old, ec);
+    if (ec) return fail(Status(StatusCode::kIoError, out.string() + ": cannot move the previous bake aside: " + ec.message()));
+  }
+  fs::rename(temporary, out, ec);
+  if (ec) {
+    std::error_code ignored;
+    if (had_previous) fs::rename(old, out, ignored);
+    return fail(Status(StatusCode::kIoError, out.string() + ": cannot move the new bake in place: " + ec.message()));
+  }
+  if (had_previous) fs::remove_all(old, ec);
+  return result;
+}
+
+}  // namespace svit::baker

@@ -1,0 +1,188 @@
+// Lightmap page assembly. Seam stitching follows the usual lightmapper
+// practice (e.g. "Lightmap seams", Sloan & Hwu's least-squares seam fix,
+// done here as a few Gauss-Seidel rounds): the texels nearest to matching
+// points on the two sides of a seam are pulled to their common average.
+
+#include "svit/baker/lightmap_pages.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <unordered_map>
+
+#include "random.h"
+
+namespace svit::baker {
+namespace {
+
+// Seams between triangles whose normals differ by more than 30 degrees are
+// creases, not UV cuts through a smooth surface.
+constexpr float kSmoothSeamCos = 0.8660254f;
+
+size_t texelIndex(int width, int x, int y) { return size_t(y) * size_t(width) + size_t(x); }
+
+uint64_t positionKey(const Vec3& p) {
+  uint32_t bits[3];
+  std::memcpy(bits, &p, sizeof bits);
+  return hashIds(bits[0], bits[1], bits[2]);
+}
+
+}  // namespace
+
+std::vector<SeamPoint> findSeamPoints(const BakeGeometry& geometry, const LightmapAtlas& atlas) {
+  // Edges keyed by their welded end positions; an edge whose two triangles
+  // map it to different UVs (or pages) is a seam.
+  struct EdgeUse {
+    uint32_t triangle;
+    int k;  // edge from corner k to k+1
+    uint64_t a_key, b_key;
+  };
+  std::map<std::pair<uint64_t, uint64_t>, std::vector<EdgeUse>> edges;  // ordered: deterministic
+  for (uint32_t t = 0; t < geometry.triangleCount(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const uint64_t a = positionKey(geometry.corner(t, k)), b = positionKey(geometry.corner(t, (k + 1) % 3));
+      edges[{std::min(a, b), std::max(a, b)}].push_back({t, k, a, b});
+    }
+  }
+  std::vector<SeamPoint> points;
+  const double texels = double(std::max(atlas.page_width, atlas.page_height));
+  for (const auto& [key, uses] : edges) {
+    (void)key;
+    for (size_t i = 0; i + 1 < uses.size(); ++i) {
+      for (size_t j = i + 1; j < uses.size(); ++j) {
+        const EdgeUse& e = uses[i];
+        const EdgeUse& f = uses[j];
+        // Across a crease (or between the two sides of a thin wall) the
+        // irradiance really is discontinuous: only smooth seams are stitched.
+        const Vec3& ne = geometry.normals[e.triangle];
+        const Vec3& nf = geometry.normals[f.triangle];
+        if (ne.x * nf.x + ne.y * nf.y + ne.z * nf.z < kSmoothSeamCos) continue;
+        Vec2 a0 = atlas.triangle_uv[e.triangle * 3 + size_t(e.k)], a1 = atlas.triangle_uv[e.triangle * 3 + size_t((e.k + 1) % 3)];
+        Vec2 b0 = atlas.triangle_uv[f.triangle * 3 + size_t(f.k)], b1 = atlas.triangle_uv[f.triangle * 3 + size_t((f.k + 1) % 3)];
+        if (f.a_key != e.a_key) std::swap(b0, b1);  // run both the same way along the edge
+        const uint32_t pa = atlas.triangle_page[e.triangle], pb = atlas.triangle_page[f.triangle];
+        const bool same = pa == pb && a0.x == b0.x && a0.y == b0.y && a1.x == b1.x && a1.y == b1.y;
+        if (same) continue;
+        const double length = std::max(std::hypot(a1.x - a0.x, a1.y - a0.y), std::hypot(b1.x - b0.x, b1.y - b0.y));
+        const int samples = std::max(2, int(std::ceil(length * texels * 2.0)));
+        for (int s = 0; s < samples; ++s) {
+          const float t = (float(s) + 0.5f) / float(samples);
+          points.push_back({pa, pb, {a0.x + t * (a1.x - a0.x), a0.y + t * (a1.y - a0.y)},
+                            {b0.x + t * (b1.x - b0.x), b0.y + t * (b1.y - b0.y)}});
+        }
+      }
+    }
+  }
+  return points;
+}
+
+LightmapPages buildLightmapPages(const BakeGeometry& geometry, const LightmapAtlas& atlas, const TexelSet& texels,
+                                 const std::vector<TexelIrradiance>& lighting, const PageSettings& settings) {
+  const int w = texels.page_width, h = texels.page_height;
+  LightmapPages pages;
+  pages.images.resize(size_t(texels.page_count));
+  pages.valid.resize(size_t(texels.page_count));
+  for (int p = 0; p < texels.page_count; ++p) {
+    pages.images[size_t(p)].width = w;
+    pages.images[size_t(p)].height = h;
+    pages.images[size_t(p)].rgb.assign(size_t(w) * size_t(h) * 3, 0.0f);
+    pages.valid[size_t(p)].assign(size_t(w) * size_t(h), 0);
+  }
+  // Indirect light, optionally smoothed within charts (cross-bilateral on
+  // normal and chart: it never blurs across a chart border or a crease).
+  std::vector<Rgb> indirect(lighting.size());
+  for (size_t i = 0; i < lighting.size(); ++i) indirect[i] = lighting[i].indirect;
+  if (settings.edge_aware_filter) {
+    const int r = settings.filter_radius_texels;
+    for (size_t i = 0; i < texels.samples.size(); ++i) {
+      const TexelSample& s = texels.samples[i];
+      const uint32_t chart = atlas.triangle_chart[s.triangle];
+      double sum[3] = {0, 0, 0}, weight_sum = 0;
+      for (int dy = -r; dy <= r; ++dy) {
+        for (int dx = -r; dx <= r; ++dx) {
+          const int x = int(s.x) + dx, y = int(s.y) + dy;
+          if (x < 0 || y < 0 || x >= w || y >= h) continue;
+          const int32_t j = texels.sampleAt(s.page, uint32_t(x), uint32_t(y));
+          if (j < 0) continue;
+          const TexelSample& o = texels.samples[size_t(j)];
+          if (atlas.triangle_chart[o.triangle] != chart) continue;
+          const double c = s.normal.x * o.normal.x + s.normal.y * o.normal.y + s.normal.z * o.normal.z;
+          if (c <= 0) continue;
+          const double spatial = std::exp(-double(dx * dx + dy * dy) / (2.0 * r * r));
+          const double weight = spatial * std::pow(c, settings.filter_normal_power);
+          const Rgb& v = lighting[size_t(j)].indirect;
+          sum[0] += weight * v.r;
+          sum[1] += weight * v.g;
+          sum[2] += weight * v.b;
+          weight_sum += weight;
+        }
+      }
+      if (weight_sum > 0) indirect[i] = {float(sum[0] / weight_sum), float(sum[1] / weight_sum), float(sum[2] / weight_sum)};
+    }
+  }
+  for (size_t i = 0; i < texels.samples.size(); ++i) {
+    const TexelSample& s = texels.samples[i];
+    float* p = &pages.images[s.page].rgb[texelIndex(w, int(s.x), int(s.y)) * 3];
+    p[0] = lighting[i].direct.r + indirect[i].r;
+    p[1] = lighting[i].direct.g + indirect[i].g;
+    p[2] = lighting[i].direct.b + indirect[i].b;
+    pages.valid[s.page][texelIndex(w, int(s.x), int(s.y))] = 1;
+  }
+  // Dilation: each round fills empty texels next to filled ones with the
+  // mean of their filled 8-neighbours.
+  for (int p = 0; p < texels.page_count; ++p) {
+    LightmapImage& image = pages.images[size_t(p)];
+    std::vector<uint8_t>& valid = pages.valid[size_t(p)];
+    for (int round = 0; round < settings.dilation_texels; ++round) {
+      std::vector<std::pair<size_t, Rgb>> filled;
+      for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+          if (valid[texelIndex(w, x, y)]) continue;
+          double sum[3] = {0, 0, 0};
+          int count = 0;
+          for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int nx = x + dx, ny = y + dy;
+              if (nx < 0 || ny < 0 || nx >= w || ny >= h || !valid[texelIndex(w, nx, ny)]) continue;
+              const Rgb v = image.texel(nx, ny);
+              sum[0] += v.r;
+              sum[1] += v.g;
+              sum[2] += v.b;
+              ++count;
+            }
+          }
+          if (count > 0) filled.push_back({texelIndex(w, x, y), {float(sum[0] / count), float(sum[1] / count), float(sum[2] / count)}});
+        }
+      }
+      for (const auto& [index, value] : filled) {
+        image.rgb[index * 3] = value.r;
+        image.rgb[index * 3 + 1] = value.g;
+        image.rgb[index * 3 + 2] = value.b;
+        valid[index] = 2;
+      }
+    }
+  }
+  // Seams: pull the texels nearest to matching edge points to their average.
+  const std::vector<SeamPoint> seam = findSeamPoints(geometry, atlas);
+  auto nearest = [&](uint32_t page, Vec2 uv) -> float* {
+    const int x = std::clamp(int(uv.x * float(w)), 0, w - 1), y = std::clamp(int(uv.y * float(h)), 0, h - 1);
+    if (!pages.valid[page][texelIndex(w, x, y)]) return nullptr;
+    return &pages.images[page].rgb[texelIndex(w, x, y) * 3];
+  };
+  for (int iteration = 0; iteration < settings.seam_iterations; ++iteration) {
+    for (const SeamPoint& point : seam) {
+      float* a = nearest(point.page_a, point.uv_a);
+      float* b = nearest(point.page_b, point.uv_b);
+      if (!a || !b || a == b) continue;
+      for (int c = 0; c < 3; ++c) {
+        const float mean = 0.5f * (a[c] + b[c]);
+        a[c] = mean;
+        b[c] = mean;
+      }
+    }
+  }
+  return pages;
+}
+
+}  // namespace svit::baker

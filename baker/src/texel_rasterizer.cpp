@@ -1,0 +1,510 @@
+// Exact texel rasterization of lightmap triangles: each triangle's UV
+// polygon is clipped against every texel square it overlaps (Sutherland &
+// Hodgman, "Reentrant Polygon Clipping", CACM 1974), which gives the covered
+// area and its centroid. Sample points inside or behind geometry are found
+// with short probe rays and pulled out, as production lightmappers do
+// against leaks (e.g. Bakery's and Unity's "texel validity" checks).
+//
+// Work is split into bands of rows of one page; each band reads the
+// triangles that overlap it in triangle order and writes only its own
+// samples, so results do not depend on the thread count.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "parallel_for.h"
+#include "svit/baker/lightmap_atlas.h"
+
+namespace svit::baker {
+namespace {
+
+constexpr int kBandRows = 8;  // rows per work item: small enough to balance, large enough to batch rays
+
+// Clipped areas below this (texel^2) are clipping round-off of a triangle
+// that only touches the texel along an edge or corner: coordinates up to
+// ~1e4 texels in double carry ~1e-12 absolute error, squared far below.
+constexpr double kMinArea = 1e-9;
+
+// A point whose barycentrics lie this far outside [0, 1] (dimensionless) is
+// on the triangle's edge up to the float rounding of its UVs (relative
+// 6e-8): it is clamped onto the edge rather than treated as outside.
+constexpr double kBaryTolerance = 1e-6;
+
+// Move candidates sit this fraction of the way from a vertex (or edge
+// midpoint) of the covered part back towards its centroid: strictly inside
+// the part, so never exactly on a world edge where a wall may stand.
+constexpr double kCandidateInset = 0.05;
+
+struct Pt {
+  double x = 0, y = 0;
+};
+
+/// Convex polygon; a triangle clipped by 4 half-planes has at most 7 corners.
+struct Poly {
+  int n = 0;
+  Pt p[8];
+};
+
+/// Sutherland-Hodgman against one axis-aligned half-plane: keeps points with
+/// coordinate `axis` >= bound (keep_above) or <= bound.
+void clipHalfPlane(const Poly& in, Poly* out, int axis, double bound, bool keep_above) {
+  out->n = 0;
+  if (in.n == 0) return;
+  auto coord = [axis](const Pt& q) { return axis == 0 ? q.x : q.y; };
+  auto inside = [&](const Pt& q) { return keep_above ? coord(q) >= bound : coord(q) <= bound; };
+  for (int i = 0; i < in.n; ++i) {
+    const Pt& a = in.p[i];
+    const Pt& b = in.p[(i + 1) % in.n];
+    const bool a_in = inside(a), b_in = inside(b);
+    if (a_in) out->p[out->n++] = a;
+    if (a_in != b_in) {
+      const double s = (bound - coord(a)) / (coord(b) - coord(a));  // b_in != a_in: coord(b) != coord(a)
+      Pt q{a.x + s * (b.x - a.x), a.y + s * (b.y - a.y)};
+      if (axis == 0) q.x = bound; else q.y = bound;  // exact on the clip line
+      out->p[out->n++] = q;
+    }
+  }
+}
+
+void clipToBox(const Poly& in, Poly* out, double x0, double x1, double y0, double y1) {
+  Poly a, b;
+  clipHalfPlane(in, &a, 0, x0, true);
+  clipHalfPlane(a, &b, 0, x1, false);
+  clipHalfPlane(b, &a, 1, y0, true);
+  clipHalfPlane(a, out, 1, y1, false);
+}
+
+void clipToRows(const Poly& in, Poly* out, double y0, double y1) {
+  Poly a;
+  clipHalfPlane(in, &a, 1, y0, true);
+  clipHalfPlane(a, out, 1, y1, false);
+}
+
+void clipToColumns(const Poly& in, Poly* out, double x0, double x1) {
+  Poly a;
+  clipHalfPlane(in, &a, 0, x0, true);
+  clipHalfPlane(a, out, 0, x1, false);
+}
+
+/// Unsigned area and centroid of a convex polygon, computed relative to
+/// `origin` (the texel corner) so large page coordinates do not cancel.
+double areaCentroid(const Poly& poly, Pt origin, Pt* centroid) {
+  double twice_area = 0, cx = 0, cy = 0;
+  for (int i = 0; i < poly.n; ++i) {
+    const double ax = poly.p[i].x - origin.x, ay = poly.p[i].y - origin.y;
+    const double bx = poly.p[(i + 1) % poly.n].x - origin.x, by = poly.p[(i + 1) % poly.n].y - origin.y;
+    const double c = ax * by - bx * ay;
+    twice_area += c;
+    cx += (ax + bx) * c;
+    cy += (ay + by) * c;
+  }
+  if (twice_area == 0.0) return 0.0;
+  *centroid = {origin.x + cx / (3.0 * twice_area), origin.y + cy / (3.0 * twice_area)};
+  return 0.5 * std::fabs(twice_area);
+}
+
+/// A triangle's UVs in texel units of its page.
+struct UvTriangle {
+  Pt c[3];
+  double twice_signed_area = 0;
+};
+
+UvTriangle uvTriangle(const LightmapAtlas& atlas, size_t t) {
+  UvTriangle tri;
+  for (int k = 0; k < 3; ++k) {
+    const Vec2& uv = atlas.triangle_uv[t * 3 + size_t(k)];
+    tri.c[k] = {double(uv.x) * atlas.page_width, double(uv.y) * atlas.page_height};
+  }
+  tri.twice_signed_area =
+      (tri.c[1].x - tri.c[0].x) * (tri.c[2].y - tri.c[0].y) - (tri.c[1].y - tri.c[0].y) * (tri.c[2].x - tri.c[0].x);
+  return tri;
+}
+
+Poly asPoly(const UvTriangle& tri) {
+  Poly poly;
+  poly.n = 3;
+  for (int k = 0; k < 3; ++k) poly.p[k] = tri.c[k];
+  return poly;
+}
+
+/// Barycentrics (u, v) of `p` in the UV triangle: p = (1-u-v) c0 + u c1 + v c2.
+void barycentric(const UvTriangle& tri, Pt p, double* u, double* v) {
+  const double px = p.x - tri.c[0].x, py = p.y - tri.c[0].y;
+  const double e1x = tri.c[1].x - tri.c[0].x, e1y = tri.c[1].y - tri.c[0].y;
+  const double e2x = tri.c[2].x - tri.c[0].x, e2y = tri.c[2].y - tri.c[0].y;
+  // Only called for triangles that cover some texel area, so the UV area is
+  // positive; the guard keeps a sliver's round-off from dividing by zero.
+  if (tri.twice_signed_area == 0.0) {
+    *u = *v = 1.0 / 3.0;
+    return;
+  }
+  *u = (px * e2y - py * e2x) / tri.twice_signed_area;
+  *v = (e1x * py - e1y * px) / tri.twice_signed_area;
+}
+
+bool insideBarycentric(double u, double v) {
+  return u >= -kBaryTolerance && v >= -kBaryTolerance && u + v <= 1.0 + kBaryTolerance;
+}
+
+void clampBarycentric(double* u, double* v) {
+  *u = std::max(0.0, *u);
+  *v = std::max(0.0, *v);
+  const double s = *u + *v;
+  if (s > 1.0) {
+    *u /= s;
+    *v /= s;
+  }
+}
+
+Vec3 worldPoint(const BakeGeometry& geometry, size_t t, double u, double v) {
+  const Vec3& a = geometry.corner(t, 0);
+  const Vec3& b = geometry.corner(t, 1);
+  const Vec3& c = geometry.corner(t, 2);
+  const double w = 1.0 - u - v;
+  return {float(w * a.x + u * b.x + v * c.x), float(w * a.y + u * b.y + v * c.y), float(w * a.z + u * b.z + v * c.z)};
+}
+
+/// Texel range [lo, hi] that a coordinate interval [a, b] overlaps in a page of `size` texels.
+void texelSpan(double a, double b, int size, int* lo, int* hi) {
+  *lo = std::clamp(int(std::floor(a)), 0, size - 1);
+  *hi = std::clamp(int(std::ceil(b)) - 1, *lo, size - 1);
+}
+
+// ---------------------------------------------------------------- leak probes
+
+/// Probe directions: the normal and 8 directions in the tangent plane
+/// (Duff et al., "Building an Orthonormal Basis, Revisited", JCGT 2017).
+constexpr int kProbes = 9;
+
+void probeDirections(const Vec3& n, Vec3 out[kProbes]) {
+  const double sign = std::copysign(1.0, double(n.z));
+  const double a = -1.0 / (sign + n.z);
+  const double b = double(n.x) * n.y * a;
+  const double tx = 1.0 + sign * n.x * n.x * a, ty = sign * b, tz = -sign * n.x;
+  const double bx = b, by = sign + n.y * n.y * a, bz = -double(n.y);
+  const double h = std::sqrt(0.5);
+  const double dirs[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {h, h}, {h, -h}, {-h, h}, {-h, -h}};
+  for (int i = 0; i < 8; ++i) {
+    out[i] = {float(dirs[i][0] * tx + dirs[i][1] * bx), float(dirs[i][0] * ty + dirs[i][1] * by),
+              float(dirs[i][0] * tz + dirs[i][1] * bz)};
+  }
+  out[8] = n;
+}
+
+void appendProbes(const Vec3& p, const Vec3& n, float length_m, std::vector<Ray>* rays) {
+  Vec3 dirs[kProbes];
+  probeDirections(n, dirs);
+  const Vec3 origin = offsetRayOrigin(p, n);
+  for (const Vec3& d : dirs) {
+    Ray ray;
+    ray.origin = origin;
+    ray.direction = d;
+    ray.t_near = 0.0f;
+    ray.t_far = length_m;
+    rays->push_back(ray);
+  }
+}
+
+/// First probe (in direction order) whose closest hit is the back of a
+/// one-sided triangle, or -1. A double-sided surface has no inside, and the
+/// lighting treats one-sided backs as black, so only those betray a leak.
+int firstBackHit(const BakeGeometry& geometry, const RayHit* hits) {
+  for (int i = 0; i < kProbes; ++i) {
+    if (hits[i].hit() && !hits[i].front && !geometry.double_sided[hits[i].triangle]) return i;
+  }
+  return -1;
+}
+
+struct BandInput {
+  const BakeGeometry* geometry;
+  const LightmapAtlas* atlas;
+  const RayCaster* caster;
+  const RasterSettings* settings;
+  const std::vector<uint32_t>* band_start;
+  const std::vector<uint32_t>* band_triangles;
+  int bands_per_page;
+};
+
+/// Rasterizes one band, then pulls or drops its leaking samples. Output in (y, x) order.
+std::vector<TexelSample> rasterizeBand(const BandInput& in, size_t band) {
+  const BakeGeometry& geometry = *in.geometry;
+  const LightmapAtlas& atlas = *in.atlas;
+  const int w = atlas.page_width, h = atlas.page_height;
+  const uint32_t page = uint32_t(band / size_t(in.bands_per_page));
+  const int y_begin = int(band % size_t(in.bands_per_page)) * kBandRows;
+  const int y_end = std::min(h, y_begin + kBandRows);
+  const size_t texels = size_t(w) * size_t(y_end - y_begin);
+  const uint32_t first = (*in.band_start)[band], last = (*in.band_start)[band + 1];
+  std::vector<TexelSample> result;
+  if (first == last) return result;
+
+  // Per texel: the best triangle, its covered area and centroid, and the
+  // sums over all triangles for coverage and the texel-wide centroid.
+  std::vector<double> best_area(texels, 0.0), sum_area(texels, 0.0), sum_x(texels, 0.0), sum_y(texels, 0.0);
+  std::vector<uint32_t> best_triangle(texels, RayHit::kNone);
+  std::vector<Pt> best_centroid(texels);
+  for (uint32_t i = first; i < last; ++i) {
+    const uint32_t t = (*in.band_triangles)[i];  // ascending: ties keep the lower index
+    const Poly tri = asPoly(uvTriangle(atlas, t));
+    for (int y = y_begin; y < y_end; ++y) {
+      Poly row;
+      clipToRows(tri, &row, y, y + 1);
+      if (row.n < 3) continue;
+      double min_x = row.p[0].x, max_x = row.p[0].x;
+      for (int k = 1; k < row.n; ++k) {
+        min_x = std::min(min_x, row.p[k].x);
+        max_x = std::max(max_x, row.p[k].x);
+      }
+      int x_lo, x_hi;
+      texelSpan(min_x, max_x, w, &x_lo, &x_hi);
+      for (int x = x_lo; x <= x_hi; ++x) {
+        Poly part;
+        clipToColumns(row, &part, x, x + 1);
+        if (part.n < 3) continue;
+        Pt centroid;
+        const double area = areaCentroid(part, {double(x), double(y)}, &centroid);
+        if (!(area > kMinArea)) continue;
+        const size_t j = size_t(y - y_begin) * size_t(w) + size_t(x);
+        sum_area[j] += area;
+        sum_x[j] += area * centroid.x;
+        sum_y[j] += area * centroid.y;
+        if (area > best_area[j]) {
+          best_area[j] = area;
+          best_triangle[j] = t;
+          best_centroid[j] = centroid;
+        }
+      }
+    }
+  }
+
+  std::vector<TexelSample> pending;  // before leak handling
+  for (size_t j = 0; j < texels; ++j) {
+    if (best_triangle[j] == RayHit::kNone) continue;
+    const uint32_t t = best_triangle[j];
+    const UvTriangle tri = uvTriangle(atlas, t);
+    // The centroid of everything covered represents the whole texel (at
+    // the texel centre inside a chart, as bilinear lookup assumes); it is
+    // used when it lies on the winning triangle, else the winner's own
+    // covered centroid (a chart border or corner).
+    Pt point{sum_x[j] / sum_area[j], sum_y[j] / sum_area[j]};
+    double u, v;
+    barycentric(tri, point, &u, &v);
+    if (!insideBarycentric(u, v)) {
+      point = best_centroid[j];
+      barycentric(tri, point, &u, &v);
+    }
+    clampBarycentric(&u, &v);
+    TexelSample s;
+    s.page = page;
+    s.x = uint32_t(j % size_t(w));
+    s.y = uint32_t(y_begin + int(j / size_t(w)));
+    s.triangle = t;
+    s.u = float(u);
+    s.v = float(v);
+    s.position = worldPoint(geometry, t, u, v);
+    s.normal = geometry.normals[t];
+    s.coverage = float(std::min(1.0, sum_area[j]));
+    pending.push_back(s);
+  }
+
+  const double probe_texels = in.settings->leak_probe_texels;
+  if (probe_texels > 0.0) {
+    // World length of one texel on a triangle: sqrt(world area / UV area).
+    auto probeLength = [&](uint32_t t) {
+      const double uv_area = 0.5 * std::fabs(uvTriangle(atlas, t).twice_signed_area);
+      return float(probe_texels * std::sqrt(double(geometry.areas_m2[t]) / uv_area));
+    };
+    std::vector<Ray> rays;
+    rays.reserve(pending.size() * kProbes);
+    for (const TexelSample& s : pending) appendProbes(s.position, s.normal, probeLength(s.triangle), &rays);
+    std::vector<RayHit> hits(rays.size());
+    in.caster->intersect(rays, hits);
+
+    // Leaking samples: candidates are the inset vertices and edge midpoints
+    // of the winner's covered part, tried in order of how far they move
+    // along the probe that saw the back face (the outside lies beyond that
+    // face; ties keep polygon order). A candidate is taken when
+    //  - the straight path from the sample to it meets a one-sided back face
+    //    first: it crossed to the far side of the surface. Without this a
+    //    point deeper inside a solid, just out of the short probes' reach,
+    //    would pass as outside;
+    //  - and its own probes find no back face.
+    struct Candidate {
+      size_t pending;
+      double u, v;
+      Vec3 position;
+      double along;  ///< metres moved along the probe that found the back face
+    };
+    std::vector<Candidate> candidates;
+    std::vector<uint8_t> leaking(pending.size(), 0);
+    for (size_t i = 0; i < pending.size(); ++i) {
+      const int probe = firstBackHit(geometry, &hits[i * kProbes]);
+      if (probe < 0) continue;
+      leaking[i] = 1;
+      const TexelSample& s = pending[i];
+      const uint32_t t = s.triangle;
+      const UvTriangle tri = uvTriangle(atlas, t);
+      Poly part;
+      clipToBox(asPoly(tri), &part, s.x, s.x + 1.0, s.y, s.y + 1.0);
+      Pt centroid;
+      if (!(areaCentroid(part, {double(s.x), double(s.y)}, &centroid) > 0.0)) continue;
+      const Vec3& d = rays[i * kProbes + size_t(probe)].direction;
+      const size_t begin = candidates.size();
+      for (int k = 0; k < part.n; ++k) {
+        const Pt& a = part.p[k];
+        const Pt& b = part.p[(k + 1) % part.n];
+        for (const Pt& q : {a, Pt{0.5 * (a.x + b.x), 0.5 * (a.y + b.y)}}) {
+          Candidate c;
+          c.pending = i;
+          const Pt uv{q.x + kCandidateInset * (centroid.x - q.x), q.y + kCandidateInset * (centroid.y - q.y)};
+          barycentric(tri, uv, &c.u, &c.v);
+          clampBarycentric(&c.u, &c.v);
+          c.position = worldPoint(geometry, t, c.u, c.v);
+          c.along = (double(c.position.x) - s.position.x) * d.x + (double(c.position.y) - s.position.y) * d.y +
+                    (double(c.position.z) - s.position.z) * d.z;
+          candidates.push_back(c);
+        }
+      }
+      std::stable_sort(candidates.begin() + std::ptrdiff_t(begin), candidates.end(),
+                       [](const Candidate& a, const Candidate& b) { return a.along > b.along; });
+    }
+    constexpr size_t kCandidateRays = kProbes + 1;  // its probes, then the path from the sample
+    std::vector<Ray> candidate_rays;
+    candidate_rays.reserve(candidates.size() * kCandidateRays);
+    for (const Candidate& c : candidates) {
+      const TexelSample& s = pending[c.pending];
+      appendProbes(c.position, s.normal, probeLength(s.triangle), &candidate_rays);
+      // Both ends offset alike, so the path runs parallel to a flat surface
+      // instead of diving into it at the far end.
+      Ray path;
+      path.origin = offsetRayOrigin(s.position, s.normal);
+      const Vec3 to = offsetRayOrigin(c.position, s.normal);
+      path.direction = {to.x - path.origin.x, to.y - path.origin.y, to.z - path.origin.z};
+      path.t_far = 1.0f;
+      candidate_rays.push_back(path);
+    }
+    std::vector<RayHit> candidate_hits(candidate_rays.size());
+    if (!candidate_rays.empty()) in.caster->intersect(candidate_rays, candidate_hits);
+    std::vector<uint8_t> moved(pending.size(), 0);
+    for (size_t c = 0; c < candidates.size(); ++c) {
+      const Candidate& cand = candidates[c];
+      const RayHit* probe_hits = &candidate_hits[c * kCandidateRays];
+      const RayHit& path = probe_hits[kProbes];
+      const bool crossed = path.hit() && !path.front && !geometry.double_sided[path.triangle];
+      if (moved[cand.pending] || !crossed || firstBackHit(geometry, probe_hits) >= 0) continue;
+      TexelSample& s = pending[cand.pending];
+      s.u = float(cand.u);
+      s.v = float(cand.v);
+      s.position = cand.position;
+      moved[cand.pending] = 1;
+    }
+    for (size_t i = 0; i < pending.size(); ++i) {
+      if (!leaking[i] || moved[i]) result.push_back(pending[i]);  // a leaking texel with no way out is dropped
+    }
+    return result;
+  }
+  return pending;
+}
+
+Status validate(const BakeGeometry& geometry, const LightmapAtlas& atlas, const RasterSettings& settings) {
+  const size_t count = geometry.triangleCount();
+  if (geometry.positions.size() != count * 3 || geometry.normals.size() != count || geometry.double_sided.size() != count) {
+    return Status(StatusCode::kInvalidInput, "rasterize texels: bake geometry arrays disagree in length");
+  }
+  if (atlas.page_width < 1 || atlas.page_height < 1 || atlas.page_count < 1) {
+    return Status(StatusCode::kInvalidInput, "rasterize texels: atlas has " + std::to_string(atlas.page_count) + " pages of " +
+                                                 std::to_string(atlas.page_width) + "x" + std::to_string(atlas.page_height));
+  }
+  if (atlas.triangle_page.size() != count || atlas.triangle_uv.size() != count * 3) {
+    return Status(StatusCode::kInvalidInput, "rasterize texels: atlas covers " + std::to_string(atlas.triangle_page.size()) +
+                                                 " triangles, bake geometry has " + std::to_string(count));
+  }
+  for (size_t t = 0; t < count; ++t) {
+    if (atlas.triangle_page[t] >= uint32_t(atlas.page_count)) {
+      return Status(StatusCode::kInvalidInput, "rasterize texels: triangle " + std::to_string(t) + " is on page " +
+                                                   std::to_string(atlas.triangle_page[t]) + " of " + std::to_string(atlas.page_count));
+    }
+    for (int k = 0; k < 3; ++k) {
+      const Vec2& uv = atlas.triangle_uv[t * 3 + size_t(k)];
+      if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) {
+        return Status(StatusCode::kInvalidInput, "rasterize texels: triangle " + std::to_string(t) + " corner " +
+                                                     std::to_string(k) + " has a non-finite UV");
+      }
+    }
+  }
+  if (!(settings.leak_probe_texels >= 0.0) || !std::isfinite(settings.leak_probe_texels)) {
+    return Status(StatusCode::kInvalidInput, "rasterize texels: leak_probe_texels " + std::to_string(settings.leak_probe_texels) +
+                                                 " must be finite and >= 0");
+  }
+  return Status::okStatus();
+}
+
+}  // namespace
+
+Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapAtlas& atlas, const RayCaster& caster,
+                                   const RasterSettings& settings) {
+  if (Status s = validate(geometry, atlas, settings); !s.ok()) return s;
+  const int w = atlas.page_width, h = atlas.page_height;
+  const int bands_per_page = (h + kBandRows - 1) / kBandRows;
+  const size_t bands = size_t(atlas.page_count) * size_t(bands_per_page);
+
+  // Bin triangles into the bands their UV rows overlap (counting sort, in
+  // triangle order, so each band's list is ascending).
+  std::vector<uint32_t> band_start(bands + 1, 0);
+  auto bandRange = [&](size_t t, size_t* b0, size_t* b1) {
+    const UvTriangle tri = uvTriangle(atlas, t);
+    if (tri.twice_signed_area == 0.0) return false;
+    const double y0 = std::min({tri.c[0].y, tri.c[1].y, tri.c[2].y}), y1 = std::max({tri.c[0].y, tri.c[1].y, tri.c[2].y});
+    const double x0 = std::min({tri.c[0].x, tri.c[1].x, tri.c[2].x}), x1 = std::max({tri.c[0].x, tri.c[1].x, tri.c[2].x});
+    if (y1 <= 0.0 || y0 >= h || x1 <= 0.0 || x0 >= w) return false;  // off the page
+    int lo, hi;
+    texelSpan(y0, y1, h, &lo, &hi);
+    const size_t base = size_t(atlas.triangle_page[t]) * size_t(bands_per_page);
+    *b0 = base + size_t(lo / kBandRows);
+    *b1 = base + size_t(hi / kBandRows) + 1;
+    return true;
+  };
+  for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+    size_t b0, b1;
+    if (!bandRange(t, &b0, &b1)) continue;
+    for (size_t b = b0; b < b1; ++b) ++band_start[b + 1];
+  }
+  for (size_t b = 0; b < bands; ++b) band_start[b + 1] += band_start[b];
+  std::vector<uint32_t> band_triangles(band_start[bands]);
+  {
+    std::vector<uint32_t> fill(band_start.begin(), band_start.end() - 1);
+    for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+      size_t b0, b1;
+      if (!bandRange(t, &b0, &b1)) continue;
+      for (size_t b = b0; b < b1; ++b) band_triangles[fill[b]++] = uint32_t(t);
+    }
+  }
+
+  BandInput input{&geometry, &atlas, &caster, &settings, &band_start, &band_triangles, bands_per_page};
+  std::vector<std::vector<TexelSample>> band_samples(bands);
+  parallelFor(bands, 1, resolveThreads(settings.threads), [&](size_t begin, size_t end) {
+    for (size_t b = begin; b < end; ++b) band_samples[b] = rasterizeBand(input, b);
+  });
+
+  TexelSet set;
+  set.page_width = w;
+  set.page_height = h;
+  set.page_count = atlas.page_count;
+  set.texel_to_sample.assign(size_t(atlas.page_count) * size_t(w) * size_t(h), -1);
+  size_t total = 0;
+  for (const std::vector<TexelSample>& s : band_samples) total += s.size();
+  set.samples.reserve(total);
+  for (std::vector<TexelSample>& s : band_samples) {  // band order is (page, y) order
+    for (const TexelSample& sample : s) {
+      set.texel_to_sample[(size_t(sample.page) * size_t(h) + sample.y) * size_t(w) + sample.x] = int32_t(set.samples.size());
+      set.samples.push_back(sample);
+    }
+    std::vector<TexelSample>().swap(s);
+  }
+  return set;
+}
+
+}  // namespace svit::baker

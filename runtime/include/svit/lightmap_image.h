@@ -1,0 +1,34 @@
+#pragma once
+// A lightmap atlas page in memory and on disk (fp32 OpenEXR, RGB): what the
+// baker writes and what svit-probe and the runtime read. Sampling matches a
+// GL sampler: bilinear, texel centres at (i + 0.5) / size, clamp to edge.
+
+#include <string>
+#include <vector>
+
+#include "svit/math_types.h"
+#include "svit/status.h"
+
+namespace svit {
+
+struct LightmapImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> rgb;  ///< row-major, 3 floats per texel, row 0 = v in [0, 1/height)
+
+  Rgb texel(int x, int y) const {
+    const float* p = &rgb[(size_t(y) * size_t(width) + size_t(x)) * 3];
+    return {p[0], p[1], p[2]};
+  }
+  /// Bilinear lookup at page coordinates `uv` in [0, 1] (u right, v down the rows).
+  Rgb sampleBilinear(Vec2 uv) const;
+};
+
+/// Writes an fp32 RGB EXR via `path`.tmp and a rename. Errors: non-finite
+/// texels (naming the first), I/O failure.
+Status writeLightmapExr(const LightmapImage& image, const std::string& path);
+
+/// Reads an EXR written by writeLightmapExr (any EXR with R, G, B channels).
+Expected<LightmapImage> readLightmapExr(const std::string& path);
+
+}  // namespace svit

@@ -1,0 +1,535 @@
+// Lightmap atlas (xatlas and authored TEXCOORD_1) and exact texel
+// rasterization with leak handling, on scenes built in code.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "svit/baker/bake_geometry.h"
+#include "svit/baker/lightmap_atlas.h"
+#include "svit/baker/ray_caster.h"
+#include "test_scenes.h"
+
+namespace svit::baker {
+namespace {
+
+using test::SceneBuilder;
+
+/// Axis-aligned solid box [lo, hi]: addRoom's faces turned outwards.
+void addSolidBox(SceneBuilder& b, const std::string& name, Vec3 lo, Vec3 hi, int material) {
+  const float x0 = lo.x, y0 = lo.y, z0 = lo.z, x1 = hi.x, y1 = hi.y, z1 = hi.z;
+  auto quad = [&](const std::string& face, Vec3 p, Vec3 q, Vec3 r, Vec3 s) { b.addQuad(name + face, p, s, r, q, material); };
+  quad(" bottom", {x0, y0, z0}, {x0, y0, z1}, {x1, y0, z1}, {x1, y0, z0});
+  quad(" top", {x0, y1, z0}, {x1, y1, z0}, {x1, y1, z1}, {x0, y1, z1});
+  quad(" -x", {x0, y0, z0}, {x0, y1, z0}, {x0, y1, z1}, {x0, y0, z1});
+  quad(" +x", {x1, y0, z0}, {x1, y0, z1}, {x1, y1, z1}, {x1, y1, z0});
+  quad(" -z", {x0, y0, z0}, {x1, y0, z0}, {x1, y1, z0}, {x0, y1, z0});
+  quad(" +z", {x0, y0, z1}, {x0, y1, z1}, {x1, y1, z1}, {x1, y0, z1});
+}
+
+/// A room with a box and a disk in it: walls, floor and curved-free but
+/// varied charts, every chart at least ~16 texels wide at 16 texels/m.
+Scene furnishedRoom() {
+  SceneBuilder b;
+  const int grey = b.material({0.5f, 0.5f, 0.5f});
+  b.addRoom("room", {0, 0, 0}, {4, 3, 5}, grey);
+  addSolidBox(b, "box", {1, 0, 1}, {2, 1, 2.5f}, grey);
+  b.addDisk("lamp", {2, 2.9f, 2.5f}, 1.0f, 24, false, grey);
+  return b.scene();
+}
+
+/// Adds a second instance of mesh `mesh`, moved by `offset`.
+void addInstance(Scene& scene, int mesh, Vec3 offset) {
+  Node node;
+  node.name = scene.meshes[size_t(mesh)].name + " copy";
+  node.mesh = mesh;
+  node.world_from_node.m[12] = offset.x;
+  node.world_from_node.m[13] = offset.y;
+  node.world_from_node.m[14] = offset.z;
+  scene.nodes.push_back(node);
+  Instance instance;
+  instance.node = int(scene.nodes.size() - 1);
+  instance.mesh = mesh;
+  instance.world_from_object = node.world_from_node;
+  scene.instances.push_back(instance);
+}
+
+BakeGeometry flatten(const Scene& scene) {
+  Expected<BakeGeometry> g = flattenStaticGeometry(scene);
+  EXPECT_TRUE(g.ok()) << g.status().message();
+  return *g;
+}
+
+/// UV corners of triangle t in texel units.
+void texelCorners(const LightmapAtlas& atlas, size_t t, double x[3], double y[3]) {
+  for (int k = 0; k < 3; ++k) {
+    x[k] = double(atlas.triangle_uv[t * 3 + size_t(k)].x) * atlas.page_width;
+    y[k] = double(atlas.triangle_uv[t * 3 + size_t(k)].y) * atlas.page_height;
+  }
+}
+
+double texelArea(const LightmapAtlas& atlas, size_t t) {
+  double x[3], y[3];
+  texelCorners(atlas, t, x, y);
+  return 0.5 * std::fabs((x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]));
+}
+
+/// Whether (px, py) lies strictly inside triangle t's UVs: farther than
+/// 1e-4 texel from every edge, so points on an edge two triangles of a
+/// chart share count for neither (the conservative side of an overlap test).
+bool strictlyInside(const LightmapAtlas& atlas, size_t t, double px, double py) {
+  double x[3], y[3];
+  texelCorners(atlas, t, x, y);
+  const double twice = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+  if (twice == 0.0) return false;
+  for (int k = 0; k < 3; ++k) {
+    const int a = k, b = (k + 1) % 3;
+    const double ex = x[b] - x[a], ey = y[b] - y[a];
+    const double side = (ex * (py - y[a]) - ey * (px - x[a])) * (twice > 0 ? 1.0 : -1.0);
+    if (side <= 1e-4 * std::hypot(ex, ey)) return false;
+  }
+  return true;
+}
+
+/// Owner (triangle index, or -1) of each of 4x4 sub-points per texel of each
+/// page; fails the test where two triangles cover one sub-point.
+std::vector<int64_t> ownerRaster(const LightmapAtlas& atlas, int sub = 4) {
+  const int w = atlas.page_width * sub, h = atlas.page_height * sub;
+  std::vector<int64_t> owner(size_t(atlas.page_count) * size_t(w) * size_t(h), -1);
+  size_t overlaps = 0;
+  for (size_t t = 0; t < atlas.triangle_page.size(); ++t) {
+    double x[3], y[3];
+    texelCorners(atlas, t, x, y);
+    const int i0 = std::max(0, int(std::floor(std::min({x[0], x[1], x[2]}) * sub)));
+    const int i1 = std::min(w - 1, int(std::ceil(std::max({x[0], x[1], x[2]}) * sub)));
+    const int j0 = std::max(0, int(std::floor(std::min({y[0], y[1], y[2]}) * sub)));
+    const int j1 = std::min(h - 1, int(std::ceil(std::max({y[0], y[1], y[2]}) * sub)));
+    for (int j = j0; j <= j1; ++j) {
+      for (int i = i0; i <= i1; ++i) {
+        if (!strictlyInside(atlas, t, (i + 0.5) / sub, (j + 0.5) / sub)) continue;
+        int64_t& o = owner[(size_t(atlas.triangle_page[t]) * size_t(h) + size_t(j)) * size_t(w) + size_t(i)];
+        if (o >= 0 && overlaps++ < 5) ADD_FAILURE() << "triangles " << o << " and " << t << " overlap on page " << atlas.triangle_page[t];
+        o = int64_t(t);
+      }
+    }
+  }
+  EXPECT_EQ(overlaps, 0u);
+  return owner;
+}
+
+TEST(LightmapAtlas, XatlasPlacesEveryTriangleAtTheTexelDensityWithoutOverlap) {
+  const Scene scene = furnishedRoom();
+  const BakeGeometry geometry = flatten(scene);
+  AtlasSettings settings;
+  settings.texels_per_m = 16;
+  Expected<LightmapAtlas> atlas = buildLightmapAtlas(scene, geometry, settings);
+  ASSERT_TRUE(atlas.ok()) << atlas.status().message();
+  EXPECT_FALSE(atlas->authored);
+  ASSERT_EQ(atlas->page_count, 1);  // ~100 m2 x 256 texels/m2 fits one 2048 page
+  EXPECT_LE(atlas->page_width, settings.max_page_size);
+  EXPECT_LE(atlas->page_height, settings.max_page_size);
+  ASSERT_EQ(atlas->triangle_page.size(), geometry.triangleCount());
+  ASSERT_EQ(atlas->triangle_uv.size(), geometry.triangleCount() * 3);
+  ASSERT_EQ(atlas->triangle_chart.size(), geometry.triangleCount());
+  for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+    EXPECT_LT(atlas->triangle_page[t], uint32_t(atlas->page_count));
+    for (int k = 0; k < 3; ++k) {
+      const Vec2& uv = atlas->triangle_uv[t * 3 + size_t(k)];
+      EXPECT_TRUE(uv.x >= 0.0f && uv.x <= 1.0f && uv.y >= 0.0f && uv.y <= 1.0f) << "triangle " << t;
+    }
+    // Every chart here is planar, so xatlas maps it isometrically; it then
+    // rounds each chart's extents up to whole texels (texel-centre
+    // alignment): with the smallest chart side 1 m x 16 texels/m that
+    // stretches area by at most (17/16)^2 = 1.13, inside the 20% allowed.
+    const double expected = double(geometry.areas_m2[t]) * settings.texels_per_m * settings.texels_per_m;
+    EXPECT_NEAR(texelArea(*atlas, t) / expected, 1.0, 0.2) << "triangle " << t;
+  }
+  ownerRaster(*atlas);
+  // The two triangles of one wall quad share a chart; different walls do not.
+  EXPECT_EQ(atlas->triangle_chart[0], atlas->triangle_chart[1]);
+  EXPECT_NE(atlas->triangle_chart[0], atlas->triangle_chart[2]);
+}
+
+TEST(LightmapAtlas, TwoInstancesOfOneMeshGetDisjointTexels) {
+  SceneBuilder b;
+  const int grey = b.material({0.5f, 0.5f, 0.5f});
+  const int mesh = b.addQuad("tile", {0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, grey);
+  addInstance(b.scene(), mesh, {3, 0, 0});
+  const BakeGeometry geometry = flatten(b.scene());
+  ASSERT_EQ(geometry.triangleCount(), 4u);
+  AtlasSettings settings;
+  settings.texels_per_m = 16;
+  Expected<LightmapAtlas> atlas = buildLightmapAtlas(b.scene(), geometry, settings);
+  ASSERT_TRUE(atlas.ok()) << atlas.status().message();
+  EXPECT_FALSE(atlas->authored);
+  const int sub = 4;
+  const std::vector<int64_t> owner = ownerRaster(*atlas, sub);
+  // Texels (not just sub-points) touched by each instance must not meet.
+  std::set<size_t> texels[2];
+  const size_t w = size_t(atlas->page_width) * sub, h = size_t(atlas->page_height) * sub;
+  for (size_t i = 0; i < owner.size(); ++i) {
+    if (owner[i] < 0) continue;
+    const size_t page = i / (w * h), y = (i % (w * h)) / w, x = i % w;
+    const size_t texel = (page * size_t(atlas->page_height) + y / sub) * size_t(atlas->page_width) + x / sub;
+    texels[geometry.instance[size_t(owner[i])]].insert(texel);
+  }
+  EXPECT_GT(texels[0].size(), 200u);  // ~16 x 16
+  EXPECT_GT(texels[1].size(), 200u);
+  for (size_t t : texels[0]) EXPECT_EQ(texels[1].count(t), 0u) << "texel " << t << " is shared";
+  EXPECT_NE(atlas->triangle_chart[0], atlas->triangle_chart[2]);
+}
+
+TEST(LightmapAtlas, SmallPagesForceSeveralPages) {
+  const Scene scene = furnishedRoom();
+  const BakeGeometry geometry = flatten(scene);
+  AtlasSettings settings;
+  settings.texels_per_m = 8;  // ~100 m2 x 64 = 6400 texels > one 64x64 page
+  settings.max_page_size = 64;
+  Expected<LightmapAtlas> atlas = buildLightmapAtlas(scene, geometry, settings);
+  ASSERT_TRUE(atlas.ok()) << atlas.status().message();
+  EXPECT_GE(atlas->page_count, 2);
+  EXPECT_LE(atlas->page_width, 64);
+  EXPECT_LE(atlas->page_height, 64);
+  std::set<uint32_t> used_pages(atlas->triangle_page.begin(), atlas->triangle_page.end());
+  EXPECT_EQ(used_pages.size(), size_t(atlas->page_count));
+  // A chart lives on one page: chart ids are unique across pages.
+  std::vector<int64_t> chart_page;
+  for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+    const uint32_t c = atlas->triangle_chart[t];
+    if (chart_page.size() <= c) chart_page.resize(c + 1, -1);
+    if (chart_page[c] < 0) chart_page[c] = atlas->triangle_page[t];
+    EXPECT_EQ(chart_page[c], int64_t(atlas->triangle_page[t])) << "chart " << c;
+  }
+  ownerRaster(*atlas);
+}
+
+TEST(LightmapAtlas, AuthoredUvsAreKeptAndInstancesGetTheirOwnPage) {
+  SceneBuilder b;
+  const int grey = b.material({0.5f, 0.5f, 0.5f});
+  const int mesh = b.addQuad("panel", {0, 0, 0}, {0, 0, 2}, {2, 0, 2}, {2, 0, 0}, grey);
+  // TEXCOORD_1 covering [0.25, 0.75]^2: a quarter of the page for 4 m2.
+  Mesh& m = b.scene().meshes[size_t(mesh)];
+  for (const Vec3& p : m.positions) m.uv1.push_back({0.25f + p.x * 0.25f, 0.25f + p.z * 0.25f});
+  addInstance(b.scene(), mesh, {5, 0, 0});
+  const BakeGeometry geometry = flatten(b.scene());
+  AtlasSettings settings;
+  settings.texels_per_m = 16;
+  Expected<LightmapAtlas> atlas = buildLightmapAtlas(b.scene(), geometry, settings);
+  ASSERT_TRUE(atlas.ok()) << atlas.status().message();
+  EXPECT_TRUE(atlas->authored);
+  EXPECT_EQ(atlas->page_count, 2);
+  // 16 texels/m x sqrt(4 m2 / 0.25 of the page) = 64 texels a side.
+  EXPECT_EQ(atlas->page_width, 64);
+  EXPECT_EQ(atlas->page_height, 64);
+  for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+    EXPECT_EQ(atlas->triangle_page[t], geometry.instance[t]);
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 expected = m.uv1[m.indices[geometry.mesh_triangle[t] * 3 + size_t(k)]];
+      EXPECT_EQ(atlas->triangle_uv[t * 3 + size_t(k)].x, expected.x);
+      EXPECT_EQ(atlas->triangle_uv[t * 3 + size_t(k)].y, expected.y);
+    }
+  }
+  // One chart per instance (the quad is continuous in UV), distinct ids.
+  EXPECT_EQ(atlas->triangle_chart[0], atlas->triangle_chart[1]);
+  EXPECT_EQ(atlas->triangle_chart[2], atlas->triangle_chart[3]);
+  EXPECT_NE(atlas->triangle_chart[0], atlas->triangle_chart[2]);
+
+  // A mesh without TEXCOORD_1 sends the whole scene to xatlas.
+  b.addQuad("plain", {0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}, grey);
+  const BakeGeometry mixed = flatten(b.scene());
+  Expected<LightmapAtlas> fallback = buildLightmapAtlas(b.scene(), mixed, settings);
+  ASSERT_TRUE(fallback.ok()) << fallback.status().message();
+  EXPECT_FALSE(fallback->authored);
+  ownerRaster(*fallback);
+}
+
+TEST(LightmapAtlas, BadSettingsAreRejected) {
+  const Scene scene = furnishedRoom();
+  const BakeGeometry geometry = flatten(scene);
+  AtlasSettings settings;
+  settings.texels_per_m = 0;
+  Expected<LightmapAtlas> a = buildLightmapAtlas(scene, geometry, settings);
+  ASSERT_FALSE(a.ok());
+  EXPECT_EQ(a.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(a.status().message().find("texels_per_m"), std::string::npos) << a.status().message();
+  settings.texels_per_m = 16;
+  settings.max_page_size = 8;
+  Expected<LightmapAtlas> b = buildLightmapAtlas(scene, geometry, settings);
+  ASSERT_FALSE(b.ok());
+  EXPECT_EQ(b.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(b.status().message().find("max_page_size 8"), std::string::npos) << b.status().message();
+}
+
+/// One quad [0,1]^2 in x-y facing +z, hand-mapped: page `size`, UV = offset + scale * xy.
+struct HandMapped {
+  Scene scene;
+  BakeGeometry geometry;
+  LightmapAtlas atlas;
+};
+
+HandMapped handMappedQuad(int size, float offset, float scale) {
+  HandMapped h;
+  SceneBuilder b;
+  const int grey = b.material({0.5f, 0.5f, 0.5f});
+  b.addQuad("quad", {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, grey);
+  h.scene = b.scene();
+  h.geometry = flatten(h.scene);
+  h.atlas.page_width = h.atlas.page_height = size;
+  h.atlas.page_count = 1;
+  for (size_t t = 0; t < h.geometry.triangleCount(); ++t) {
+    h.atlas.triangle_page.push_back(0);
+    h.atlas.triangle_chart.push_back(0);
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& p = h.geometry.corner(t, k);
+      h.atlas.triangle_uv.push_back({offset + scale * p.x, offset + scale * p.y});
+    }
+  }
+  return h;
+}
+
+TEST(TexelRasterizer, QuadCoveringFourByFourTexelsSamplesTexelCentres) {
+  // Page 8x8, quad at UV [0.25, 0.75]^2 = texels 2..5 exactly (all values
+  // exact in float).
+  HandMapped h = handMappedQuad(8, 0.25f, 0.5f);
+  std::unique_ptr<RayCaster> caster = makeBruteForceCaster(h.geometry);
+  Expected<TexelSet> set = rasterizeTexels(h.geometry, h.atlas, *caster, RasterSettings{});
+  ASSERT_TRUE(set.ok()) << set.status().message();
+  ASSERT_EQ(set->samples.size(), 16u);
+  for (const TexelSample& s : set->samples) {
+    EXPECT_GE(s.x, 2u);
+    EXPECT_LE(s.x, 5u);
+    EXPECT_GE(s.y, 2u);
+    EXPECT_LE(s.y, 5u);
+    EXPECT_FLOAT_EQ(s.coverage, 1.0f);
+    // Texel centre (x + 0.5) / 8 in UV -> world (uv - 0.25) / 0.5; the
+    // diagonal texels too (the texel-wide centroid lies on the shared edge).
+    EXPECT_NEAR(s.position.x, ((s.x + 0.5) / 8.0 - 0.25) / 0.5, 1e-6) << s.x << "," << s.y;
+    EXPECT_NEAR(s.position.y, ((s.y + 0.5) / 8.0 - 0.25) / 0.5, 1e-6) << s.x << "," << s.y;
+    EXPECT_FLOAT_EQ(s.position.z, 0.0f);
+    EXPECT_FLOAT_EQ(s.normal.z, 1.0f);
+    EXPECT_EQ(set->sampleAt(0, s.x, s.y), int32_t(&s - set->samples.data()));
+  }
+  EXPECT_EQ(std::count(set->texel_to_sample.begin(), set->texel_to_sample.end(), -1), 64 - 16);
+}
+
+TEST(TexelRasterizer, EdgeTexelsArePartialAndCoverageSumsToTheUvArea) {
+  // One triangle at arbitrary texel positions on a 16x16 page.
+  SceneBuilder b;
+  const int grey = b.material({0.5f, 0.5f, 0.5f});
+  b.addMesh("tri", {{0, 0, 0}, {2, 0.3f, 0}, {0.7f, 1.9f, 0.2f}}, grey);
+  const BakeGeometry geometry = flatten(b.scene());
+  LightmapAtlas atlas;
+  atlas.page_width = atlas.page_height = 16;
+  atlas.page_count = 1;
+  atlas.triangle_page = {0};
+  atlas.triangle_chart = {0};
+  atlas.triangle_uv = {{1.3f / 16, 1.7f / 16}, {13.2f / 16, 3.1f / 16}, {4.1f / 16, 14.6f / 16}};
+  std::unique_ptr<RayCaster> caster = makeBruteForceCaster(geometry);
+  Expected<TexelSet> set = rasterizeTexels(geometry, atlas, *caster, RasterSettings{});
+  ASSERT_TRUE(set.ok()) << set.status().message();
+  double coverage = 0;
+  size_t partial = 0, full = 0;
+  for (const TexelSample& s : set->samples) {
+    EXPECT_GT(s.coverage, 0.0f);
+    EXPECT_LE(s.coverage, 1.0f);
+    coverage += s.coverage;
+    (s.coverage < 1.0f ? partial : full)++;
+    // Inside the triangle: barycentrics in [0, 1], position on the plane.
+    EXPECT_GE(s.u, 0.0f);
+    EXPECT_GE(s.v, 0.0f);
+    EXPECT_LE(s.u + s.v, 1.0f + 1e-6f);
+    const Vec3 a = geometry.corner(0, 0), p1 = geometry.corner(0, 1), p2 = geometry.corner(0, 2);
+    const float w = 1.0f - s.u - s.v;
+    EXPECT_NEAR(s.position.x, w * a.x + s.u * p1.x + s.v * p2.x, 1e-5);
+    EXPECT_NEAR(s.position.y, w * a.y + s.u * p1.y + s.v * p2.y, 1e-5);
+    EXPECT_NEAR(s.position.z, w * a.z + s.u * p1.z + s.v * p2.z, 1e-5);
+    // The sample's UV lies in its texel.
+    const double su = ((1 - s.u - s.v) * 1.3 + s.u * 13.2 + s.v * 4.1);
+    const double sv = ((1 - s.u - s.v) * 1.7 + s.u * 3.1 + s.v * 14.6);
+    EXPECT_GE(su, s.x - 1e-4);
+    EXPECT_LE(su, s.x + 1 + 1e-4);
+    EXPECT_GE(sv, s.y - 1e-4);
+    EXPECT_LE(sv, s.y + 1 + 1e-4);
+  }
+  EXPECT_GT(partial, 10u);
+  EXPECT_GT(full, 10u);
+  // Clipping is exact, so the coverage adds up to the UV area (texel units)
+  // up to float storage of each coverage (6e-8 relative).
+  const double uv_area = 0.5 * std::fabs((13.2 - 1.3) * (14.6 - 1.7) - (3.1 - 1.7) * (4.1 - 1.3));
+  EXPECT_NEAR(coverage / uv_area, 1.0, 1e-4);
+}
+
+TEST(TexelRasterizer, FloorTexelsUnderASolidBoxAreDroppedOrMovedOut) {
+  // Floor [0,1]^2 (x-z) facing +y on a 10x10 page: texel = 0.1 m, texel
+  // (i, j) spans x in [i/10, (i+1)/10], z likewise. A solid box rests on it
+  // over [0.33, 0.54]^2: texel 4 is fully under it, texel 3 is 70% under
+  // (its centre 0.35 inside), texel 5 is 40% under (centre outside).
+  SceneBuilder b;
+  const int grey = b.material({0.5f, 0.5f, 0.5f});
+  b.addQuad("floor", {0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, grey);
+  const float lo = 0.33f, hi = 0.54f;
+  addSolidBox(b, "box", {lo, 0, lo}, {hi, 0.3f, hi}, grey);
+  const BakeGeometry geometry = flatten(b.scene());
+  LightmapAtlas atlas;
+  atlas.page_width = atlas.page_height = 10;
+  atlas.page_count = 2;
+  for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+    const bool floor = geometry.instance[t] == 0;
+    atlas.triangle_page.push_back(floor ? 0 : 1);
+    atlas.triangle_chart.push_back(uint32_t(geometry.instance[t]));
+    // The box's faces are not under test: zero UV area on page 1 (no texels).
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& p = geometry.corner(t, k);
+      atlas.triangle_uv.push_back(floor ? Vec2{p.x, p.z} : Vec2{0.5f, 0.5f});
+    }
+  }
+  Expected<std::unique_ptr<RayCaster>> caster = makeEmbreeCaster(geometry);
+  ASSERT_TRUE(caster.ok()) << caster.status().message();
+
+  // Without probes every floor texel keeps its centre, some inside the box.
+  RasterSettings no_probes;
+  no_probes.leak_probe_texels = 0;
+  Expected<TexelSet> plain = rasterizeTexels(geometry, atlas, **caster, no_probes);
+  ASSERT_TRUE(plain.ok()) << plain.status().message();
+  EXPECT_GE(plain->sampleAt(0, 4, 4), 0);
+
+  Expected<TexelSet> set = rasterizeTexels(geometry, atlas, **caster, RasterSettings{});
+  ASSERT_TRUE(set.ok()) << set.status().message();
+  EXPECT_EQ(set->sampleAt(0, 4, 4), -1) << "the texel wholly under the box is dropped";
+  size_t floor_samples = 0;
+  for (const TexelSample& s : set->samples) {
+    if (s.page != 0) continue;
+    ++floor_samples;
+    const bool under = s.position.x > lo && s.position.x < hi && s.position.z > lo && s.position.z < hi;
+    EXPECT_FALSE(under) << "texel " << s.x << "," << s.y << " samples (" << s.position.x << ", " << s.position.z
+                        << ") under the box";
+    EXPECT_EQ(s.position.y, 0.0f);
+  }
+  EXPECT_EQ(floor_samples, 99u);
+  // Texels (3, 3) and (3, 4), their centres under the box, moved out across
+  // its -x wall, still in their texel.
+  for (uint32_t j = 3; j <= 4; ++j) {
+    const int32_t i = set->sampleAt(0, 3, j);
+    ASSERT_GE(i, 0);
+    const TexelSample& s = set->samples[size_t(i)];
+    EXPECT_LT(s.position.x, lo);
+    EXPECT_GE(s.position.x, 0.3f);
+    EXPECT_GE(s.position.z, j / 10.0f - 1e-6f);
+    EXPECT_LE(s.position.z, (j + 1) / 10.0f + 1e-6f);
+  }
+  // Texel (5, 5), 40% x 40% under, keeps its centre outside the box.
+  const int32_t k = set->sampleAt(0, 5, 5);
+  ASSERT_GE(k, 0);
+  EXPECT_NEAR(set->samples[size_t(k)].position.x, 0.55f, 1e-6);
+  EXPECT_NEAR(set->samples[size_t(k)].position.z, 0.55f, 1e-6);
+}
+
+TEST(TexelRasterizer, LeakingSamplesLeaveTheSolidRatherThanGoDeeper) {
+  // Floor as above under a wide box [0.28, 0.82]^2. Texel (3, 5) lies wholly
+  // under it, its centre 0.07 m (< 1 texel) from the -x wall, so a probe
+  // sees that wall's back; its far corners are 0.12 m from every wall, out
+  // of the probes' reach, but deeper inside: it must be dropped, not moved
+  // there. Texels whose centres are farther than a texel from every wall,
+  // like (4, 5), are out of the short probes' reach by design and keep
+  // their sample (the lighting sees the box's black back faces from it).
+  SceneBuilder b;
+  const int grey = b.material({0.5f, 0.5f, 0.5f});
+  b.addQuad("floor", {0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, grey);
+  const float lo = 0.28f, hi = 0.82f;
+  addSolidBox(b, "box", {lo, 0, lo}, {hi, 0.5f, hi}, grey);
+  const BakeGeometry geometry = flatten(b.scene());
+  LightmapAtlas atlas;
+  atlas.page_width = atlas.page_height = 10;
+  atlas.page_count = 2;
+  for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+    const bool floor = geometry.instance[t] == 0;
+    atlas.triangle_page.push_back(floor ? 0 : 1);
+    atlas.triangle_chart.push_back(uint32_t(geometry.instance[t]));
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& p = geometry.corner(t, k);
+      atlas.triangle_uv.push_back(floor ? Vec2{p.x, p.z} : Vec2{0.5f, 0.5f});
+    }
+  }
+  Expected<std::unique_ptr<RayCaster>> caster = makeEmbreeCaster(geometry);
+  ASSERT_TRUE(caster.ok()) << caster.status().message();
+  RasterSettings no_probes;
+  no_probes.leak_probe_texels = 0;
+  Expected<TexelSet> plain = rasterizeTexels(geometry, atlas, **caster, no_probes);
+  Expected<TexelSet> set = rasterizeTexels(geometry, atlas, **caster, RasterSettings{});
+  ASSERT_TRUE(plain.ok() && set.ok());
+  EXPECT_EQ(set->sampleAt(0, 3, 5), -1);
+  EXPECT_GE(set->sampleAt(0, 4, 5), 0);
+  // Whatever moved went out of the box.
+  for (const TexelSample& s : set->samples) {
+    if (s.page != 0) continue;
+    const TexelSample& before = plain->samples[size_t(plain->sampleAt(0, s.x, s.y))];
+    if (std::memcmp(&s.position, &before.position, sizeof s.position) == 0) continue;
+    const bool under = s.position.x > lo && s.position.x < hi && s.position.z > lo && s.position.z < hi;
+    EXPECT_FALSE(under) << "texel " << s.x << "," << s.y << " moved to (" << s.position.x << ", " << s.position.z
+                        << "), under the box";
+  }
+}
+
+TEST(TexelRasterizer, MismatchedAtlasIsRejected) {
+  HandMapped h = handMappedQuad(8, 0.25f, 0.5f);
+  std::unique_ptr<RayCaster> caster = makeBruteForceCaster(h.geometry);
+  LightmapAtlas bad = h.atlas;
+  bad.triangle_page[1] = 3;
+  Expected<TexelSet> set = rasterizeTexels(h.geometry, bad, *caster, RasterSettings{});
+  ASSERT_FALSE(set.ok());
+  EXPECT_EQ(set.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(set.status().message().find("triangle 1 is on page 3"), std::string::npos) << set.status().message();
+  bad = h.atlas;
+  bad.triangle_uv.pop_back();
+  EXPECT_FALSE(rasterizeTexels(h.geometry, bad, *caster, RasterSettings{}).ok());
+}
+
+bool sameSample(const TexelSample& a, const TexelSample& b) {
+  return a.page == b.page && a.x == b.x && a.y == b.y && a.triangle == b.triangle &&
+         std::memcmp(&a.u, &b.u, sizeof a.u) == 0 && std::memcmp(&a.v, &b.v, sizeof a.v) == 0 &&
+         std::memcmp(&a.position, &b.position, sizeof a.position) == 0 &&
+         std::memcmp(&a.normal, &b.normal, sizeof a.normal) == 0 &&
+         std::memcmp(&a.coverage, &b.coverage, sizeof a.coverage) == 0;
+}
+
+TEST(LightmapAtlas, AtlasAndTexelsAreIdenticalForOneAndTwoThreads) {
+  const Scene scene = furnishedRoom();
+  const BakeGeometry geometry = flatten(scene);
+  Expected<std::unique_ptr<RayCaster>> caster = makeEmbreeCaster(geometry);
+  ASSERT_TRUE(caster.ok()) << caster.status().message();
+  LightmapAtlas atlases[2];
+  TexelSet sets[2];
+  for (int run = 0; run < 2; ++run) {
+    AtlasSettings atlas_settings;
+    atlas_settings.texels_per_m = 16;
+    atlas_settings.threads = run + 1;
+    Expected<LightmapAtlas> atlas = buildLightmapAtlas(scene, geometry, atlas_settings);
+    ASSERT_TRUE(atlas.ok()) << atlas.status().message();
+    RasterSettings raster_settings;
+    raster_settings.threads = run + 1;
+    Expected<TexelSet> set = rasterizeTexels(geometry, *atlas, **caster, raster_settings);
+    ASSERT_TRUE(set.ok()) << set.status().message();
+    atlases[run] = *atlas;
+    sets[run] = *set;
+  }
+  EXPECT_EQ(atlases[0].page_width, atlases[1].page_width);
+  EXPECT_EQ(atlases[0].page_height, atlases[1].page_height);
+  EXPECT_EQ(atlases[0].triangle_page, atlases[1].triangle_page);
+  EXPECT_EQ(atlases[0].triangle_chart, atlases[1].triangle_chart);
+  ASSERT_EQ(atlases[0].triangle_uv.size(), atlases[1].triangle_uv.size());
+  EXPECT_EQ(std::memcmp(atlases[0].triangle_uv.data(), atlases[1].triangle_uv.data(), atlases[0].triangle_uv.size() * sizeof(Vec2)), 0);
+  ASSERT_EQ(sets[0].samples.size(), sets[1].samples.size());
+  EXPECT_GT(sets[0].samples.size(), 10000u);
+  for (size_t i = 0; i < sets[0].samples.size(); ++i) {
+    ASSERT_TRUE(sameSample(sets[0].samples[i], sets[1].samples[i])) << "sample " << i;
+  }
+  EXPECT_EQ(sets[0].texel_to_sample, sets[1].texel_to_sample);
+}
+
+}  // namespace
+}  // namespace svit::baker

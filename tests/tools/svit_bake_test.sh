@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# svit-bake and svit-probe as users script them (DESIGN.md "Command-line
+# contracts"): outputs, exit codes, cancellation, atomic output, determinism.
+# usage: svit_bake_test.sh SVIT_BAKE SVIT_PROBE SHARED_SCENES_DIR TEST_DATA_DIR
+set -u
+bake="$1" probe="$2" scenes="$3" data="$4"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+cornell="$scenes/cornell_box_original/CornellBox-Original.gltf"
+failures=0
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+ok() { echo "ok   $*"; }
+expect_exit() {  # NAME WANT -- command...
+  local name="$1" want="$2"; shift 3
+  "$@" >"$work/out.txt" 2>"$work/err.txt"
+  local rc=$?
+  if [[ $rc -eq $want ]]; then ok "$name"; else fail "$name: exit $rc, expected $want"; cat "$work/err.txt"; fi
+}
+
+# Bad usage: exit 2 with a message.
+expect_exit no_arguments 2 -- "$bake"
+expect_exit no_output 2 -- "$bake" "$cornell"
+expect_exit bad_quality 2 -- "$bake" "$cornell" -o "$work/x" --quality 7
+expect_exit bad_time 2 -- "$bake" "$cornell" -o "$work/x" --time -1
+expect_exit bad_texels 2 -- "$bake" "$cornell" -o "$work/x" --texels-per-m abc
+expect_exit unknown_option 2 -- "$bake" "$cornell" -o "$work/x" --frobnicate
+grep -q "unknown option '--frobnicate'" "$work/err.txt" || fail "unknown option message"
+# Bad input: exit 1, message names the file.
+expect_exit missing_level 1 -- "$bake" "$work/nope.gltf" -o "$work/x"
+grep -q "nope.gltf" "$work/err.txt" || fail "missing level message names the file"
+expect_exit malformed_level 1 -- "$bake" "$data/bad_json.gltf" -o "$work/x"
+[[ ! -e "$work/x" ]] && ok "failed bakes write nothing" || fail "a failed bake left $work/x"
+
+# A good bake, quiet: nothing on stdout, the three kinds of output.
+expect_exit bake 0 -- "$bake" "$cornell" -o "$work/a" --quality 0.2 --texels-per-m 24 --seed 7 --quiet
+[[ ! -s "$work/out.txt" ]] && ok "quiet prints nothing" || fail "--quiet printed: $(cat "$work/out.txt")"
+for f in bake.svit lightmap-0.exr report.json; do
+  [[ -f "$work/a/$f" ]] && ok "wrote $f" || fail "missing $f"
+done
+python3 - "$work/a/report.json" <<'PY' && ok "report.json fields" || fail "report.json fields"
+import json, sys
+r = json.load(open(sys.argv[1]))
+for key in ("stage_seconds", "radiosity", "lightmap", "warnings", "error_vs_time", "sections_left_out"):
+    assert key in r, key
+assert r["radiosity"]["rays_per_s"] > 0
+assert len(r["error_vs_time"]) >= 2 and all("t_s" in p and "est_rel_error" in p for p in r["error_vs_time"])
+assert r["lightmap"]["covered_texels"] > 0
+assert {s["section"] for s in r["sections_left_out"]} >= {"patches", "proxy", "probes"}
+PY
+# Determinism: the same seed gives identical files.
+expect_exit bake_again 0 -- "$bake" "$cornell" -o "$work/b" --quality 0.2 --texels-per-m 24 --seed 7 --quiet --threads 1
+cmp -s "$work/a/lightmap-0.exr" "$work/b/lightmap-0.exr" && ok "same seed, same EXR bytes (1 vs all threads)" || fail "EXR differs between runs"
+cmp -s "$work/a/bake.svit" "$work/b/bake.svit" && ok "same seed, same bake.svit" || fail "bake.svit differs"
+
+# Progress: plain lines when stderr is not a terminal.
+expect_exit bake_progress 0 -- "$bake" "$cornell" -o "$work/c" --quality 0.1 --texels-per-m 16
+grep -q "svit-bake: radiosity" "$work/err.txt" && ok "progress lines" || fail "no progress lines"
+grep -q "^baked " "$work/out.txt" && ok "summary line" || fail "no summary line"
+
+# Cancellation: SIGTERM mid-bake exits 3 and leaves the previous bake intact.
+cp -r "$work/a" "$work/keep"
+"$bake" "$cornell" -o "$work/a" --quality 1 --texels-per-m 64 --quiet &
+pid=$!
+sleep 1.5
+kill -TERM $pid
+wait $pid
+rc=$?
+[[ $rc -eq 3 ]] && ok "SIGTERM exits 3" || fail "SIGTERM exit $rc"
+diff -r -q "$work/a" "$work/keep" >/dev/null && ok "cancelled bake left the previous output intact" || fail "output changed by a cancelled bake"
+ls "$work" | grep -q "tmp-" && fail "temporary directory left behind" || ok "no temporary directory left"
+
+# Probe: 'r g b' per line, --json, bad input.
+printf '0 0 0 0 1 0\n# a comment\n\n0 1.98 0 0 -1 0\n' >"$work/points.txt"
+expect_exit probe 0 -- "$probe" "$work/a" "$work/points.txt"
+[[ $(wc -l <"$work/out.txt") -eq 2 ]] && ok "probe prints one line per point" || fail "probe output: $(cat "$work/out.txt")"
+awk 'NF != 3 { exit 1 }' "$work/out.txt" && ok "probe lines are r g b" || fail "probe lines"
+expect_exit probe_json 0 -- "$probe" "$work/a" "$work/points.txt" --json
+python3 -c "import json,sys; assert len(json.load(open('$work/out.txt'))) == 2" && ok "probe --json parses" || fail "probe --json"
+printf '0 0 zero 0 1 0\n' >"$work/bad_points.txt"
+expect_exit probe_bad_points 1 -- "$probe" "$work/a" "$work/bad_points.txt"
+grep -q "bad_points.txt:1" "$work/err.txt" && ok "bad point line named" || fail "bad point message"
+expect_exit probe_no_bake 1 -- "$probe" "$work/nothing" "$work/points.txt"
+expect_exit probe_usage 2 -- "$probe" "$work/a"
+# A corrupt bake file is rejected.
+cp -r "$work/a" "$work/corrupt"
+printf 'garbage' | dd of="$work/corrupt/bake.svit" bs=1 seek=20 conv=notrunc status=none
+expect_exit probe_corrupt 1 -- "$probe" "$work/corrupt" "$work/points.txt"
+
+if [[ $failures -ne 0 ]]; then echo "$failures failed"; exit 1; fi
+echo "all svit-bake / svit-probe checks passed"
