@@ -172,8 +172,11 @@ Expected<BakeResult> bakeLevel(const BakeOptions& options, const std::function<b
   Expected<std::unique_ptr<RadiositySolver>> solver = RadiositySolver::create(*scene, *geometry, **caster, solver_settings);
   if (!solver.ok()) return solver.status();
   StopRule stop;
-  stop.target_est_rel_error = 0.005 + 0.05 * (1.0 - options.quality);
-  stop.max_seconds = std::isfinite(budget) ? 0.4 * budget : 600.0 * options.quality + 30.0;
+  // Without a budget the quality sets the error target; with one, the
+  // solver gets 30% of it (the lighting passes use the rest) and stops early
+  // only once it is far below what the lightmap passes can resolve.
+  stop.target_est_rel_error = std::isfinite(budget) ? 0.002 : 0.005 + 0.05 * (1.0 - options.quality);
+  stop.max_seconds = std::isfinite(budget) ? 0.3 * budget : 600.0 * options.quality + 30.0;
   stop.cancel = cancel;
   stop.progress = [&](const SolverProgress& p) {
     const double fraction = std::min(1.0, std::max(p.elapsed_s / stop.max_seconds,
@@ -235,10 +238,14 @@ Expected<BakeResult> bakeLevel(const BakeOptions& options, const std::function<b
     }
     const double pass_start = elapsed();
     lighting_settings.seed = hashIds(options.seed, 0x1a7, pass);
-    const uint32_t passes_planned = std::isfinite(budget) ? std::max(1u, uint32_t(remaining() / std::max(pass_seconds, 1e-3))) : quality_passes;
+    // Stage progress: the share of the stage's time used (with a budget),
+    // or of the planned passes (without one); never goes backwards.
+    const double stage_budget = std::isfinite(budget) ? std::max(1e-3, budget - stage_start) : 0.0;
     Expected<std::vector<TexelIrradiance>> lit = lightTexels(
         *scene, *geometry, **caster, **solver, *texels, lighting_settings, cancel, [&](size_t done, size_t total) {
-          const double fraction = (double(pass) + double(done) / double(std::max<size_t>(total, 1))) / double(passes_planned + pass);
+          const double within = double(done) / double(std::max<size_t>(total, 1));
+          const double fraction = std::isfinite(budget) ? (elapsed() - stage_start) / stage_budget
+                                                        : (double(pass) + within) / double(quality_passes);
           return report(std::min(1.0, fraction), remaining());
         });
     if (!lit.ok()) return lit.status().code() == StatusCode::kCancelled ? cancelled : lit.status();

@@ -299,10 +299,13 @@ Expected<LightmapAtlas> buildWithXatlas(const Scene& scene, const BakeGeometry& 
                                                  std::to_string(v.xref) + " of " + std::to_string((r.end - r.first) * 3));
       }
       if (v.atlasIndex < 0 || v.chartIndex < 0) {
-        return Status(StatusCode::kInternal, instanceLabel(scene, r.instance) + " triangle " +
-                                                 std::to_string(geometry.mesh_triangle[t]) +
-                                                 ": xatlas left it out of the atlas (degenerate: area below 1.2e-7 texel^2 at " +
-                                                 std::to_string(settings.texels_per_m) + " texels/m, or non-finite)");
+        // Legal but too small for xatlas (flattenStaticGeometry's test is
+        // relative, xatlas's absolute): not a bug of ours, not bad data.
+        return Status(StatusCode::kUnsupported, instanceLabel(scene, r.instance) + " triangle " +
+                                                    std::to_string(geometry.mesh_triangle[t]) +
+                                                    ": xatlas left it out of the atlas (area " +
+                                                    std::to_string(geometry.areas_m2[t]) + " m2 is below 1.2e-7 texel^2 at " +
+                                                    std::to_string(settings.texels_per_m) + " texels/m)");
       }
       const double x = v.uv[0], y = v.uv[1];
       if (!(x >= 0.0 && y >= 0.0 && x <= xa->width + kUvSlackTexels && y <= xa->height + kUvSlackTexels) ||

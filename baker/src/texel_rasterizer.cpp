@@ -2,8 +2,11 @@
 // polygon is clipped against every texel square it overlaps (Sutherland &
 // Hodgman, "Reentrant Polygon Clipping", CACM 1974), which gives the covered
 // area and its centroid. Sample points inside or behind geometry are found
-// with short probe rays and pulled out, as production lightmappers do
-// against leaks (e.g. Bakery's and Unity's "texel validity" checks).
+// with short probe rays that meet a back face, and moved across it or
+// dropped: the usual leak guard of production lightmappers (Unity's texel
+// validity / backface tolerance, Bakery's sample adjustment). The probes
+// reach about a texel, so they fix texels that straddle a surface; a texel
+// deep inside a solid stays (its lighting sees black back faces; unseen).
 //
 // Work is split into bands of rows of one page; each band reads the
 // triangles that overlap it in triangle order and writes only its own
@@ -23,9 +26,9 @@ namespace {
 
 constexpr int kBandRows = 8;  // rows per work item: small enough to balance, large enough to batch rays
 
-// Clipped areas below this (texel^2) are clipping round-off of a triangle
-// that only touches the texel along an edge or corner: coordinates up to
-// ~1e4 texels in double carry ~1e-12 absolute error, squared far below.
+// Clipped areas below this (texel^2) are round-off of a triangle that only
+// touches the texel along an edge or corner: such a part is at most a texel
+// long and, with coordinates up to ~1e4 texels in double, ~1e-12 wide.
 constexpr double kMinArea = 1e-9;
 
 // A point whose barycentrics lie this far outside [0, 1] (dimensionless) is

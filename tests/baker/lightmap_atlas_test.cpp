@@ -265,6 +265,25 @@ TEST(LightmapAtlas, BadSettingsAreRejected) {
   EXPECT_NE(b.status().message().find("max_page_size 8"), std::string::npos) << b.status().message();
 }
 
+TEST(LightmapAtlas, TriangleXatlasDropsIsAnErrorNamingIt) {
+  // A well-shaped speck (0.1 mm sides) passes flattenStaticGeometry's
+  // relative degeneracy test, but at 1 texel/m its 5e-9 texel^2 are below
+  // xatlas's zero-area threshold (FLT_EPSILON in texel units), so xatlas
+  // leaves it out of every chart.
+  SceneBuilder b;
+  const int grey = b.material({0.5f, 0.5f, 0.5f});
+  b.addQuad("wall", {0, 0, 0}, {0, 0, 4}, {4, 0, 4}, {4, 0, 0}, grey);
+  b.addMesh("speck", {{1, 1, 1}, {1, 1, 1.0001f}, {1.0001f, 1, 1}}, grey);
+  const BakeGeometry geometry = flatten(b.scene());
+  ASSERT_EQ(geometry.triangleCount(), 3u);
+  AtlasSettings settings;
+  settings.texels_per_m = 1;
+  Expected<LightmapAtlas> atlas = buildLightmapAtlas(b.scene(), geometry, settings);
+  ASSERT_FALSE(atlas.ok());
+  EXPECT_EQ(atlas.status().code(), StatusCode::kUnsupported);
+  EXPECT_NE(atlas.status().message().find("mesh 'speck') triangle 0"), std::string::npos) << atlas.status().message();
+}
+
 /// One quad [0,1]^2 in x-y facing +z, hand-mapped: page `size`, UV = offset + scale * xy.
 struct HandMapped {
   Scene scene;

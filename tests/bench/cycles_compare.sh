@@ -23,7 +23,7 @@ out="$(cd "$out" && pwd)"
 size="${SVIT_CYCLES_SIZE:-256}"
 samples="${SVIT_CYCLES_SAMPLES:-1,2,4,8,16,32,64,128,256,512}"
 reference_samples="${SVIT_CYCLES_REFERENCE_SAMPLES:-6144}"
-budgets="${SVIT_CYCLES_SVIT_BUDGETS:-1.5 2 3 4 6 8 12 16 24 32 48}"
+budgets="${SVIT_CYCLES_SVIT_BUDGETS:-1 1.5 2 3 4 6 8 12 16 24 32 48}"
 scene_in="$root/../shared/scenes/cornell_box_original/CornellBox-Original.gltf"
 [[ -f "$scene_in" ]] || scene_in="/work/shared/scenes/cornell_box_original/CornellBox-Original.gltf"
 script="$root/tests/bench/cycles_lightmap.py"
@@ -53,6 +53,7 @@ scene="$out/scene/cornell_lightmap.gltf"
 echo "== lightmap UVs (Blender Lightmap Pack, ${size}x${size}, margin 1.5 texels per side)"
 blender_run "$out/logs/prepare.log" prepare "$scene_in" "$scene" --size "$size" --margin-texels 1.5
 scene_hash="$(cat "$scene" "$out/scene/cornell_lightmap.bin" | sha256sum | cut -c1-16)"
+blender_run "$out/logs/texels.log" texels "$scene" "$out/scene/texels.npz" --size "$size"
 
 # 2. Cycles: the series (seed 1) and the reference (seed 2).
 cycles_stage() {  # cycles_stage DIR SAMPLES SEED

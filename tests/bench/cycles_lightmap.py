@@ -16,6 +16,10 @@
 #       OUT_DIR/cycles-sNNNNN.exr and OUT_DIR/cycles_timings.json (wall time
 #       of each bpy.ops.object.bake). CPU, all threads, no denoiser, no
 #       adaptive sampling, no clamping, 128 diffuse / max bounces.
+#   texels GLTF OUT.npz [--size 256]
+#       Which object owns each texel (texel centre inside one of its
+#       TEXCOORD_1 triangles) and which texels are hidden (under a box, in the
+#       gap above the light): see texels() below.
 #   to-npy OUT_DIR [NAME=]FILE.exr...
 #       Writes each EXR's RGB as OUT_DIR/NAME.npy (float32, H x W x 3, row 0 =
 #       the file's first row, i.e. the image's top; NAME defaults to the file
@@ -29,6 +33,7 @@
 # of emissive x strength that is zero on back faces.
 
 import json
+import math
 import os
 import sys
 import time
@@ -178,15 +183,8 @@ def lambert_materials():
         tree.links.new(shader, out.inputs["Surface"])
 
 
-def bake(args):
-    size = int(option(args, "--size", "256"))
-    samples = [int(s) for s in option(args, "--samples", "1,4,16").split(",")]
-    seed = int(option(args, "--seed", "1"))
-    threads = int(option(args, "--threads", "0"))
-    if len(args) != 2:
-        fail("bake needs GLTF OUT_DIR")
-    source, out_dir = args
-    os.makedirs(out_dir, exist_ok=True)
+def import_lightmap_uvs(source):
+    """Imports GLTF with its TEXCOORD_1 as the meshes' only UV map."""
     # Blender's importer reads TEXCOORD_n only from n = 0 up, so it would skip
     # a lone TEXCOORD_1: import a copy (beside the original, sharing its
     # buffers) where the lightmap UVs are TEXCOORD_0.
@@ -204,11 +202,22 @@ def bake(args):
         json.dump(gltf, f)
     meshes = reset_and_import(copy)
     os.remove(copy)
-    uv_names = set()
     for o in meshes:
         if len(o.data.uv_layers) != 1:
             fail("%s: mesh %s has %d UV maps, expected 1 (TEXCOORD_1)" % (source, o.name, len(o.data.uv_layers)))
-        uv_names.add(o.data.uv_layers[0].name)
+    return meshes
+
+
+def bake(args):
+    size = int(option(args, "--size", "256"))
+    samples = [int(s) for s in option(args, "--samples", "1,4,16").split(",")]
+    seed = int(option(args, "--seed", "1"))
+    threads = int(option(args, "--threads", "0"))
+    if len(args) != 2:
+        fail("bake needs GLTF OUT_DIR")
+    source, out_dir = args
+    os.makedirs(out_dir, exist_ok=True)
+    meshes = import_lightmap_uvs(source)
     lambert_materials()
 
     scene = bpy.context.scene
@@ -285,6 +294,79 @@ def bake(args):
             json.dump(timings, f, indent=1)
 
 
+def texels(args):
+    """Per texel of the page: object index and a 'hidden' flag.
+
+    A texel belongs to the triangle containing its centre (what Cycles bakes).
+    From the surface point there, 64 rays over the cosine hemisphere look for
+    back faces: a point under a box (floor beneath it) or in the 1 cm gap
+    above the light sees back faces in most directions and no viewer in the
+    room can see it. Hidden: more than half of the rays hit a back face.
+    """
+    from mathutils import Vector
+    from mathutils.bvhtree import BVHTree
+    size = int(option(args, "--size", "256"))
+    if len(args) != 2:
+        fail("texels needs GLTF OUT.npz")
+    source, target = args
+    meshes = import_lightmap_uvs(source)
+    meshes.sort(key=lambda o: o.name)
+    verts, polys, tris = [], [], []
+    for index, o in enumerate(meshes):
+        mesh = o.data
+        matrix = o.matrix_world
+        base = len(verts)
+        verts.extend(matrix @ v.co for v in mesh.vertices)
+        mesh.calc_loop_triangles()
+        uv = mesh.uv_layers[0].data
+        for tri in mesh.loop_triangles:
+            polys.append([base + v for v in tri.vertices])
+            # Blender's v is glTF's 1 - v; page rows run with glTF's v.
+            uvs = [(uv[l].uv[0], 1.0 - uv[l].uv[1]) for l in tri.loops]
+            tris.append((index, [verts[base + v] for v in tri.vertices], uvs))
+    tree = BVHTree.FromPolygons(verts, polys, all_triangles=True)
+    owner = np.full((size, size), -1, dtype=np.int32)
+    hidden = np.zeros((size, size), dtype=bool)
+    # A fixed cosine-weighted direction set (Fibonacci spiral on the disc).
+    count = 64
+    golden = math.pi * (3.0 - math.sqrt(5.0))
+    local = []
+    for i in range(count):
+        r = math.sqrt((i + 0.5) / count)
+        phi = i * golden
+        local.append((r * math.cos(phi), r * math.sin(phi), math.sqrt(max(0.0, 1.0 - r * r))))
+    for index, corners, uvs in tris:
+        (x0, y0), (x1, y1), (x2, y2) = [(u * size, v * size) for u, v in uvs]
+        d = (y1 - y2) * (x0 - x2) + (x2 - x1) * (y0 - y2)
+        if d == 0:
+            continue
+        normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]).normalized()
+        helper = Vector((1, 0, 0)) if abs(normal.x) < 0.9 else Vector((0, 1, 0))
+        tangent = normal.cross(helper).normalized()
+        bitangent = normal.cross(tangent)
+        directions = [tangent * a + bitangent * b + normal * c for a, b, c in local]
+        for ty in range(max(0, int(min(y0, y1, y2))), min(size, int(max(y0, y1, y2)) + 1)):
+            for tx in range(max(0, int(min(x0, x1, x2))), min(size, int(max(x0, x1, x2)) + 1)):
+                px, py = tx + 0.5, ty + 0.5
+                l0 = ((y1 - y2) * (px - x2) + (x2 - x1) * (py - y2)) / d
+                l1 = ((y2 - y0) * (px - x2) + (x0 - x2) * (py - y2)) / d
+                l2 = 1.0 - l0 - l1
+                if l0 < 0 or l1 < 0 or l2 < 0:
+                    continue
+                owner[ty, tx] = index
+                point = corners[0] * l0 + corners[1] * l1 + corners[2] * l2 + normal * 1e-4
+                back = 0
+                for direction in directions:
+                    location, hit_normal, _, _ = tree.ray_cast(point, direction)
+                    if location is not None and hit_normal.dot(direction) > 0:
+                        back += 1
+                hidden[ty, tx] = back * 2 > count
+    np.savez_compressed(target, owner=owner, hidden=hidden, names=np.array([o.name for o in meshes]))
+    print("texels: %d covered, %d hidden (%s)" % ((owner >= 0).sum(), hidden.sum(),
+          ", ".join("%s %d" % (o.name, (hidden & (owner == i)).sum()) for i, o in enumerate(meshes)
+                    if (hidden & (owner == i)).any())))
+
+
 def to_npy(args):
     if len(args) < 2:
         fail("to-npy needs OUT_DIR [NAME=]FILE.exr...")
@@ -312,10 +394,10 @@ def to_npy(args):
 def main():
     args = argv_after_dashes()
     if not args:
-        fail("usage: blender -b -P cycles_lightmap.py -- prepare|bake|to-npy ARGS")
+        fail("usage: blender -b -P cycles_lightmap.py -- prepare|bake|texels|to-npy ARGS")
     command, rest = args[0], args[1:]
     try:
-        {"prepare": prepare, "bake": bake, "to-npy": to_npy}.get(command, lambda _: fail("unknown command " + command))(rest)
+        {"prepare": prepare, "bake": bake, "texels": texels, "to-npy": to_npy}.get(command, lambda _: fail("unknown command " + command))(rest)
     except Exception as error:  # Blender would carry on and exit 0
         import traceback
         traceback.print_exc()
