@@ -11,9 +11,10 @@
 # Knobs (environment): SVIT_CYCLES_SIZE (page texels per side, 256),
 # SVIT_CYCLES_SAMPLES (Cycles series, 1,2,4,...,512),
 # SVIT_CYCLES_REFERENCE_SAMPLES (6144), SVIT_CYCLES_SVIT_BUDGETS (svit --time
-# values, seconds), SVIT_CYCLES_REUSE=1 (keep Cycles bakes already in OUT_DIR
-# when their scene and settings match), SVIT_BAKE (a built svit-bake to use
-# instead of building build/release).
+# values, seconds), SVIT_CYCLES_REUSE=1 (keep the Cycles reference already in
+# OUT_DIR when scene and settings match; its time is no part of the results,
+# so a rerun of the timed bakes takes 5 minutes instead of 15), SVIT_BAKE (a
+# built svit-bake to use instead of building build/release).
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -45,7 +46,7 @@ blender_run() {  # blender_run LOG ARGS...: the Blender script, its chatter into
     echo "cycles_compare: Blender failed; log in $log" >&2
     exit 1
   fi
-  grep -E '^(prepare|bake|to-npy):' "$log" || true
+  grep -E '^(prepare|bake|texels|to-npy):' "$log" || true
 }
 
 # 1. The shared scene: lightmap UVs from Blender's Lightmap Pack.
@@ -56,10 +57,10 @@ scene_hash="$(cat "$scene" "$out/scene/cornell_lightmap.bin" | sha256sum | cut -
 blender_run "$out/logs/texels.log" texels "$scene" "$out/scene/texels.npz" --size "$size"
 
 # 2. Cycles: the series (seed 1) and the reference (seed 2).
-cycles_stage() {  # cycles_stage DIR SAMPLES SEED
-  local dir="$1" list="$2" seed="$3"
+cycles_stage() {  # cycles_stage DIR SAMPLES SEED [REUSABLE]
+  local dir="$1" list="$2" seed="$3" reusable="${4:-}"
   local stamp="scene $scene_hash size $size samples $list seed $seed"
-  if [[ "${SVIT_CYCLES_REUSE:-0}" == 1 && -f "$dir/stamp" && "$(cat "$dir/stamp")" == "$stamp" ]]; then
+  if [[ -n "$reusable" && "${SVIT_CYCLES_REUSE:-0}" == 1 && -f "$dir/stamp" && "$(cat "$dir/stamp")" == "$stamp" ]]; then
     echo "   reusing $dir ($stamp)"
     return
   fi
@@ -71,7 +72,7 @@ cycles_stage() {  # cycles_stage DIR SAMPLES SEED
 echo "== Cycles series: $samples samples (CPU, all threads)"
 cycles_stage "$out/cycles" "$samples" 1
 echo "== Cycles reference: $reference_samples samples, other seed"
-cycles_stage "$out/reference" "$reference_samples" 2
+cycles_stage "$out/reference" "$reference_samples" 2 reusable
 
 load after-cycles
 # 3. svit: find the texel density that gives a size x size page, then bake at
