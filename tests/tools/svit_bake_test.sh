@@ -68,6 +68,14 @@ rc=$?
 [[ $rc -eq 3 ]] && ok "SIGTERM exits 3" || fail "SIGTERM exit $rc"
 diff -r -q "$work/a" "$work/keep" >/dev/null && ok "cancelled bake left the previous output intact" || fail "output changed by a cancelled bake"
 ls "$work" | grep -q "tmp-" && fail "temporary directory left behind" || ok "no temporary directory left"
+# A killed bake (SIGKILL: no chance to clean up) leaves the previous bake intact too.
+"$bake" "$cornell" -o "$work/a" --quality 1 --texels-per-m 64 --quiet &
+pid=$!
+sleep 1.5
+kill -KILL $pid
+wait $pid 2>/dev/null
+diff -r -q "$work/a" "$work/keep" >/dev/null && ok "killed bake left the previous output intact" || fail "output changed by a killed bake"
+rm -rf "$work"/a.tmp-*
 
 # Probe: 'r g b' per line, --json, bad input.
 printf '0 0 0 0 1 0\n# a comment\n\n0 1.98 0 0 -1 0\n' >"$work/points.txt"
