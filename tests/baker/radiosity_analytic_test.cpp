@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "svit/baker/radiosity.h"
+#include "solver_fixture.h"
 #include "test_scenes.h"
 
 namespace svit::baker {
@@ -14,27 +15,10 @@ namespace {
 
 using test::SceneBuilder;
 
-struct Solved {
-  BakeGeometry geometry;
-  std::unique_ptr<RayCaster> caster;
-  std::unique_ptr<RadiositySolver> solver;
-};
+using test::Solved;
 
-// Flattens, builds the Embree caster and the solver (heap: they reference
-// one another).
 std::unique_ptr<Solved> prepare(const Scene& scene, const RadiositySettings& settings) {
-  auto solved = std::make_unique<Solved>();
-  Expected<BakeGeometry> geometry = flattenStaticGeometry(scene);
-  EXPECT_TRUE(geometry.ok()) << geometry.status().message();
-  solved->geometry = std::move(geometry).value();
-  Expected<std::unique_ptr<RayCaster>> caster = makeEmbreeCaster(solved->geometry);
-  EXPECT_TRUE(caster.ok()) << caster.status().message();
-  solved->caster = std::move(caster).value();
-  Expected<std::unique_ptr<RadiositySolver>> solver =
-      RadiositySolver::create(scene, solved->geometry, *solved->caster, settings);
-  EXPECT_TRUE(solver.ok()) << solver.status().message();
-  solved->solver = std::move(solver).value();
-  return solved;
+  return test::prepareSolver(scene, settings);
 }
 
 // Form factor from the emitter (mesh 0, luminance 1) to the black receiver

@@ -22,6 +22,7 @@
 #include "light_sources.h"
 #include "random.h"
 #include "svit/baker/radiosity.h"
+#include "solver_fixture.h"
 #include "test_scenes.h"
 
 namespace svit::baker {
@@ -45,31 +46,10 @@ class Timer {
   std::chrono::steady_clock::time_point start_;
 };
 
-struct Solved {
-  BakeGeometry geometry;
-  std::unique_ptr<RayCaster> caster;
-  std::unique_ptr<RadiositySolver> solver;
-};
+using test::Solved;
 
-// Flattens, builds the caster (Embree, or the brute-force oracle) and the
-// solver; heap-allocated because they reference one another.
 std::unique_ptr<Solved> prepare(const Scene& scene, const RadiositySettings& settings, bool brute_force = false) {
-  auto solved = std::make_unique<Solved>();
-  Expected<BakeGeometry> geometry = flattenStaticGeometry(scene);
-  EXPECT_TRUE(geometry.ok()) << geometry.status().message();
-  solved->geometry = std::move(geometry).value();
-  if (brute_force) {
-    solved->caster = makeBruteForceCaster(solved->geometry);
-  } else {
-    Expected<std::unique_ptr<RayCaster>> caster = makeEmbreeCaster(solved->geometry);
-    EXPECT_TRUE(caster.ok()) << caster.status().message();
-    solved->caster = std::move(caster).value();
-  }
-  Expected<std::unique_ptr<RadiositySolver>> solver =
-      RadiositySolver::create(scene, solved->geometry, *solved->caster, settings);
-  EXPECT_TRUE(solver.ok()) << solver.status().message();
-  if (solver.ok()) solved->solver = std::move(solver).value();
-  return solved;
+  return test::prepareSolver(scene, settings, brute_force);
 }
 
 Status solvePasses(RadiositySolver& solver, uint32_t passes) {

@@ -17,6 +17,7 @@
 
 #include "runtime_sections_internal.h"
 #include "svit/baker/runtime_sections.h"
+#include "solver_fixture.h"
 #include "test_scenes.h"
 
 namespace svit::baker {
@@ -26,31 +27,18 @@ using test::SceneBuilder;
 
 constexpr double kPiD = 3.14159265358979323846;
 
-struct Solved {
-  BakeGeometry geometry;
-  std::unique_ptr<RayCaster> caster;
-  std::unique_ptr<RadiositySolver> solver;
-};
+using test::Solved;
 
-// Flattens, builds the Embree caster and solves `passes` passes (heap: they
-// reference one another).
+// Solves `passes` passes with `first_pass_rays` rays in the first.
 std::unique_ptr<Solved> solve(const Scene& scene, uint32_t first_pass_rays, uint32_t passes) {
-  auto solved = std::make_unique<Solved>();
-  Expected<BakeGeometry> geometry = flattenStaticGeometry(scene);
-  EXPECT_TRUE(geometry.ok()) << geometry.status().message();
-  solved->geometry = std::move(geometry).value();
-  Expected<std::unique_ptr<RayCaster>> caster = makeEmbreeCaster(solved->geometry);
-  EXPECT_TRUE(caster.ok()) << caster.status().message();
-  solved->caster = std::move(caster).value();
   RadiositySettings settings;
   settings.first_pass_rays = first_pass_rays;
-  Expected<std::unique_ptr<RadiositySolver>> solver =
-      RadiositySolver::create(scene, solved->geometry, *solved->caster, settings);
-  EXPECT_TRUE(solver.ok()) << solver.status().message();
-  solved->solver = std::move(solver).value();
-  StopRule stop;
-  stop.max_passes = passes;
-  EXPECT_TRUE(solved->solver->improve(stop).ok());
+  auto solved = test::prepareSolver(scene, settings);
+  if (solved->solver) {
+    StopRule stop;
+    stop.max_passes = passes;
+    EXPECT_TRUE(solved->solver->improve(stop).ok());
+  }
   return solved;
 }
 
