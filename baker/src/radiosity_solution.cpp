@@ -99,6 +99,7 @@ double RadiositySolver::State::estimateError() const {
 }
 
 void RadiositySolver::State::recordPoint(double t_s) {
+  const auto start = std::chrono::steady_clock::now();
   last_estimate = estimateError();
   ErrorPoint point;
   point.t_s = t_s;
@@ -123,6 +124,7 @@ void RadiositySolver::State::recordPoint(double t_s) {
   }
   series.push_back(point);
   last_point_s = t_s;
+  last_point_cost_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::vector<Rgb> RadiositySolver::triangleIrradiance(bool front) const {

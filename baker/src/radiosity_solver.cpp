@@ -449,7 +449,9 @@ Status RadiositySolver::improve(const StopRule& stop) {
     const double unshot = s.unshotY();
     SolverProgress progress{s.stats.seconds, s.stats.passes_completed, s.stats.rays, s.last_estimate,
                             s.shot_pass_y + unshot > 0 ? s.shot_pass_y / (s.shot_pass_y + unshot) : 1.0};
-    if (s.stats.seconds - s.last_point_s >= 0.25) s.recordPoint(s.stats.seconds);
+    // Points between pass ends at most every 0.25 s, and rarer when each
+    // costs more (O(nodes): about 20x its own cost apart).
+    if (s.stats.seconds - s.last_point_s >= std::max(0.25, 20.0 * s.last_point_cost_s)) s.recordPoint(s.stats.seconds);
     if (stop.cancel && stop.cancel->load()) return Status(StatusCode::kCancelled, "radiosity: cancelled");
     if (stop.progress && !stop.progress(progress)) return Status(StatusCode::kCancelled, "radiosity: cancelled");
     if (s.emitted_y <= 0) break;  // nothing emits: the answer is black, exactly

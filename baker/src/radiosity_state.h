@@ -60,6 +60,7 @@ struct RadiositySolver::State {
   std::vector<ErrorPoint> series;
   double last_estimate = 1.0;
   double last_point_s = -1.0;
+  double last_point_cost_s = 0.0;  ///< an error point costs O(nodes): keep them under ~5% of the time
   std::vector<Rgb> reference;
   uint64_t version = 0;  ///< bumped whenever the solution or tree changes
 
