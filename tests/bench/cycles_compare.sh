@@ -5,15 +5,15 @@
 # lightmap UVs (Blender's Lightmap Pack, TEXCOORD_1) at the same page size; a
 # long Cycles bake with another seed is the reference; prints the time each
 # needs to reach 5%, 2% and 1% RMS relative error and writes results.json,
-# results.md, error_vs_time.png and previews/ under OUT_DIR. About 20 minutes
-# on the 2-core development machine. See tests/bench/README.md.
+# results.md, error_vs_time.png and previews/ under OUT_DIR. About 18 minutes
+# on the 2-core development machine when it is otherwise idle. See tests/bench/README.md.
 #
 # Knobs (environment): SVIT_CYCLES_SIZE (page texels per side, 256),
-# SVIT_CYCLES_SAMPLES (Cycles series, 1,2,4,...,512),
+# SVIT_CYCLES_SAMPLES (Cycles series, 1,2,4,...,1024),
 # SVIT_CYCLES_REFERENCE_SAMPLES (6144), SVIT_CYCLES_SVIT_BUDGETS (svit --time
 # values, seconds), SVIT_CYCLES_REUSE=1 (keep the Cycles reference already in
 # OUT_DIR when scene and settings match; its time is no part of the results,
-# so a rerun of the timed bakes takes 5 minutes instead of 15), SVIT_BAKE (a
+# so a rerun of the timed bakes takes 7 minutes instead of 18), SVIT_BAKE (a
 # built svit-bake to use instead of building build/release).
 set -euo pipefail
 
@@ -22,9 +22,9 @@ out="${1:-$root/build/bench/cycles}"
 mkdir -p "$out"
 out="$(cd "$out" && pwd)"
 size="${SVIT_CYCLES_SIZE:-256}"
-samples="${SVIT_CYCLES_SAMPLES:-1,2,4,8,16,32,64,128,256,512}"
+samples="${SVIT_CYCLES_SAMPLES:-1,2,4,8,16,32,64,128,256,512,1024}"
 reference_samples="${SVIT_CYCLES_REFERENCE_SAMPLES:-6144}"
-budgets="${SVIT_CYCLES_SVIT_BUDGETS:-1 1.5 2 3 4 6 8 12 16 24 32 48}"
+budgets="${SVIT_CYCLES_SVIT_BUDGETS:-0.25 0.5 0.75 1 1.5 2 3 4 6 8 12 16 24 32 48}"
 scene_in="$root/../shared/scenes/cornell_box_original/CornellBox-Original.gltf"
 [[ -f "$scene_in" ]] || scene_in="/work/shared/scenes/cornell_box_original/CornellBox-Original.gltf"
 script="$root/tests/bench/cycles_lightmap.py"

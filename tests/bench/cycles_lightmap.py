@@ -18,8 +18,9 @@
 #       adaptive sampling, no clamping, 128 diffuse / max bounces.
 #   texels GLTF OUT.npz [--size 256]
 #       Which object owns each texel (texel centre inside one of its
-#       TEXCOORD_1 triangles) and which texels are hidden (under a box, in the
-#       gap above the light): see texels() below.
+#       TEXCOORD_1 triangles), which texels are hidden (under a box, in the
+#       gap above the light) and which lie on a triangle that is in the scene
+#       twice: see texels() below.
 #   to-npy OUT_DIR [NAME=]FILE.exr...
 #       Writes each EXR's RGB as OUT_DIR/NAME.npy (float32, H x W x 3, row 0 =
 #       the file's first row, i.e. the image's top; NAME defaults to the file
@@ -295,13 +296,18 @@ def bake(args):
 
 
 def texels(args):
-    """Per texel of the page: object index and a 'hidden' flag.
+    """Per texel of the page: object index, 'hidden' and 'duplicate' flags.
 
     A texel belongs to the triangle containing its centre (what Cycles bakes).
     From the surface point there, 64 rays over the cosine hemisphere look for
     back faces: a point under a box (floor beneath it) or in the 1 cm gap
     above the light sees back faces in most directions and no viewer in the
     room can see it. Hidden: more than half of the rays hit a back face.
+    Duplicate: the texel's triangle has the same three corners as another
+    triangle (CornellBox-Original.obj's "Bottom Face" of each box indexes the
+    box's right face again, so that face is there twice); what lands on a
+    face coinciding with another depends on how a ray tracer treats a hit at
+    distance 0, so the two bakers legitimately differ there.
     """
     from mathutils import Vector
     from mathutils.bvhtree import BVHTree
@@ -327,6 +333,11 @@ def texels(args):
     tree = BVHTree.FromPolygons(verts, polys, all_triangles=True)
     owner = np.full((size, size), -1, dtype=np.int32)
     hidden = np.zeros((size, size), dtype=bool)
+    duplicate = np.zeros((size, size), dtype=bool)
+    corner_key = [frozenset(tuple(round(c, 5) for c in corner) for corner in corners) for _, corners, _ in tris]
+    copies = {}
+    for key in corner_key:
+        copies[key] = copies.get(key, 0) + 1
     # A fixed cosine-weighted direction set (Fibonacci spiral on the disc).
     count = 64
     golden = math.pi * (3.0 - math.sqrt(5.0))
@@ -335,7 +346,7 @@ def texels(args):
         r = math.sqrt((i + 0.5) / count)
         phi = i * golden
         local.append((r * math.cos(phi), r * math.sin(phi), math.sqrt(max(0.0, 1.0 - r * r))))
-    for index, corners, uvs in tris:
+    for (index, corners, uvs), key in zip(tris, corner_key):
         (x0, y0), (x1, y1), (x2, y2) = [(u * size, v * size) for u, v in uvs]
         d = (y1 - y2) * (x0 - x2) + (x2 - x1) * (y0 - y2)
         if d == 0:
@@ -354,6 +365,7 @@ def texels(args):
                 if l0 < 0 or l1 < 0 or l2 < 0:
                     continue
                 owner[ty, tx] = index
+                duplicate[ty, tx] = copies[key] > 1
                 point = corners[0] * l0 + corners[1] * l1 + corners[2] * l2 + normal * 1e-4
                 back = 0
                 for direction in directions:
@@ -361,10 +373,14 @@ def texels(args):
                     if location is not None and hit_normal.dot(direction) > 0:
                         back += 1
                 hidden[ty, tx] = back * 2 > count
-    np.savez_compressed(target, owner=owner, hidden=hidden, names=np.array([o.name for o in meshes]))
-    print("texels: %d covered, %d hidden (%s)" % ((owner >= 0).sum(), hidden.sum(),
-          ", ".join("%s %d" % (o.name, (hidden & (owner == i)).sum()) for i, o in enumerate(meshes)
-                    if (hidden & (owner == i)).any())))
+    np.savez_compressed(target, owner=owner, hidden=hidden, duplicate=duplicate,
+                        names=np.array([o.name for o in meshes]))
+
+    def by_object(flags):
+        return ", ".join("%s %d" % (o.name, (flags & (owner == i)).sum()) for i, o in enumerate(meshes)
+                         if (flags & (owner == i)).any())
+    print("texels: %d covered, %d hidden (%s), %d on duplicated triangles (%s)" % (
+        (owner >= 0).sum(), hidden.sum(), by_object(hidden), duplicate.sum(), by_object(duplicate)))
 
 
 def to_npy(args):
