@@ -1,5 +1,6 @@
 // The bake pipeline behind svit-bake (DESIGN.md "Command-line contracts").
 
+#include "double_math.h"
 #include "svit/baker/bake.h"
 
 #include <unistd.h>
@@ -27,8 +28,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 namespace fs = std::filesystem;
-
-double luminanceOf(const Rgb& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
 
 // Running per-texel mean and spread of the lighting passes.
 struct TexelAccumulator {

@@ -3,6 +3,7 @@
 // asks for T-vertex-free meshes), textured-emitter splitting and point
 // location.
 
+#include "double_math.h"
 #include "element_tree.h"
 #include "random.h"
 
@@ -15,10 +16,6 @@ namespace svit::baker {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-glm::dvec3 dvec(const Vec3& v) { return {v.x, v.y, v.z}; }
-
-double luminanceOf(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 }  // namespace
 

@@ -11,6 +11,7 @@
 
 #include <glm/glm.hpp>
 
+#include "double_math.h"
 #include "light_sources.h"
 #include "parallel_for.h"
 #include "random.h"
@@ -27,11 +28,6 @@ constexpr uint64_t kFormFactorStream = 0x666f726d66616374ull;  // "formfact"
 constexpr size_t kChunkRays = 2048;
 // Rays held in memory per group of emitters (4 bytes each).
 constexpr size_t kGroupRays = size_t(1) << 20;
-
-Vec3 vec3(const glm::dvec3& v) { return {float(v.x), float(v.y), float(v.z)}; }
-glm::dvec3 dvec(const Vec3& v) { return {v.x, v.y, v.z}; }
-Rgb rgb(const glm::dvec3& c) { return {float(c.x), float(c.y), float(c.z)}; }
-double luminanceOf(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 // One emitter to shoot from.
 struct Source {

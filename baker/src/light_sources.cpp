@@ -1,3 +1,4 @@
+#include "double_math.h"
 #include "light_sources.h"
 
 #include <algorithm>
@@ -7,10 +8,6 @@
 
 namespace svit::baker {
 namespace {
-
-double luminanceOf(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
-glm::dvec3 dvec(const Vec3& v) { return {v.x, v.y, v.z}; }
-glm::dvec3 dvec(const Rgb& c) { return {c.r, c.g, c.b}; }
 
 glm::dvec3 normalisedColour(const glm::dvec3& c) {
   const double y = luminanceOf(c);

@@ -11,15 +11,12 @@
 
 #include <glm/glm.hpp>
 
+#include "double_math.h"
 #include "element_tree.h"
 #include "runtime_sections_internal.h"
 
 namespace svit::baker {
 namespace {
-
-Vec3 vec3(const glm::dvec3& v) { return {float(v.x), float(v.y), float(v.z)}; }
-Rgb rgb(const glm::dvec3& c) { return {float(c.x), float(c.y), float(c.z)}; }
-glm::dvec3 dvec(const Rgb& c) { return {c.r, c.g, c.b}; }
 
 // The element nodes (triangle sides) below `n`, in tree order.
 void collectElements(const ElementTree& tree, int n, std::vector<int>& out) {

@@ -1,3 +1,4 @@
+#include "double_math.h"
 #include "svit/baker/probe.h"
 
 #include <cmath>
@@ -18,7 +19,6 @@ namespace svit::baker {
 namespace {
 
 namespace fs = std::filesystem;
-glm::dvec3 dvec(const Vec3& v) { return {v.x, v.y, v.z}; }
 
 // Closest point on triangle abc to p (Ericson, Real-Time Collision
 // Detection 5.1.5), returned as barycentrics (weights of b and c).

@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include "double_math.h"
 #include "parallel_for.h"
 #include "random.h"
 #include "runtime_sections_internal.h"
@@ -27,10 +28,6 @@ constexpr double kY1 = 0.488602511902920;  // sqrt(3 / (4 pi))
 // Strata per axis of the unit square the sphere directions are drawn from.
 constexpr uint32_t kStrata = 8;
 static_assert(kStrata * kStrata == kProbeRays);
-
-glm::dvec3 dvec(const Vec3& v) { return {v.x, v.y, v.z}; }
-glm::dvec3 dvec(const Rgb& c) { return {c.r, c.g, c.b}; }
-Vec3 vec3(const glm::dvec3& v) { return {float(v.x), float(v.y), float(v.z)}; }
 
 // Sky luminance (cd/m2) seen looking along unit `d`, the model
 // light_sources.cpp shoots from: uniform is the zenith luminance above the

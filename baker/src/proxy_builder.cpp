@@ -14,6 +14,7 @@
 
 #include <glm/glm.hpp>
 
+#include "double_math.h"
 #include "parallel_for.h"
 #include "random.h"
 #include "runtime_sections_internal.h"
@@ -26,9 +27,6 @@ namespace {
 constexpr size_t kKeepFaces = 4;
 // Proxy faces mapped per parallel work item.
 constexpr size_t kChunkFaces = 256;
-
-glm::dvec3 dvec(const Vec3& v) { return {v.x, v.y, v.z}; }
-Vec3 vec3(const glm::dvec3& v) { return {float(v.x), float(v.y), float(v.z)}; }
 
 // Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision
 // Detection, 5.1.5), as a squared distance.

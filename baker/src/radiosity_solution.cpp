@@ -6,12 +6,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "double_math.h"
 #include "radiosity_state.h"
 
 namespace svit::baker {
 namespace {
-
-Rgb rgb(const glm::dvec3& c) { return {float(c.x), float(c.y), float(c.z)}; }
 
 // Barycentrics of 2-D point p in triangle (a, b, c): weights of b and c.
 glm::dvec2 barycentric2d(const float (&t)[3][2], double px, double py, int i0, int i1, int i2) {
@@ -61,11 +60,30 @@ std::vector<glm::dvec3> RadiositySolver::State::elementMeans(const std::vector<g
   return sums;
 }
 
-double RadiositySolver::State::estimateError() const {
+glm::dvec3 RadiositySolver::State::answerAmbient() const {
+  return weight_sum > 0 ? ambient_sum / weight_sum : currentAmbient();
+}
+
+std::vector<glm::dvec3> RadiositySolver::State::currentMeans() const {
   std::vector<glm::dvec3> scratch;
-  const std::vector<glm::dvec3>& levels = currentLevels(scratch);
-  const glm::dvec3 ambient = weight_sum > 0 ? ambient_sum / weight_sum : currentAmbient();
-  const std::vector<glm::dvec3> means = elementMeans(levels, ambient);
+  return elementMeans(currentLevels(scratch), answerAmbient());
+}
+
+double RadiositySolver::State::referenceError(const std::vector<glm::dvec3>& means,
+                                               const std::vector<Rgb>& against) const {
+  double area = 0, difference = 0, reference_sum = 0;
+  for (size_t t = 0; t < geometry->triangleCount() && t < against.size(); ++t) {
+    const double a = geometry->areas_m2[t];
+    const double x = luminanceOf(means[t * 2]), y = luminanceOf(against[t]);
+    area += a;
+    difference += a * (x - y) * (x - y);
+    reference_sum += a * y;
+  }
+  return reference_sum > 0 ? std::sqrt(difference / area) / (reference_sum / area) : 0.0;
+}
+
+double RadiositySolver::State::estimateError(const std::vector<glm::dvec3>& means) const {
+  const glm::dvec3 ambient = answerAmbient();
   double area = 0, mean_sum = 0, variance_sum = 0;
   const uint32_t passes = stats.passes_completed;
   for (size_t e = 0; e < means.size(); ++e) {
@@ -100,28 +118,13 @@ double RadiositySolver::State::estimateError() const {
 
 void RadiositySolver::State::recordPoint(double t_s) {
   const auto start = std::chrono::steady_clock::now();
-  last_estimate = estimateError();
+  const std::vector<glm::dvec3> means = currentMeans();
+  last_estimate = estimateError(means);
   ErrorPoint point;
   point.t_s = t_s;
   point.est_rel_error = last_estimate;
   point.rays = stats.rays;
-  if (!reference.empty()) {
-    std::vector<glm::dvec3> scratch;
-    const std::vector<glm::dvec3>& levels = currentLevels(scratch);
-    const glm::dvec3 ambient = weight_sum > 0 ? ambient_sum / weight_sum : currentAmbient();
-    const std::vector<glm::dvec3> means = elementMeans(levels, ambient);
-    double area = 0, difference = 0, reference_sum = 0;
-    for (size_t t = 0; t < geometry->triangleCount(); ++t) {
-      const double a = geometry->areas_m2[t];
-      const double x = luminanceOf(means[t * 2]);
-      const Rgb& r = reference[t];
-      const double y = 0.2126 * r.r + 0.7152 * r.g + 0.0722 * r.b;
-      area += a;
-      difference += a * (x - y) * (x - y);
-      reference_sum += a * y;
-    }
-    point.ref_rel_error = reference_sum > 0 ? std::sqrt(difference / area) / (reference_sum / area) : 0.0;
-  }
+  if (!reference.empty()) point.ref_rel_error = referenceError(means, reference);
   series.push_back(point);
   last_point_s = t_s;
   last_point_cost_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -129,10 +132,7 @@ void RadiositySolver::State::recordPoint(double t_s) {
 
 std::vector<Rgb> RadiositySolver::triangleIrradiance(bool front) const {
   const State& s = *state_;
-  std::vector<glm::dvec3> scratch;
-  const std::vector<glm::dvec3>& levels = s.currentLevels(scratch);
-  const glm::dvec3 ambient = s.weight_sum > 0 ? s.ambient_sum / s.weight_sum : s.currentAmbient();
-  const std::vector<glm::dvec3> means = s.elementMeans(levels, ambient);
+  const std::vector<glm::dvec3> means = s.currentMeans();
   std::vector<Rgb> out(s.geometry->triangleCount());
   for (size_t t = 0; t < out.size(); ++t) out[t] = rgb(means[t * 2 + (front ? 0 : 1)]);
   return out;
@@ -160,7 +160,7 @@ void RadiositySolver::prepareQueries() const {
     // Leaf values and vertex -> leaves incidence, rebuilt when the solution changed.
     std::vector<glm::dvec3> scratch;
     const std::vector<glm::dvec3>& levels = s.currentLevels(scratch);
-    const glm::dvec3 ambient = s.weight_sum > 0 ? s.ambient_sum / s.weight_sum : s.currentAmbient();
+    const glm::dvec3 ambient = s.answerAmbient();
     s.leaf_value.assign(tree.nodes().size(), glm::dvec3(0.0));
     s.vertex_leaves.assign(tree.vertexCount(), {});
     std::vector<std::pair<int, glm::dvec3>> stack;
@@ -236,19 +236,10 @@ Rgb RadiositySolver::irradianceAt(uint32_t triangle, bool front, double u, doubl
 void RadiositySolver::setReference(std::vector<Rgb> front_irradiance) { state_->reference = std::move(front_irradiance); }
 
 double RadiositySolver::relativeErrorAgainst(const std::vector<Rgb>& reference) const {
-  const std::vector<Rgb> mine = triangleIrradiance(true);
-  double area = 0, difference = 0, reference_sum = 0;
-  for (size_t t = 0; t < mine.size() && t < reference.size(); ++t) {
-    const double a = state_->geometry->areas_m2[t];
-    const double x = luminance(mine[t]), y = luminance(reference[t]);
-    area += a;
-    difference += a * (x - y) * (x - y);
-    reference_sum += a * y;
-  }
-  return reference_sum > 0 ? std::sqrt(difference / area) / (reference_sum / area) : 0.0;
+  return state_->referenceError(state_->currentMeans(), reference);
 }
 
-double RadiositySolver::estimatedRelativeError() const { return state_->estimateError(); }
+double RadiositySolver::estimatedRelativeError() const { return state_->estimateError(state_->currentMeans()); }
 const std::vector<ErrorPoint>& RadiositySolver::errorSeries() const { return state_->series; }
 const ElementTree& RadiositySolver::tree() const { return *state_->tree; }
 

@@ -12,6 +12,7 @@
 #include <map>
 #include <unordered_map>
 
+#include "double_math.h"
 #include "parallel_for.h"
 #include "radiosity_state.h"
 #include "random.h"
@@ -23,8 +24,6 @@ namespace svit::baker {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-glm::dvec3 dvec(const Vec3& v) { return {v.x, v.y, v.z}; }
 
 enum class ShooterKind : uint8_t { kLight, kEmission, kEnergy };
 

@@ -9,13 +9,12 @@
 
 #include <glm/glm.hpp>
 
+#include "double_math.h"
 #include "element_tree.h"
 #include "light_sources.h"
 #include "svit/baker/radiosity.h"
 
 namespace svit::baker {
-
-inline double luminanceOf(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 struct RadiositySolver::State {
   const Scene* scene = nullptr;
@@ -79,7 +78,13 @@ struct RadiositySolver::State {
   const std::vector<glm::dvec3>& currentLevels(std::vector<glm::dvec3>& scratch) const;
   /// Mean irradiance per element (triangle side) for `levels` + `ambient`.
   std::vector<glm::dvec3> elementMeans(const std::vector<glm::dvec3>& levels, const glm::dvec3& ambient) const;
-  double estimateError() const;
+  /// Ambient irradiance of the current answer (averaged over passes once any completed).
+  glm::dvec3 answerAmbient() const;
+  /// elementMeans of the current answer.
+  std::vector<glm::dvec3> currentMeans() const;
+  double estimateError(const std::vector<glm::dvec3>& means) const;
+  /// Area-weighted RMS relative error of front `means` against per-triangle `against`.
+  double referenceError(const std::vector<glm::dvec3>& means, const std::vector<Rgb>& against) const;
   void recordPoint(double t_s);
   double unshotY() const;
 };

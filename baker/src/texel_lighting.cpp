@@ -3,6 +3,7 @@
 // flux), and a one-bounce final gather against the interpolated radiosity
 // solution for indirect light, with rays that escape seeing the sky.
 
+#include "double_math.h"
 #include "svit/baker/texel_lighting.h"
 
 #include <algorithm>
@@ -14,12 +15,6 @@
 
 namespace svit::baker {
 namespace {
-
-glm::dvec3 dvec(const Vec3& v) { return {v.x, v.y, v.z}; }
-glm::dvec3 dvec(const Rgb& c) { return {c.r, c.g, c.b}; }
-Vec3 vec3(const glm::dvec3& v) { return {float(v.x), float(v.y), float(v.z)}; }
-Rgb rgb(const glm::dvec3& c) { return {float(c.x), float(c.y), float(c.z)}; }
-double luminanceOf(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 struct PointLight {
   glm::dvec3 position;

@@ -14,15 +14,20 @@
 
 namespace svit::bakeio {
 
-/// Appends little-endian fields to a growing byte vector.
-class ByteWriter {
+/// The field encodings shared by everything that serializes: `Sink` (CRTP)
+/// provides `put(const uint8_t*, size_t)`; the bytes are the same whether
+/// they go to a file (ByteWriter) or into a hash (level_hash.cpp).
+template <typename Sink>
+class LittleEndianEncoder {
  public:
-  void u8(uint8_t v) { bytes_.push_back(v); }
+  void u8(uint8_t v) { sink().put(&v, 1); }
   void u32(uint32_t v) {
-    for (int i = 0; i < 4; ++i) bytes_.push_back(uint8_t(v >> (8 * i)));
+    const uint8_t b[4] = {uint8_t(v), uint8_t(v >> 8), uint8_t(v >> 16), uint8_t(v >> 24)};
+    sink().put(b, 4);
   }
   void u64(uint64_t v) {
-    for (int i = 0; i < 8; ++i) bytes_.push_back(uint8_t(v >> (8 * i)));
+    u32(uint32_t(v));
+    u32(uint32_t(v >> 32));
   }
   void i32(int32_t v) { u32(uint32_t(v)); }  // two's complement bits
   void f32(float v) { u32(std::bit_cast<uint32_t>(v)); }
@@ -40,10 +45,16 @@ class ByteWriter {
     f32(c.g);
     f32(c.b);
   }
-  void raw(const void* data, size_t size) {
-    const auto* p = static_cast<const uint8_t*>(data);
-    bytes_.insert(bytes_.end(), p, p + size);
-  }
+  void raw(const void* data, size_t size) { sink().put(static_cast<const uint8_t*>(data), size); }
+
+ private:
+  Sink& sink() { return static_cast<Sink&>(*this); }
+};
+
+/// Appends little-endian fields to a growing byte vector.
+class ByteWriter : public LittleEndianEncoder<ByteWriter> {
+ public:
+  void put(const uint8_t* p, size_t size) { bytes_.insert(bytes_.end(), p, p + size); }
   /// Overwrites 8 bytes at `offset` (a size field reserved earlier).
   void patchU64(size_t offset, uint64_t v) {
     for (int i = 0; i < 8; ++i) bytes_[offset + size_t(i)] = uint8_t(v >> (8 * i));

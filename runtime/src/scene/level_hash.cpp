@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <string_view>
 
+#include "bake_file_io.h"
 #include "svit/bake_file.h"
 
 namespace svit {
@@ -31,10 +32,9 @@ constexpr std::string_view kDomain = "svit level hash 1";
 
 // Feeds little-endian fields to FNV-1a 64 through a small buffer (one call
 // per field would dominate the time on large levels).
-class Hasher {
+class Hasher : public bakeio::LittleEndianEncoder<Hasher> {
  public:
-  void bytes(const void* data, size_t size) {
-    const auto* p = static_cast<const uint8_t*>(data);
+  void put(const uint8_t* p, size_t size) {
     if (size >= sizeof buffer_) {  // texels: hash in place, no copy
       flush();
       state_ = fnv1a64(p, size, state_);
@@ -49,32 +49,7 @@ class Hasher {
       if (used_ == sizeof buffer_) flush();
     }
   }
-  void u8(uint8_t v) { bytes(&v, 1); }
-  void u32(uint32_t v) {
-    const uint8_t b[4] = {uint8_t(v), uint8_t(v >> 8), uint8_t(v >> 16), uint8_t(v >> 24)};
-    bytes(b, 4);
-  }
-  void u64(uint64_t v) {
-    u32(uint32_t(v));
-    u32(uint32_t(v >> 32));
-  }
-  void i32(int32_t v) { u32(uint32_t(v)); }
   void count(size_t n) { u64(uint64_t(n)); }
-  void f32(float v) { u32(std::bit_cast<uint32_t>(v)); }
-  void vec2(const Vec2& v) {
-    f32(v.x);
-    f32(v.y);
-  }
-  void vec3(const Vec3& v) {
-    f32(v.x);
-    f32(v.y);
-    f32(v.z);
-  }
-  void rgb(const Rgb& c) {
-    f32(c.r);
-    f32(c.g);
-    f32(c.b);
-  }
   void mat4(const Mat4& m) {
     for (float v : m.m) f32(v);
   }
@@ -105,7 +80,7 @@ void hashTextureRef(Hasher& h, const TextureRef& ref) {
 
 uint64_t hashLevel(const Scene& scene) {
   Hasher h;
-  h.bytes(kDomain.data(), kDomain.size());
+  h.raw(kDomain.data(), kDomain.size());
 
   h.count(scene.meshes.size());
   for (const Mesh& mesh : scene.meshes) {
@@ -141,7 +116,7 @@ uint64_t hashLevel(const Scene& scene) {
     h.u32(uint32_t(t.wrap_s));
     h.u32(uint32_t(t.wrap_t));
     h.count(t.texels.size());
-    h.bytes(t.texels.data(), t.texels.size());  // bytes: no byte order to fix
+    h.raw(t.texels.data(), t.texels.size());  // bytes: no byte order to fix
   }
 
   h.count(scene.instances.size());
