@@ -107,6 +107,8 @@ Expected<std::vector<TexelIrradiance>> lightTexels(const Scene& scene, const Bak
     std::vector<Ray> rays;
     std::vector<Contribution> contributions;
     std::vector<RayHit> hits;
+    std::vector<double> light_cdf(points.size());  // many-light sampling, reused per texel
+    std::vector<glm::dvec3> light_e(points.size());
     for (size_t j = begin; j < end; ++j) {
       const TexelSample& sample = texels.samples[j];
       Rng rng(hashIds(settings.seed, 0x7e3e1, j));
@@ -149,8 +151,8 @@ Expected<std::vector<TexelIrradiance>> lightTexels(const Scene& scene, const Bak
           if (luminanceOf(e) > 0) shadowTo(light.position, e);
         }
       } else {
-        std::vector<double> cdf(points.size());
-        std::vector<glm::dvec3> e(points.size());
+        std::vector<double>& cdf = light_cdf;
+        std::vector<glm::dvec3>& e = light_e;
         double total = 0;
         for (size_t i = 0; i < points.size(); ++i) {
           glm::dvec3 to_light;
