@@ -1,0 +1,198 @@
+#pragma once
+// svit::Runtime — what a game links to keep the baked lighting right while
+// objects and lights move (thesis ch. 5, DESIGN.md "Runtime"). The bake
+// holds the static solution; the runtime tracks per-patch irradiance deltas
+// against it, computed from index shadow maps rendered from point samples
+// of emitters, bounced, and compensated as ambient; the host shades with the
+// lightmaps plus those deltas (GLSL in shaders/, see shadingSources()).
+//
+// Threading: every member needs the GL context that was current at create()
+// to be current on the calling thread; no member is thread-safe.
+// Pay for what is used: a level with no dynamic objects and no runtime
+// lights renders no map and allocates nothing per frame.
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "svit/bake_file.h"
+#include "svit/math_types.h"
+#include "svit/scene.h"
+#include "svit/status.h"
+
+namespace svit {
+
+/// Tuning of the runtime; defaults suit a game at 60 Hz on a real GPU.
+struct RuntimeSettings {
+  /// Static geometry in index maps: the bake's LOD proxies (true) or the
+  /// full static triangles (false; slower, for checks).
+  bool use_proxies = true;
+  int map_resolution = 128;  ///< texels per map face edge, 16..2048
+  /// Point samples per emitter: from min to max, in proportion to flux.
+  int min_samples_per_emitter = 1;
+  int max_samples_per_emitter = 16;
+  /// Static patches re-shot as secondary emitters: the brightest ones whose
+  /// baseline flux covers this share of all reflected flux, in (0, 1].
+  double secondary_emitter_share = 0.95;
+  int max_bounces = 4;                ///< rounds of delta bounces per update, >= 0
+  double bounce_stop_share = 0.005;   ///< stop bouncing below this share of the first round's |delta|
+  bool ambient_compensation = true;   ///< unshot delta energy as ambient (thesis 5.5)
+  /// Temporal smoothing of the displayed deltas (thesis 4.2.5): each frame
+  /// moves this share of the way to the new value; 1 = off. In (0, 1].
+  float temporal_blend = 1.0f;
+  /// Artifact handling of thesis 5.2 (on by default; tests switch it off).
+  bool small_polygon_fallback = true;
+  bool edge_taps = true;
+  bool neighbour_ids = true;
+  bool jitter_map_roll = true;  ///< rotate each sample's map frame (aliasing)
+  uint64_t seed = 1;            ///< sample placement; same seed, same result
+};
+
+/// A dynamic object the game adds at run time (the level's own dynamic nodes
+/// are added by create()).
+struct DynamicMesh {
+  std::string name;                ///< for messages and statistics
+  std::vector<Vec3> positions;     ///< object space, metres
+  std::vector<uint32_t> indices;   ///< 3 per triangle, CCW front
+  Rgb albedo{0.5f, 0.5f, 0.5f};    ///< diffuse reflectance, each in [0, 1)
+  Rgb emission{0, 0, 0};           ///< emitted luminance, cd/m2 (>= 0)
+  bool double_sided = false;
+};
+
+using ObjectId = uint32_t;
+using LightId = uint32_t;
+inline constexpr uint32_t kInvalidId = 0xffffffffu;
+
+/// What one update() did, by stage. Times are CPU wall clock including a
+/// GL finish per stage (so they are honest on any driver).
+struct FrameStats {
+  double maps_ms = 0;       ///< rendering index maps
+  double reduction_ms = 0;  ///< GPU reduction + read-back of per-patch sums
+  double bounce_ms = 0;     ///< CPU bounce rounds and ambient
+  double upload_ms = 0;     ///< delta buffer upload for shading
+  double total_ms = 0;
+  uint32_t emitters_refreshed = 0;   ///< emitters whose maps were rendered this frame
+  uint32_t emitters_pending = 0;     ///< emitters still out of date (budget ran out)
+  uint32_t samples_rendered = 0;     ///< point samples (one map each)
+  uint32_t faces_rendered = 0;       ///< raster passes (a cube map is 6)
+  uint64_t texels_reduced = 0;
+  uint32_t fallback_triangles = 0;   ///< small polygons credited by vertex visibility
+  uint32_t bounce_rounds = 0;
+  double unshot_share = 0;           ///< delta energy compensated as ambient / total |delta|
+  uint32_t gl_objects_created = 0;   ///< buffers/textures allocated during this update
+  bool idle = false;                 ///< nothing to do: no dynamic content changed
+};
+
+/// What the host binds to shade static geometry (shadingSources()).
+struct ShadingResources {
+  /// GL buffer (std430 vec4 per patch): displayed irradiance delta, lux, RGB
+  /// in xyz. 0 when the level has no runtime content.
+  uint32_t patch_delta_buffer = 0;
+  uint32_t patch_count = 0;
+  /// Lightmap pages as GL_RGB32F textures (irradiance, lux), bake page order.
+  std::vector<uint32_t> lightmap_textures;
+};
+
+/// The runtime's view of one dynamic object.
+struct ObjectInfo {
+  std::string name;
+  int instance = -1;         ///< Scene::instances index, -1 for addObject objects
+  Mat4 world_from_object;
+  uint32_t first_patch = 0;  ///< its patches (one per triangle) in patchDeltas()
+  uint32_t patch_count = 0;
+  bool visible = true;
+  std::vector<Vec3> world_positions;  ///< current, 3 per triangle (unshared), metres
+  std::vector<Rgb> triangle_albedo;   ///< per triangle
+  std::vector<Rgb> triangle_emission; ///< per triangle, cd/m2
+};
+
+/// A runtime light as the game last set it.
+struct RuntimeLightInfo {
+  Light light;       ///< position, direction, colour, intensity (before the dimmer), cone
+  bool enabled = true;
+  float dimmer = 1;  ///< multiplies intensity
+};
+
+class Runtime {
+ public:
+  /// Builds the runtime for `scene` (as loaded by loadLevel) and its bake
+  /// (readBakeFile of `bake_dir`/bake.svit; lightmap pages are read from
+  /// `bake_dir`). The scene's dynamic instances become objects (ids in
+  /// instance order, see objectForNode) and its dynamic lights runtime lights.
+  /// Errors (nothing created): no current OpenGL 4.5 context; a bake of
+  /// another level (level hash differs); a bake without runtime sections for
+  /// a level that has dynamic content; a setting out of range (named);
+  /// unreadable lightmap pages; a shader that does not compile.
+  static Expected<std::unique_ptr<Runtime>> create(const Scene& scene, const BakeData& bake,
+                                                   const std::string& bake_dir,
+                                                   const RuntimeSettings& settings = {});
+  ~Runtime();
+  Runtime(const Runtime&) = delete;
+  Runtime& operator=(const Runtime&) = delete;
+
+  // ---- dynamic objects ----
+  /// The object made from a dynamic scene node, or kInvalidId.
+  ObjectId objectForNode(int node) const;
+  /// Adds an object. Errors: empty or malformed mesh (index out of range,
+  /// non-finite position, albedo outside [0, 1)), non-finite transform.
+  Expected<ObjectId> addObject(const DynamicMesh& mesh, const Mat4& world_from_object);
+  /// Moves an object (teleports are fine). Errors: unknown id, non-finite matrix.
+  Status setObjectTransform(ObjectId object, const Mat4& world_from_object);
+  /// Replaces an object's object-space positions (same count). Errors: unknown
+  /// id, count differs, non-finite value.
+  Status deformObject(ObjectId object, std::span<const Vec3> positions);
+  /// Hides (false) or shows an object without removing it.
+  Status setObjectVisible(ObjectId object, bool visible);
+  /// Removes an object; its id is never reused. Error: unknown id.
+  Status removeObject(ObjectId object);
+  Expected<ObjectInfo> objectInfo(ObjectId object) const;
+  /// Ids of the objects not removed, ascending.
+  std::vector<ObjectId> objects() const;
+
+  // ---- lights ----
+  /// The runtime light made from Scene::lights[index] (a dynamic light), or kInvalidId.
+  LightId lightForSceneLight(int scene_light_index) const;
+  /// Adds a runtime light (point or spot; `dynamic` is implied). Errors:
+  /// non-finite or negative values, directional type (use the sun).
+  Expected<LightId> addLight(const Light& light);
+  /// Replaces a runtime light's position, direction, colour, intensity, cone.
+  Status setLight(LightId light, const Light& value);
+  /// Switches a runtime light on or off.
+  Status setLightEnabled(LightId light, bool enabled);
+  /// Scales a runtime light's intensity (dimmer), >= 0.
+  Status setLightDimmer(LightId light, float scale);
+  /// Scales a baked emitter (BakeData::emitters index: a lamp's emissive
+  /// patch, a baked light, the sun or the sky): 1 = as baked, 0 = off.
+  Status setBakedEmitterScale(uint32_t bake_emitter, float scale);
+  /// Ids of the runtime lights, ascending, and their state.
+  std::vector<LightId> lights() const;
+  Expected<RuntimeLightInfo> lightInfo(LightId light) const;
+
+  // ---- per frame ----
+  /// Brings the lighting up to date within about `budget_ms` of work
+  /// (0 = no limit: settle fully). Emitters that did not fit stay pending
+  /// and are refreshed by later calls. Returns what it did.
+  FrameStats update(double budget_ms = 0);
+
+  // ---- results ----
+  /// Runtime irradiance (lux, RGB) at a static surface point: the baked
+  /// lightmap there (as svit-probe reads it) plus the patch delta. Points
+  /// farther than `max_distance_m` from static geometry give NaN.
+  Rgb irradianceAt(const Vec3& point, const Vec3& normal, float max_distance_m = 0.05f) const;
+  /// Current irradiance delta of every patch (static, then dynamic), lux.
+  const std::vector<Rgb>& patchDeltas() const;
+  /// Irradiance a dynamic object's patch receives (lux), all light included.
+  Expected<Rgb> objectPatchIrradiance(ObjectId object, uint32_t triangle) const;
+  ShadingResources shadingResources() const;
+  const BakeData& bake() const;
+  const Scene& scene() const;
+
+ private:
+  struct Impl;
+  explicit Runtime(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace svit

@@ -1,0 +1,93 @@
+#pragma once
+// svit::SceneRenderer — draws a level the way svit means it to be shaded:
+// baked lightmaps plus the runtime's interpolated per-patch deltas on static
+// geometry, per-pixel runtime lights with soft (multi-tap) shadows, and
+// dynamic objects lit per pixel and by the bake's probe grid corrected by
+// the runtime's patch irradiance. The GLSL lives in shaders/ (see
+// shadingSource()); an engine with its own renderer uses those files and
+// Runtime::shadingResources() instead of this class. svit-walk and the tests
+// draw with it.
+//
+// Threading: needs the GL context current at create() on the calling thread.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "svit/bake_file.h"
+#include "svit/math_types.h"
+#include "svit/scene.h"
+#include "svit/status.h"
+
+namespace svit {
+
+class Runtime;
+
+/// What the frame shows.
+enum class ShadingView {
+  kBakedOnly = 0,   ///< lightmaps alone (what a game without svit's runtime shows)
+  kRuntime = 1,     ///< lightmaps + runtime deltas + runtime lights (the product)
+  kPatchDelta = 2,  ///< false colour of the per-patch delta (red +, blue -)
+};
+
+/// A pinhole camera, right-handed, +Y up.
+struct Camera {
+  Vec3 position{0, 0, 0};
+  Vec3 look_at{0, 0, -1};
+  Vec3 up{0, 1, 0};
+  float yfov_rad = 1.0471975512f;
+  float near_m = 0.05f, far_m = 1000.0f;
+};
+
+struct SceneRendererSettings {
+  int width = 640, height = 360;  ///< offscreen target, pixels
+  float exposure = 1.0f;          ///< multiplies radiance before the tone curve
+  bool auto_exposure = true;      ///< derive exposure from the bake's mean irradiance
+  int shadow_map_size = 512;      ///< runtime lights' shadow maps, texels per face edge
+  int shadow_taps = 16;           ///< PCF taps (soft shadows)
+};
+
+/// Per-frame draw statistics.
+struct RenderStats {
+  double shading_ms = 0;    ///< CPU wall time incl. glFinish
+  uint32_t draw_calls = 0;
+  uint32_t shadow_maps_rendered = 0;
+};
+
+class SceneRenderer {
+ public:
+  /// Uploads the static and dynamic meshes, materials (base colour textures)
+  /// and lightmap pages (read from `bake_dir`). `runtime` may be null (baked
+  /// only); when given it must outlive the renderer. Errors: no GL 4.5
+  /// context, unreadable lightmap page, bake/scene mismatch (triangle count).
+  static Expected<std::unique_ptr<SceneRenderer>> create(const Scene& scene, const BakeData& bake,
+                                                         const std::string& bake_dir, const Runtime* runtime,
+                                                         const SceneRendererSettings& settings = {});
+  ~SceneRenderer();
+
+  /// Renders one frame into the offscreen target (or, with
+  /// `to_default_framebuffer`, into framebuffer 0 of the current window).
+  /// Dynamic objects are drawn where the runtime has them.
+  Expected<RenderStats> render(const Camera& camera, ShadingView view, bool to_default_framebuffer = false);
+
+  /// Reads the last offscreen frame back as 8-bit sRGB RGB, rows top first.
+  std::vector<uint8_t> readPixels() const;
+  /// Writes the last offscreen frame as a PNG. Errors name the path.
+  Status writePng(const std::string& path) const;
+  int width() const;
+  int height() const;
+  void resize(int width, int height);
+
+ private:
+  struct Impl;
+  explicit SceneRenderer(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The GLSL a host engine shades with, by file name in shaders/ (e.g.
+/// "lit_static.frag"); empty when unknown.
+std::string_view shadingSource(std::string_view file_name);
+
+}  // namespace svit
