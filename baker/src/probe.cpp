@@ -1,4 +1,3 @@
-#include "double_math.h"
 #include "svit/baker/probe.h"
 
 #include <cmath>
@@ -7,11 +6,10 @@
 #include <fstream>
 #include <sstream>
 
-#include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
 #include "svit/bake_file.h"
-#include "svit/baker/bake_geometry.h"
+#include "svit/baked_surfaces.h"
 #include "svit/level.h"
 #include "svit/lightmap_image.h"
 
@@ -19,31 +17,6 @@ namespace svit::baker {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Closest point on triangle abc to p (Ericson, Real-Time Collision
-// Detection 5.1.5), returned as barycentrics (weights of b and c).
-glm::dvec2 closestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-  const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return {0, 0};
-  const glm::dvec3 bp = p - b;
-  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return {1, 0};
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return {d1 / (d1 - d3), 0};
-  const glm::dvec3 cp = p - c;
-  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return {0, 1};
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return {0, d2 / (d2 - d6)};
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return {1 - w, w};
-  }
-  const double denominator = 1.0 / (va + vb + vc);
-  return {vb * denominator, vc * denominator};
-}
 
 }  // namespace
 
@@ -102,47 +75,23 @@ Expected<std::vector<ProbeResult>> probeBake(const std::string& out_dir, const s
   if (hashLevel(*scene) != bake->level_hash) {
     return Status(StatusCode::kInvalidInput, bake_path + ": the level " + level_path + " changed since it was baked; bake it again");
   }
-  Expected<BakeGeometry> geometry = flattenStaticGeometry(*scene);
-  if (!geometry.ok()) return geometry.status();
-  if (geometry->triangleCount() != bake->triangle_uvs.size()) {
-    return Status(StatusCode::kInvalidInput, bake_path + ": has " + std::to_string(bake->triangle_uvs.size()) +
-                                                 " lightmapped triangles, the level " + std::to_string(geometry->triangleCount()));
-  }
-  std::vector<LightmapImage> pages;
-  for (const BakeLightmapPage& page : bake->pages) {
-    Expected<LightmapImage> image = readLightmapExr((fs::path(out_dir) / page.file).string());
-    if (!image.ok()) return image.status();
-    pages.push_back(std::move(image).value());
-  }
+  Expected<BakedSurfaces> surfaces = BakedSurfaces::build(*scene, *bake);
+  if (!surfaces.ok()) return Status(surfaces.status().code(), bake_path + ": " + surfaces.status().message());
+  Expected<std::vector<LightmapImage>> pages = readLightmapPages(*bake, out_dir);
+  if (!pages.ok()) return pages.status();
   const double cos_limit = 0.5;  // 60 degrees
   std::vector<ProbeResult> results;
   for (const ProbePoint& point : points) {
-    const glm::dvec3 p = dvec(point.position), n = glm::normalize(dvec(point.normal));
-    double best = 1e300;
-    ProbeResult result;
-    bool found = false;
-    for (uint32_t t = 0; t < geometry->triangleCount(); ++t) {
-      if (glm::dot(dvec(geometry->normals[t]), n) < cos_limit) continue;
-      const glm::dvec3 a = dvec(geometry->corner(t, 0)), b = dvec(geometry->corner(t, 1)), c = dvec(geometry->corner(t, 2));
-      const glm::dvec2 w = closestOnTriangle(p, a, b, c);
-      const glm::dvec3 q = a + w.x * (b - a) + w.y * (c - a);
-      const double d = glm::length(q - p);
-      if (d < best) {
-        best = d;
-        found = true;
-        const BakeTriangleUv& uv = bake->triangle_uvs[t];
-        const Vec2 lookup{float((1 - w.x - w.y) * uv.uv[0].x + w.x * uv.uv[1].x + w.y * uv.uv[2].x),
-                          float((1 - w.x - w.y) * uv.uv[0].y + w.x * uv.uv[1].y + w.y * uv.uv[2].y)};
-        result.irradiance = pages[uv.page].sampleBilinear(lookup);
-        result.surface_point = {float(q.x), float(q.y), float(q.z)};
-        result.distance_m = d;
-        result.triangle = t;
-      }
-    }
-    if (!found) {
+    const std::optional<SurfaceHit> hit = surfaces->nearest(point.position, point.normal, cos_limit);
+    if (!hit) {
       return Status(StatusCode::kInvalidInput, "no static surface faces the normal (" + std::to_string(point.normal.x) + ", " +
                                                    std::to_string(point.normal.y) + ", " + std::to_string(point.normal.z) + ")");
     }
+    ProbeResult result;
+    result.irradiance = (*pages)[hit->page].sampleBilinear(hit->uv);
+    result.surface_point = hit->point;
+    result.distance_m = hit->distance_m;
+    result.triangle = hit->triangle;
     results.push_back(result);
   }
   return results;

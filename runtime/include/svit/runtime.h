@@ -83,6 +83,7 @@ struct FrameStats {
   double unshot_share = 0;           ///< delta energy compensated as ambient / total |delta|
   uint32_t gl_objects_created = 0;   ///< buffers/textures allocated during this update
   bool idle = false;                 ///< nothing to do: no dynamic content changed
+  std::string error;                 ///< empty, or why the update could not finish (a GL failure)
 };
 
 /// What the host binds to shade static geometry (shadingSources()).

@@ -1,0 +1,60 @@
+#pragma once
+// The runtime's receivers: the bake's static patches (ids 0..P-1) and one
+// receiver per triangle of each dynamic object (appended per object, never
+// reused), with the triangles index maps draw for them.
+
+#include <cstdint>
+#include <vector>
+
+#include "index_map_renderer.h"
+#include "svit/bake_file.h"
+#include "svit/baked_surfaces.h"
+#include "svit/math_types.h"
+#include "svit/runtime.h"
+#include "svit/status.h"
+
+namespace svit::gl {
+
+struct Receiver {
+  float area_m2 = 0;
+  Rgb albedo;
+  Vec3 centroid;
+  Vec3 normal;
+};
+
+/// A dynamic object as the runtime tracks it.
+struct DynamicObject {
+  std::string name;
+  int instance = -1;
+  std::vector<Vec3> object_positions;  ///< 3 per triangle, object space (unshared)
+  std::vector<Rgb> albedo;             ///< per triangle
+  std::vector<Rgb> emission;           ///< per triangle, cd/m2
+  bool double_sided = false;
+  Mat4 world_from_object;
+  bool visible = true;
+  bool removed = false;
+  uint32_t first_receiver = 0;  ///< its triangles' receivers are first_receiver + t
+  std::vector<Vec3> world_positions;  ///< 3 per triangle, kept current
+  Aabb bounds;                        ///< of world_positions (empty when hidden)
+};
+
+/// Static map triangles for the patches: the bake's LOD proxy faces, or the
+/// full static triangles (each side to its patch via patch_elements).
+/// `surfaces` is the bake's static triangles (BakedSurfaces::build).
+/// Error: a proxy face or element naming a patch out of range.
+Expected<MapTriangles> staticMapTriangles(const BakeData& bake, const BakedSurfaces& surfaces, bool use_proxies);
+
+/// Receivers of the static patches.
+std::vector<Receiver> staticReceivers(const BakeData& bake);
+
+/// Recomputes world_positions and bounds of `object` from its transform.
+void placeObject(DynamicObject& object);
+
+/// Appends the map triangles of every visible, not removed object.
+MapTriangles dynamicMapTriangles(const std::vector<DynamicObject>& objects);
+
+/// The receiver entries (area, albedo, centroid, normal) of an object's
+/// triangles, written at object.first_receiver.
+void updateObjectReceivers(const DynamicObject& object, std::vector<Receiver>& receivers);
+
+}  // namespace svit::gl

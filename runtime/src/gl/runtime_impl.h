@@ -1,0 +1,118 @@
+#pragma once
+// The state behind svit::Runtime, shared by runtime.cpp (API, validation)
+// and runtime_update.cpp (the per-frame pipeline).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "bounce_solver.h"
+#include "emitter_samples.h"
+#include "index_map_renderer.h"
+#include "receivers.h"
+#include "svit/baked_surfaces.h"
+#include "svit/lightmap_image.h"
+#include "svit/runtime.h"
+
+namespace svit {
+
+namespace rt = gl;
+
+enum class EmitterKind {
+  kBakedLight,    ///< a static light of the bake (BakeData emitter index)
+  kSun,           ///< the baked sun
+  kSky,           ///< the baked sky
+  kStaticPatch,   ///< a static patch: re-shoots its baseline (bright) and its deltas
+  kDynamicPatch,  ///< a dynamic object's triangle: emits and reflects
+  kRuntimeLight,  ///< a light the game moves
+};
+
+/// One emitter and its cached form factors (thesis 5.10's cache).
+struct Emitter {
+  EmitterKind kind = EmitterKind::kBakedLight;
+  uint32_t index = 0;          ///< bake emitter (lights, sun, sky), receiver (patches), light id
+  uint32_t bake_emitter = kInvalidId;  ///< BakeData::emitters index when the bake lists it
+  bool needs_baseline = false; ///< baked emitters and bright patches: current minus baseline
+  glm::dvec3 flux{0.0};        ///< lm: the flux its shares distribute (patches: baseline B x A)
+  int sample_count = 1;
+  std::vector<rt::PointSample> samples;
+  rt::SparseShares current, baseline;
+  bool has_current = false, has_baseline = false;
+  bool stale = true;           ///< current out of date (something moved in its region)
+  bool samples_stale = true;   ///< the emitter itself moved
+  Aabb region;                 ///< samples and everything its shares light
+  uint64_t refreshed_frame = 0;
+};
+
+struct RuntimeLightState {
+  Light light;
+  bool enabled = true;
+  float dimmer = 1;
+  bool removed = false;
+  uint32_t emitter = kInvalidId;
+};
+
+struct Runtime::Impl {
+  Scene scene;
+  BakeData bake;
+  std::string bake_dir;
+  RuntimeSettings settings;
+  BakedSurfaces surfaces;
+  std::vector<LightmapImage> pages;
+
+  // Receivers: static patches, then per object one per triangle.
+  std::vector<rt::Receiver> receivers;
+  uint32_t static_receivers = 0;
+  std::vector<uint32_t> element_patch;  ///< triangle*2+side -> patch (kInvalidId: none)
+  std::vector<Aabb> patch_bounds;
+  rt::MapTriangles static_map;
+  std::vector<std::vector<uint32_t>> patch_map_triangles;  ///< per static patch: its static map triangles
+  float sample_offset_m = 1e-4f;
+  rt::ParallelWindow window{};
+
+  std::vector<rt::DynamicObject> objects;
+  std::vector<uint32_t> object_map_base;  ///< per object: its first triangle in the dynamic map set
+  rt::MapTriangles dynamic_map;          ///< what the maps draw for the objects now
+  std::vector<RuntimeLightState> lights;
+  std::vector<int> scene_light_to_light;  ///< Scene::lights index -> light id (-1)
+  std::vector<float> bake_emitter_scale;  ///< per BakeData emitter, 1 = as baked
+
+  std::vector<Emitter> emitters;
+  std::vector<uint32_t> receiver_emitter;  ///< per receiver: its emitter or kInvalidId
+
+  // Results, per receiver.
+  std::vector<glm::dvec3> delta_total;    ///< irradiance delta incl. runtime lights' direct light, lux
+  std::vector<glm::dvec3> runtime_direct; ///< direct irradiance of runtime lights, lux (shaded per pixel)
+  std::vector<Rgb> display;               ///< what shading adds (temporally blended), lux
+  bool have_content = false;              ///< dynamic objects or runtime lights exist
+
+  // Change tracking between updates.
+  std::vector<Aabb> moved_boxes;
+  bool dynamic_geometry_changed = false;
+  bool lighting_changed = false;
+  bool pending_wanted = false;  ///< the last bounce wanted shares it did not have
+  uint64_t frame = 0;
+  double ms_per_sample = 0.5;  ///< running estimate for the budget
+
+  // GL (created only when the level has runtime content).
+  std::unique_ptr<rt::IndexMapRenderer> renderer;
+  uint32_t delta_buffer = 0;
+  uint32_t delta_buffer_receivers = 0;
+  mutable std::vector<uint32_t> lightmap_textures;
+  uint32_t gl_objects_created = 0;
+
+  FrameStats update(double budget_ms);
+  Status ensureRenderer();
+  void invalidateMoved();
+  void refreshSamples(Emitter& e);
+  Status gatherShares(std::vector<uint32_t> emitter_ids, bool baseline, FrameStats& stats);
+  void solve(FrameStats& stats, std::vector<std::pair<double, uint32_t>>& wanted);
+  void uploadDisplay(FrameStats& stats);
+  uint32_t addPatchEmitter(uint32_t receiver, bool bright, double wanted_flux, double max_flux);
+  uint32_t addObjectInternal(rt::DynamicObject object);
+};
+
+}  // namespace svit

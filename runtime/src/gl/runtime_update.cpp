@@ -1,0 +1,511 @@
+// The runtime's frame (thesis 5.3): bring emitters' cached index-map shares
+// up to date where something moved, within the budget; turn them into
+// per-receiver flux deltas against the baked baseline (current minus
+// baseline shares of every baked emitter, plus new emitters); bounce the
+// deltas through the receivers' own cached shares; compensate what was not
+// shot as ambient; publish the deltas for shading.
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "glm_interop.h"
+#include "runtime_impl.h"
+
+namespace svit {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+double lum(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+glm::dvec3 dvec(const Rgb& c) { return {c.r, c.g, c.b}; }
+
+bool overlaps(const Aabb& a, const Aabb& b) {
+  return !a.empty() && !b.empty() && a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y &&
+         b.min.y <= a.max.y && a.min.z <= b.max.z && b.min.z <= a.max.z;
+}
+
+void grow(Aabb& box, const Vec3& p) {
+  box.min = {std::min(box.min.x, p.x), std::min(box.min.y, p.y), std::min(box.min.z, p.z)};
+  box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y), std::max(box.max.z, p.z)};
+}
+void grow(Aabb& box, const Aabb& other) {
+  if (other.empty()) return;
+  grow(box, other.min);
+  grow(box, other.max);
+}
+
+int sampleCount(double flux, double max_flux, const RuntimeSettings& s) {
+  if (!(max_flux > 0)) return s.min_samples_per_emitter;
+  const int n = int(std::ceil(double(s.max_samples_per_emitter) * std::abs(flux) / max_flux));
+  return std::clamp(n, s.min_samples_per_emitter, s.max_samples_per_emitter);
+}
+
+}  // namespace
+
+Status Runtime::Impl::ensureRenderer() {
+  if (renderer) return Status();
+  rt::IndexMapSettings map_settings;
+  map_settings.resolution = settings.map_resolution;
+  map_settings.small_polygon_fallback = settings.small_polygon_fallback;
+  map_settings.edge_taps = settings.edge_taps;
+  map_settings.neighbour_ids = settings.neighbour_ids;
+  Expected<std::unique_ptr<rt::IndexMapRenderer>> created = rt::IndexMapRenderer::create(map_settings);
+  if (!created.ok()) return created.status();
+  renderer = std::move(created).value();
+  renderer->setStaticTriangles(static_map);
+  renderer->setReceiverCount(uint32_t(receivers.size()));
+  ++gl_objects_created;
+  // The baked emitters and the bright patches (thesis 5.3 step 1): every
+  // baked light, the sun, the sky, and the static patches carrying
+  // `secondary_emitter_share` of the reflected baseline flux.
+  double max_flux = 0;
+  std::vector<std::pair<double, uint32_t>> bright;
+  double bright_total = 0;
+  for (uint32_t p = 0; p < static_receivers; ++p) {
+    const double f = lum(dvec(bake.patches[p].radiosity)) * double(bake.patches[p].area_m2);
+    if (f > 0) bright.push_back({f, p});
+    bright_total += std::max(f, 0.0);
+  }
+  std::sort(bright.begin(), bright.end(), [](auto& a, auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
+  for (uint32_t i = 0; i < bake.emitters.size(); ++i) {
+    const BakeEmitter& be = bake.emitters[i];
+    if (be.kind == BakeEmitter::Kind::kPatch) continue;
+    Emitter e;
+    e.kind = be.kind == BakeEmitter::Kind::kLight ? EmitterKind::kBakedLight
+             : be.kind == BakeEmitter::Kind::kSun ? EmitterKind::kSun
+                                                  : EmitterKind::kSky;
+    e.index = i;
+    e.bake_emitter = i;
+    e.needs_baseline = true;
+    emitters.push_back(std::move(e));
+  }
+  for (auto& [f, p] : bright) max_flux = std::max(max_flux, f);
+  double covered = 0;
+  for (auto& [f, p] : bright) {
+    if (covered >= settings.secondary_emitter_share * bright_total) break;
+    covered += f;
+    addPatchEmitter(p, true, f, max_flux);
+  }
+  for (uint32_t i = 0; i < bake.emitters.size(); ++i) {
+    const BakeEmitter& be = bake.emitters[i];
+    if (be.kind == BakeEmitter::Kind::kPatch && be.index < static_receivers && receiver_emitter[be.index] != kInvalidId) {
+      emitters[receiver_emitter[be.index]].bake_emitter = i;
+    }
+  }
+  return Status();
+}
+
+uint32_t Runtime::Impl::addPatchEmitter(uint32_t receiver, bool bright, double wanted_flux, double max_flux) {
+  if (receiver_emitter[receiver] != kInvalidId) return receiver_emitter[receiver];
+  Emitter e;
+  e.kind = receiver < static_receivers ? EmitterKind::kStaticPatch : EmitterKind::kDynamicPatch;
+  e.index = receiver;
+  e.needs_baseline = bright && receiver < static_receivers;
+  if (e.kind == EmitterKind::kStaticPatch) {
+    e.flux = dvec(bake.patches[receiver].radiosity) * double(bake.patches[receiver].area_m2);
+  }
+  e.sample_count = sampleCount(wanted_flux, max_flux, settings);
+  emitters.push_back(std::move(e));
+  receiver_emitter[receiver] = uint32_t(emitters.size() - 1);
+  return receiver_emitter[receiver];
+}
+
+void Runtime::Impl::refreshSamples(Emitter& e) {
+  const uint64_t seed = settings.seed;
+  const bool jitter = settings.jitter_map_roll;
+  const uint64_t stream = (uint64_t(e.kind) << 40) ^ e.index;
+  switch (e.kind) {
+    case EmitterKind::kBakedLight: {
+      const Light& light = scene.lights[bake.emitters[e.index].index];
+      e.flux = dvec(light.color) * double(light.intensity) * rt::lightLobeSolidAngle(light);
+      e.samples = rt::lightSamples(light, e.sample_count, seed, stream, jitter);
+      break;
+    }
+    case EmitterKind::kSun: {
+      const double side = 2.0 * double(window.radius_m);
+      e.flux = dvec(scene.sun.color) * double(scene.sun.illuminance_lux) * side * side;
+      e.samples = rt::sunSamples(scene.sun, window, e.sample_count, seed, jitter);
+      break;
+    }
+    case EmitterKind::kSky: {
+      Rgb flux;
+      e.samples = rt::skySamples(scene.sky, window, std::max(16, e.sample_count), seed, jitter, flux);
+      e.flux = dvec(flux);
+      break;
+    }
+    case EmitterKind::kStaticPatch:
+      e.samples = rt::surfaceSamples(static_map, 0, patch_map_triangles[e.index], e.index, e.sample_count,
+                                     sample_offset_m, seed, stream, jitter);
+      break;
+    case EmitterKind::kDynamicPatch: {
+      // The object owning this receiver, and the triangle's place in the dynamic map set.
+      for (size_t o = 0; o < objects.size(); ++o) {
+        const rt::DynamicObject& object = objects[o];
+        if (e.index < object.first_receiver || e.index >= object.first_receiver + object.albedo.size()) continue;
+        const uint32_t t = e.index - object.first_receiver;
+        rt::MapTriangles one;
+        for (int k = 0; k < 3; ++k) one.positions.push_back(object.world_positions[size_t(t) * 3 + size_t(k)]);
+        one.front_receiver.push_back(e.index);
+        one.back_receiver.push_back(object.double_sided ? e.index : rt::kNoReceiver);
+        e.samples.clear();
+        if (!object.visible || object.removed) break;
+        e.samples = rt::surfaceSamples(one, uint32_t(static_map.triangleCount()) + object_map_base[o] + t, {0}, e.index, e.sample_count,
+                                       sample_offset_m, seed, stream, jitter);
+        break;
+      }
+      break;
+    }
+    case EmitterKind::kRuntimeLight: {
+      const Light& light = lights[e.index].light;
+      e.samples = rt::lightSamples(light, e.sample_count, seed, stream, jitter);
+      break;
+    }
+  }
+  e.samples_stale = false;
+}
+
+void Runtime::Impl::invalidateMoved() {
+  if (moved_boxes.empty()) return;
+  for (Emitter& e : emitters) {
+    if (e.stale) continue;
+    for (const Aabb& box : moved_boxes) {
+      if (overlaps(e.region, box)) {
+        e.stale = true;
+        break;
+      }
+    }
+  }
+  moved_boxes.clear();
+}
+
+Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, FrameStats& stats) {
+  if (ids.empty()) return Status();
+  const uint32_t receiver_count = uint32_t(receivers.size());
+  renderer->setReceiverCount(receiver_count);
+  // The baseline is the static level alone: hide dynamic triangles meanwhile.
+  const bool hide_dynamic = baseline && dynamic_map.triangleCount() > 0;
+  if (hide_dynamic) renderer->setDynamicTriangles(rt::MapTriangles{});
+  // Slots x receivers floats come back per gather; bound that to ~64 MB.
+  const size_t max_slots = std::max<size_t>(1, (size_t(16) << 20) / std::max<uint32_t>(receiver_count, 1));
+  std::vector<float> shares;
+  Status status;
+  for (size_t begin = 0; begin < ids.size() && status.ok(); begin += max_slots) {
+    const size_t end = std::min(ids.size(), begin + max_slots);
+    std::vector<rt::PointSample> samples;
+    for (size_t i = begin; i < end; ++i) {
+      Emitter& e = emitters[ids[i]];
+      if (e.samples_stale || e.samples.empty()) refreshSamples(e);
+      for (rt::PointSample s : e.samples) {
+        s.slot = uint32_t(i - begin);
+        samples.push_back(s);
+      }
+    }
+    rt::GatherStats g;
+    const auto t0 = Clock::now();
+    status = renderer->gather(samples, uint32_t(end - begin), shares, &g);
+    if (!status.ok()) break;
+    const double ms = msSince(t0);
+    if (!samples.empty()) ms_per_sample = 0.5 * ms_per_sample + 0.5 * ms / double(samples.size());
+    stats.maps_ms += g.render_ms;
+    stats.reduction_ms += g.reduce_ms + g.readback_ms;
+    stats.samples_rendered += g.samples;
+    stats.faces_rendered += g.faces_rendered;
+    stats.texels_reduced += g.texels;
+    stats.fallback_triangles += g.fallback_triangles;
+    for (size_t i = begin; i < end; ++i) {
+      Emitter& e = emitters[ids[i]];
+      rt::SparseShares sparse;
+      const float* row = shares.data() + (i - begin) * receiver_count;
+      Aabb region;
+      for (const rt::PointSample& s : e.samples) {
+        if (s.lobe != rt::Lobe::kParallel) grow(region, s.position);
+      }
+      for (uint32_t r = 0; r < receiver_count; ++r) {
+        if (!(row[r] > 0)) continue;
+        sparse.receivers.push_back(r);
+        sparse.shares.push_back(row[r]);
+        if (r < static_receivers) {
+          grow(region, patch_bounds[r]);
+        } else {
+          grow(region, receivers[r].centroid);
+        }
+      }
+      if (e.samples.empty() || e.samples.front().lobe == rt::Lobe::kParallel) {
+        // Parallel light crosses the whole window: any change anywhere matters.
+        region = Aabb{{-3e38f, -3e38f, -3e38f}, {3e38f, 3e38f, 3e38f}};
+      }
+      if (baseline) {
+        e.baseline = std::move(sparse);
+        e.has_baseline = true;
+        grow(e.region, region);
+      } else {
+        e.current = std::move(sparse);
+        e.has_current = true;
+        e.stale = false;
+        e.refreshed_frame = frame;
+        e.region = region;
+        if (e.has_baseline) {
+          for (uint32_t r : e.baseline.receivers) grow(e.region, r < static_receivers ? patch_bounds[r] : Aabb{});
+        }
+        ++stats.emitters_refreshed;
+      }
+    }
+  }
+  if (hide_dynamic) renderer->setDynamicTriangles(dynamic_map);
+  return status;
+}
+
+void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint32_t>>& wanted) {
+  const size_t n = receivers.size();
+  std::vector<glm::dvec3> first(n, glm::dvec3(0.0)), direct(n, glm::dvec3(0.0));
+  auto add = [&](std::vector<glm::dvec3>& to, const rt::SparseShares& shares, const glm::dvec3& flux) {
+    for (size_t i = 0; i < shares.receivers.size(); ++i) to[shares.receivers[i]] += flux * double(shares.shares[i]);
+  };
+  for (const Emitter& e : emitters) {
+    switch (e.kind) {
+      case EmitterKind::kBakedLight:
+      case EmitterKind::kSun:
+      case EmitterKind::kSky: {
+        if (!e.has_baseline) break;
+        // Baked light is in the lightmap: only what changed is a delta.
+        const double scale = bake_emitter_scale[e.bake_emitter];
+        add(first, e.has_current ? e.current : e.baseline, e.flux * scale);
+        add(first, e.baseline, -e.flux);
+        break;
+      }
+      case EmitterKind::kStaticPatch: {
+        if (e.needs_baseline && e.has_baseline) {
+          add(first, e.has_current ? e.current : e.baseline, e.flux);
+          add(first, e.baseline, -e.flux);
+        }
+        if (e.bake_emitter != kInvalidId && e.has_current) {
+          // A dimmed lamp: the change of its own emission.
+          const double scale = bake_emitter_scale[e.bake_emitter];
+          const BakePatch& patch = bake.patches[e.index];
+          add(first, e.current, dvec(patch.emission) * double(patch.area_m2) * (scale - 1.0));
+        }
+        break;
+      }
+      case EmitterKind::kDynamicPatch: {
+        if (!e.has_current || e.index >= n || !(receivers[e.index].area_m2 > 0)) break;
+        // Its own emission (Lambertian: exitance pi L); reflection is a bounce.
+        for (const rt::DynamicObject& object : objects) {
+          if (e.index < object.first_receiver || e.index >= object.first_receiver + object.albedo.size()) continue;
+          const glm::dvec3 exitance = 3.14159265358979 * dvec(object.emission[e.index - object.first_receiver]);
+          add(first, e.current, exitance * double(receivers[e.index].area_m2));
+        }
+        break;
+      }
+      case EmitterKind::kRuntimeLight: {
+        const RuntimeLightState& light = lights[e.index];
+        if (!e.has_current || !light.enabled || light.removed) break;
+        const glm::dvec3 flux = dvec(light.light.color) * double(light.light.intensity) * double(light.dimmer) *
+                                rt::lightLobeSolidAngle(light.light);
+        add(first, e.current, flux);
+        add(direct, e.current, flux);
+        break;
+      }
+    }
+  }
+  const auto t0 = Clock::now();
+  std::vector<const rt::SparseShares*> shooters(n, nullptr);
+  for (size_t r = 0; r < n; ++r) {
+    const uint32_t id = receiver_emitter[r];
+    if (id != kInvalidId && emitters[id].has_current) shooters[r] = &emitters[id].current;
+  }
+  rt::BounceSettings bounce;
+  bounce.max_bounces = settings.max_bounces;
+  bounce.stop_share = settings.bounce_stop_share;
+  bounce.ambient = settings.ambient_compensation;
+  const rt::BounceResult result = rt::bounceDeltas(receivers, first, shooters, bounce);
+  stats.bounce_rounds = uint32_t(result.rounds);
+  stats.unshot_share = result.unshot_share;
+  for (size_t r = 0; r < n; ++r) {
+    const double area = receivers[r].area_m2;
+    delta_total[r] = area > 0 ? result.received[r] / area : glm::dvec3(0.0);
+    runtime_direct[r] = area > 0 ? direct[r] / area : glm::dvec3(0.0);
+    if (result.wanted[r] > 0) wanted.push_back({result.wanted[r], uint32_t(r)});
+  }
+  std::sort(wanted.begin(), wanted.end(), [](auto& a, auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
+  stats.bounce_ms += msSince(t0);
+}
+
+void Runtime::Impl::uploadDisplay(FrameStats& stats) {
+  const auto t0 = Clock::now();
+  const size_t n = receivers.size();
+  const float blend = settings.temporal_blend;
+  std::vector<float> packed(n * 4, 0.0f);
+  for (size_t r = 0; r < n; ++r) {
+    const glm::dvec3 target = delta_total[r] - runtime_direct[r];
+    Rgb& d = display[r];
+    d = {d.r + blend * (float(target.x) - d.r), d.g + blend * (float(target.y) - d.g), d.b + blend * (float(target.z) - d.b)};
+    packed[r * 4] = d.r;
+    packed[r * 4 + 1] = d.g;
+    packed[r * 4 + 2] = d.b;
+  }
+  if (delta_buffer_receivers < n) {
+    // Grows only when objects are added; a steady scene never allocates.
+    if (delta_buffer != 0) glDeleteBuffers(1, &delta_buffer);
+    glCreateBuffers(1, &delta_buffer);
+    glNamedBufferStorage(delta_buffer, GLsizeiptr(n * 4 * sizeof(float)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    delta_buffer_receivers = uint32_t(n);
+    ++gl_objects_created;
+  }
+  glNamedBufferSubData(delta_buffer, 0, GLsizeiptr(n * 4 * sizeof(float)), packed.data());
+  stats.upload_ms += msSince(t0);
+}
+
+FrameStats Runtime::Impl::update(double budget_ms) {
+  const auto start = Clock::now();
+  FrameStats stats;
+  ++frame;
+  gl_objects_created = 0;
+  const bool anything_stale = std::any_of(emitters.begin(), emitters.end(), [](const Emitter& e) {
+    return e.stale || (e.needs_baseline && !e.has_baseline);
+  });
+  if (!have_content || (!dynamic_geometry_changed && !lighting_changed && !anything_stale && !pending_wanted)) {
+    stats.idle = true;
+    stats.total_ms = msSince(start);
+    return stats;
+  }
+  if (Status s = ensureRenderer(); !s.ok()) {
+    stats.error = s.message();
+    stats.total_ms = msSince(start);
+    return stats;
+  }
+  if (dynamic_geometry_changed) {
+    dynamic_map = rt::dynamicMapTriangles(objects);
+    object_map_base.assign(objects.size(), 0);
+    uint32_t base = 0;
+    for (size_t o = 0; o < objects.size(); ++o) {
+      object_map_base[o] = base;
+      if (objects[o].visible && !objects[o].removed) base += uint32_t(objects[o].albedo.size());
+    }
+    renderer->setDynamicTriangles(dynamic_map);
+    renderer->setReceiverCount(uint32_t(receivers.size()));
+    // Every dynamic emitter's samples follow its triangle (and its place in the map set).
+    for (Emitter& e : emitters) {
+      if (e.kind == EmitterKind::kDynamicPatch) e.samples_stale = true;
+    }
+    // Emissive dynamic triangles are primary emitters.
+    double max_flux = 0;
+    for (const Emitter& e : emitters) max_flux = std::max(max_flux, lum(e.flux));
+    for (const rt::DynamicObject& object : objects) {
+      for (size_t t = 0; t < object.emission.size(); ++t) {
+        const uint32_t r = object.first_receiver + uint32_t(t);
+        if (luminance(object.emission[t]) > 0 && receiver_emitter[r] == kInvalidId) {
+          const double flux = 3.14159265358979 * luminance(object.emission[t]) * receivers[r].area_m2;
+          addPatchEmitter(r, false, flux, std::max(max_flux, flux));
+        }
+      }
+    }
+    dynamic_geometry_changed = false;
+  }
+  for (size_t i = 0; i < lights.size(); ++i) {
+    if (lights[i].emitter != kInvalidId || lights[i].removed) continue;
+    Emitter e;
+    e.kind = EmitterKind::kRuntimeLight;
+    e.index = uint32_t(i);
+    e.sample_count = settings.min_samples_per_emitter;
+    emitters.push_back(std::move(e));
+    lights[i].emitter = uint32_t(emitters.size() - 1);
+  }
+  invalidateMoved();
+  lighting_changed = false;
+
+  const double budget = budget_ms > 0 ? budget_ms : std::numeric_limits<double>::infinity();
+  // Takes emitters (best first) while their estimated cost fits what is left;
+  // the first always goes, so every frame makes progress.
+  auto takeWithinBudget = [&](std::vector<uint32_t>& candidates) {
+    std::vector<uint32_t> chosen;
+    double cost = 0;
+    const double left = budget - msSince(start);
+    for (uint32_t id : candidates) {
+      const double c = ms_per_sample * double(std::max<size_t>(emitters[id].samples.empty() ? size_t(emitters[id].sample_count)
+                                                                                          : emitters[id].samples.size(), 1));
+      if (!chosen.empty() && cost + c > left) break;
+      chosen.push_back(id);
+      cost += c;
+    }
+    return chosen;
+  };
+  auto byFlux = [&](uint32_t a, uint32_t b) {
+    const double fa = lum(emitters[a].flux), fb = lum(emitters[b].flux);
+    return fa > fb || (fa == fb && a < b);
+  };
+  Status status;
+  // Baselines first: the static level's shares, computed once per emitter.
+  std::vector<uint32_t> need;
+  for (uint32_t i = 0; i < emitters.size(); ++i) {
+    if (emitters[i].needs_baseline && !emitters[i].has_baseline) {
+      if (emitters[i].samples.empty()) refreshSamples(emitters[i]);
+      need.push_back(i);
+    }
+  }
+  std::sort(need.begin(), need.end(), byFlux);
+  std::vector<uint32_t> chosen = takeWithinBudget(need);
+  status = gatherShares(chosen, true, stats);
+  for (uint32_t id : chosen) {
+    Emitter& e = emitters[id];
+    bool touched = false;
+    for (const rt::DynamicObject& object : objects) touched |= overlaps(e.region, object.bounds);
+    if (!touched) {
+      // Nothing dynamic in its reach: current = baseline, no second map.
+      e.current = e.baseline;
+      e.has_current = true;
+      e.stale = false;
+    } else {
+      e.stale = true;
+    }
+  }
+  // Then emitters whose maps are out of date, brightest first.
+  need.clear();
+  for (uint32_t i = 0; i < emitters.size(); ++i) {
+    const Emitter& e = emitters[i];
+    if ((e.stale || !e.has_current) && (!e.needs_baseline || e.has_baseline)) need.push_back(i);
+  }
+  std::sort(need.begin(), need.end(), byFlux);
+  chosen = takeWithinBudget(need);
+  if (status.ok()) status = gatherShares(chosen, false, stats);
+  // Bounce; receivers whose reflected delta had no shares to go through get
+  // emitters (fewer samples as energy falls), budget permitting, and the
+  // bounce is solved again with them.
+  std::vector<std::pair<double, uint32_t>> wanted;
+  solve(stats, wanted);
+  for (int pass = 0; status.ok() && pass < 2 && !wanted.empty() && msSince(start) < budget; ++pass) {
+    double total = 0, covered = 0;
+    for (auto& [w, r] : wanted) total += w;
+    std::vector<uint32_t> fresh;
+    for (auto& [w, r] : wanted) {
+      if (covered >= (1.0 - settings.bounce_stop_share) * total) break;
+      covered += w;
+      const uint32_t id = addPatchEmitter(r, false, w, wanted.front().first);
+      if (!emitters[id].has_current) fresh.push_back(id);
+    }
+    chosen = takeWithinBudget(fresh);
+    if (chosen.empty()) break;
+    status = gatherShares(chosen, false, stats);
+    wanted.clear();
+    solve(stats, wanted);
+  }
+  pending_wanted = false;
+  for (auto& [w, r] : wanted) {
+    if (receiver_emitter[r] == kInvalidId || !emitters[receiver_emitter[r]].has_current) pending_wanted = true;
+  }
+  if (!status.ok()) stats.error = status.message();
+  for (const Emitter& e : emitters) {
+    if (e.stale || !e.has_current) ++stats.emitters_pending;
+  }
+  uploadDisplay(stats);
+  stats.gl_objects_created = gl_objects_created;
+  stats.total_ms = msSince(start);
+  return stats;
+}
+
+}  // namespace svit
