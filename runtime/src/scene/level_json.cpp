@@ -1,8 +1,10 @@
-// level.json: a glTF plus sun, sky, extra lights, dynamic nodes, object paths
-// and camera paths (docs/level-format.md). Strict: unknown fields and values
-// of the wrong type or range are errors naming the field, since a typo that
-// is silently ignored costs a level designer an overnight bake.
+// level.json: a glTF plus sun, sky, extra lights, primitive objects, excluded
+// and dynamic nodes, object paths and camera paths (docs/level-format.md).
+// Strict: unknown fields and values of the wrong type or range are errors
+// naming the field, since a typo that is silently ignored costs a level
+// designer an overnight bake.
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -12,17 +14,96 @@
 
 #include <nlohmann/json.hpp>
 
+#include "glm_interop.h"
 #include "scene_finalize.h"
 #include "svit/level.h"
+#include "transforms.h"
 
 namespace svit {
 namespace {
 
 using Json = nlohmann::json;
 
+// Sphere tessellation of level objects: `segments` around the equator and
+// segments / 2 from pole to pole.
+constexpr int kDefaultSphereSegments = 24;
+constexpr int kMinSphereSegments = 4;
+constexpr int kMaxSphereSegments = 256;
+
+// Appends triangle (a, b, c) of a convex mesh centred on the origin, wound
+// counter-clockwise seen from outside (glTF's front face).
+void addOutwardTriangle(Mesh& mesh, uint32_t a, uint32_t b, uint32_t c) {
+  const glm::vec3 pa = toGlm(mesh.positions[a]), pb = toGlm(mesh.positions[b]), pc = toGlm(mesh.positions[c]);
+  const bool outward = glm::dot(glm::cross(pb - pa, pc - pa), pa + pb + pc) > 0;
+  mesh.indices.insert(mesh.indices.end(), {a, outward ? b : c, outward ? c : b});
+}
+
+// A UV sphere of `radius` metres with smooth normals; poles on +-Y.
+void buildSphere(float radius, int segments, Mesh& mesh) {
+  const int rings = segments / 2;
+  constexpr double kPi = 3.14159265358979323846;
+  mesh.positions.push_back({0, radius, 0});
+  mesh.normals.push_back({0, 1, 0});
+  for (int k = 1; k < rings; ++k) {
+    const double polar = kPi * k / rings;
+    for (int i = 0; i < segments; ++i) {
+      const double azimuth = 2 * kPi * i / segments;
+      const Vec3 n{float(std::sin(polar) * std::cos(azimuth)), float(std::cos(polar)),
+                   float(std::sin(polar) * std::sin(azimuth))};
+      mesh.normals.push_back(n);
+      mesh.positions.push_back({radius * n.x, radius * n.y, radius * n.z});
+    }
+  }
+  const uint32_t south = uint32_t(mesh.positions.size());
+  mesh.positions.push_back({0, -radius, 0});
+  mesh.normals.push_back({0, -1, 0});
+  const auto ring = [&](int k, int i) { return uint32_t(1 + (k - 1) * segments + (i % segments)); };
+  for (int i = 0; i < segments; ++i) {
+    addOutwardTriangle(mesh, 0, ring(1, i), ring(1, i + 1));
+    for (int k = 1; k + 1 < rings; ++k) {
+      addOutwardTriangle(mesh, ring(k, i), ring(k + 1, i), ring(k + 1, i + 1));
+      addOutwardTriangle(mesh, ring(k, i), ring(k + 1, i + 1), ring(k, i + 1));
+    }
+    addOutwardTriangle(mesh, south, ring(rings - 1, i), ring(rings - 1, i + 1));
+  }
+}
+
+// An axis-aligned box of `size` metres centred on the origin, flat normals.
+void buildBox(const Vec3& size, Mesh& mesh) {
+  const glm::vec3 half = 0.5f * toGlm(size);
+  for (int axis = 0; axis < 3; ++axis) {
+    for (float sign : {-1.0f, 1.0f}) {
+      glm::vec3 normal(0);
+      normal[axis] = sign;
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      const uint32_t first = uint32_t(mesh.positions.size());
+      for (int corner = 0; corner < 4; ++corner) {
+        glm::vec3 p = normal * half;
+        p[u] = (corner == 1 || corner == 2 ? 1.0f : -1.0f) * half[u];
+        p[v] = (corner >= 2 ? 1.0f : -1.0f) * half[v];
+        mesh.positions.push_back(fromGlm(p));
+        mesh.normals.push_back(fromGlm(normal));
+      }
+      addOutwardTriangle(mesh, first, first + 1, first + 2);
+      addOutwardTriangle(mesh, first, first + 2, first + 3);
+    }
+  }
+}
+
+// Takes `node` and its subtree out of the level: finalizeScene never reaches
+// it, so it has no instance and lights on it are dropped.
+void detachNode(Scene& scene, std::vector<int>& roots, int node) {
+  Node& n = scene.nodes[size_t(node)];
+  std::vector<int>& siblings = n.parent >= 0 ? scene.nodes[size_t(n.parent)].children : roots;
+  siblings.erase(std::remove(siblings.begin(), siblings.end(), node), siblings.end());
+  n.parent = -1;
+}
+
 // Carries the level path so every error names file and field.
 struct LevelReader {
   std::string path;
+  size_t gltf_nodes = 0;       ///< nodes of the glTF; objects and hung lights come after them
+  std::vector<char> excluded;  ///< per node: named in `exclude` (its subtree is out too)
 
   Status error(const std::string& field, const std::string& problem) const {
     return Status(StatusCode::kInvalidInput, path + ": " + field + ": " + problem);
@@ -124,13 +205,31 @@ struct LevelReader {
     return Status();
   }
 
+  // A node named by a string (the first node of that name, in file order) or
+  // by its index in the glTF's `nodes` array (for files whose nodes have no
+  // names). Nodes left out by `exclude` cannot be named.
   Status nodeByName(const Json& value, const std::string& field, const Scene& scene, int& node) const {
-    std::string name;
-    if (Status s = string(value, field, name); !s.ok()) return s;
-    node = scene.findNode(name);
-    if (node < 0) {
-      return Status(StatusCode::kNotFound, path + ": " + field + ": no node named '" + name + "' in " +
-                                               std::filesystem::path(scene.gltf_path).filename().string());
+    const std::string file = std::filesystem::path(scene.gltf_path).filename().string();
+    if (value.is_number_integer()) {
+      const bool in_range = value.is_number_unsigned() && value.get<uint64_t>() < gltf_nodes;
+      if (!in_range) {
+        return Status(StatusCode::kNotFound, path + ": " + field + ": no node " + value.dump() + " in " + file +
+                                                 " (it has " + std::to_string(gltf_nodes) + " nodes)");
+      }
+      node = int(value.get<uint64_t>());
+    } else {
+      if (!value.is_string()) return error(field, "must be a node name or a node index");
+      const std::string name = value.get<std::string>();
+      node = scene.findNode(name);
+      if (node < 0) {
+        return Status(StatusCode::kNotFound,
+                      path + ": " + field + ": no node named '" + name + "' in " + file);
+      }
+    }
+    for (int n = node; n >= 0; n = scene.nodes[size_t(n)].parent) {
+      if (size_t(n) < excluded.size() && excluded[size_t(n)]) {
+        return error(field, "node " + value.dump() + " is left out by 'exclude'");
+      }
     }
     return Status();
   }
@@ -179,10 +278,10 @@ struct LevelReader {
     return Status();
   }
 
-  Status readLight(const Json& j, const std::string& field, Light& light) const {
+  Status readLight(const Json& j, const std::string& field, Scene& scene, Light& light) const {
     if (Status s = checkKeys(j, field, {"name", "type", "position", "direction", "color", "intensity_cd",
                                         "illuminance_lux", "range_m", "inner_cone_rad",
-                                        "outer_cone_rad", "dynamic"});
+                                        "outer_cone_rad", "dynamic", "node"});
         !s.ok()) {
       return s;
     }
@@ -243,6 +342,152 @@ struct LevelReader {
     if (j.contains("dynamic")) {
       if (Status s = boolean(j["dynamic"], field + ".dynamic", light.dynamic); !s.ok()) return s;
     }
+    if (j.contains("node")) {
+      int parent = -1;
+      if (Status s = nodeByName(j["node"], field + ".node", scene, parent); !s.ok()) return s;
+      hangOnNode(scene, parent, light);
+    }
+    return Status();
+  }
+
+  // Hangs `light` on a new child of `parent` placed at the light's position
+  // and turned so that its -Z axis (the way glTF lights shine) is the
+  // light's direction; finalizeScene then places it in the world, and moves
+  // it with the parent.
+  static void hangOnNode(Scene& scene, int parent, Light& light) {
+    const Vec3 d = light.direction;
+    // Shortest rotation from (0, 0, -1) to d: (axis (0,0,-1) x d, 1 + cos).
+    glm::quat q(1.0f + -d.z, d.y, -d.x, 0.0f);  // glm order: w, x, y, z
+    if (!(q.w > 1e-6f)) q = glm::quat(0, 1, 0, 0);  // d = +Z: half a turn about X
+    q = glm::normalize(q);
+    Node node;
+    node.name = light.name;
+    node.parent = parent;
+    node.translation = light.position;
+    node.rotation = fromGlm(q);
+    node.parent_from_node = fromGlm(composeTrs(toGlm(node.translation), q, glm::vec3(1)));
+    light.node = int(scene.nodes.size());
+    scene.nodes[size_t(parent)].children.push_back(light.node);
+    scene.nodes.push_back(std::move(node));
+  }
+
+  // A primitive prop (docs/level-format.md "objects"): appends a mesh, its
+  // material and a root node holding it.
+  Status readObject(const Json& j, const std::string& field, Scene& scene, int& node_out) const {
+    if (Status s = checkKeys(j, field, {"name", "shape", "radius_m", "size_m", "segments", "albedo",
+                                        "emissive_luminance", "double_sided", "translation", "rotation",
+                                        "dynamic"});
+        !s.ok()) {
+      return s;
+    }
+    if (!j.contains("name")) return error(field + ".name", "is required (paths name the object by it)");
+    std::string name;
+    if (Status s = string(j["name"], field + ".name", name); !s.ok()) return s;
+    if (name.empty()) return error(field + ".name", "must not be empty");
+    if (scene.findNode(name) >= 0) return error(field + ".name", "a node named '" + name + "' already exists");
+    if (!j.contains("shape")) return error(field + ".shape", "is required (\"sphere\" or \"box\")");
+    std::string shape;
+    if (Status s = string(j["shape"], field + ".shape", shape); !s.ok()) return s;
+    std::set<std::string> required, forbidden;
+    if (shape == "sphere") {
+      required = {"radius_m"};
+      forbidden = {"size_m"};
+    } else if (shape == "box") {
+      required = {"size_m"};
+      forbidden = {"radius_m", "segments"};
+    } else {
+      return error(field + ".shape", "'" + shape + "' is not \"sphere\" or \"box\"");
+    }
+    for (const std::string& key : required) {
+      if (!j.contains(key)) return error(field + "." + key, "is required for a " + shape);
+    }
+    for (const std::string& key : forbidden) {
+      if (j.contains(key)) return error(field + "." + key, "does not apply to a " + shape);
+    }
+
+    Material material;
+    material.name = name;
+    material.base_color = {0.8f, 0.8f, 0.8f};
+    if (j.contains("albedo")) {
+      if (Status s = rgb(j["albedo"], field + ".albedo", material.base_color); !s.ok()) return s;
+      const float c[3] = {material.base_color.r, material.base_color.g, material.base_color.b};
+      for (int i = 0; i < 3; ++i) {
+        if (c[i] > 1) return error(field + ".albedo", "must be <= 1 (a surface reflects at most what it receives)");
+      }
+    }
+    if (j.contains("emissive_luminance")) {
+      if (Status s = rgb(j["emissive_luminance"], field + ".emissive_luminance", material.emissive_luminance); !s.ok()) return s;
+    }
+    if (j.contains("double_sided")) {
+      if (Status s = boolean(j["double_sided"], field + ".double_sided", material.double_sided); !s.ok()) return s;
+    }
+
+    Mesh mesh;
+    mesh.name = name;
+    if (shape == "sphere") {
+      float radius = 0;
+      if (Status s = positiveLength(j["radius_m"], field + ".radius_m", radius); !s.ok()) return s;
+      int segments = kDefaultSphereSegments;
+      if (j.contains("segments")) {
+        const Json& v = j["segments"];
+        if (!v.is_number_integer()) return error(field + ".segments", "must be an integer");
+        if (!v.is_number_unsigned() || v.get<uint64_t>() < uint64_t(kMinSphereSegments) ||
+            v.get<uint64_t>() > uint64_t(kMaxSphereSegments)) {
+          return error(field + ".segments", v.dump() + " is outside [" + std::to_string(kMinSphereSegments) +
+                                                ", " + std::to_string(kMaxSphereSegments) + "]");
+        }
+        segments = int(v.get<uint64_t>());
+      }
+      buildSphere(radius, segments, mesh);
+    } else {
+      Vec3 size{};
+      if (j["size_m"].is_number()) {
+        float edge = 0;
+        if (Status s = positiveLength(j["size_m"], field + ".size_m", edge); !s.ok()) return s;
+        size = {edge, edge, edge};
+      } else {
+        if (Status s = vec3(j["size_m"], field + ".size_m", size); !s.ok()) return s;
+        const float e[3] = {size.x, size.y, size.z};
+        for (int i = 0; i < 3; ++i) {
+          if (!(e[i] > 0)) return error(field + ".size_m[" + std::to_string(i) + "]", "must be > 0");
+        }
+      }
+      buildBox(size, mesh);
+    }
+    const uint32_t material_index = uint32_t(scene.materials.size());
+    const size_t triangles = mesh.triangleCount();
+    mesh.triangle_material.assign(triangles, material_index);
+    mesh.triangle_albedo.assign(triangles, material.base_color);
+    mesh.triangle_emission.assign(triangles, material.emissive_luminance);
+    for (size_t t = 0; t < triangles; ++t) mesh.triangle_source.push_back({0, uint32_t(t)});
+
+    Node node;
+    node.name = name;
+    if (j.contains("translation")) {
+      if (Status s = vec3(j["translation"], field + ".translation", node.translation); !s.ok()) return s;
+    }
+    if (j.contains("rotation")) {
+      if (Status s = quat(j["rotation"], field + ".rotation", node.rotation); !s.ok()) return s;
+    }
+    if (j.contains("dynamic")) {
+      if (Status s = boolean(j["dynamic"], field + ".dynamic", node.dynamic); !s.ok()) return s;
+    }
+    node.parent_from_node = fromGlm(composeTrs(toGlm(node.translation), toGlm(node.rotation), glm::vec3(1)));
+    node.mesh = int(scene.meshes.size());
+    scene.materials.push_back(std::move(material));
+    scene.meshes.push_back(std::move(mesh));
+    node_out = int(scene.nodes.size());
+    scene.nodes.push_back(std::move(node));
+    return Status();
+  }
+
+  // A length > 0 that stays finite as a float.
+  Status positiveLength(const Json& value, const std::string& field, float& out) const {
+    double v = 0;
+    if (Status s = number(value, field, v); !s.ok()) return s;
+    if (!(v > 0)) return error(field, "must be > 0");
+    out = float(v);
+    if (!(out > 0)) return error(field, "must be > 0 as a 32-bit float");
     return Status();
   }
 
@@ -361,9 +606,9 @@ Expected<Scene> loadLevelJson(const std::string& path, const LoadOptions& option
   } catch (const Json::exception& e) {
     return Status(StatusCode::kInvalidInput, path + ": not valid JSON: " + e.what());
   }
-  const LevelReader reader{path};
-  if (Status s = reader.checkKeys(root, "", {"gltf", "description", "sun", "sky", "lights", "dynamic",
-                                             "paths", "camera_paths"});
+  LevelReader reader{path, 0, {}};
+  if (Status s = reader.checkKeys(root, "", {"gltf", "description", "sun", "sky", "exclude", "objects",
+                                             "lights", "dynamic", "paths", "camera_paths"});
       !s.ok()) {
     return s;
   }
@@ -380,7 +625,35 @@ Expected<Scene> loadLevelJson(const std::string& path, const LoadOptions& option
   Scene scene = std::move(imported).value();
   scene.source_path = path;
   scene.gltf_path = gltf_path;
+  reader.gltf_nodes = scene.nodes.size();
 
+  if (root.contains("description") && !root["description"].is_string()) {
+    return reader.error("description", "must be a string");
+  }
+  // Exclusions first: nothing later may name an excluded node.
+  if (root.contains("exclude")) {
+    if (!root["exclude"].is_array()) return reader.error("exclude", "must be an array of node names or indices");
+    std::vector<int> nodes;
+    for (size_t i = 0; i < root["exclude"].size(); ++i) {
+      int node = -1;
+      if (Status s = reader.nodeByName(root["exclude"][i], "exclude[" + std::to_string(i) + "]", scene, node); !s.ok()) return s;
+      nodes.push_back(node);
+    }
+    reader.excluded.assign(scene.nodes.size(), 0);
+    for (int node : nodes) {
+      reader.excluded[size_t(node)] = 1;
+      detachNode(scene, roots, node);
+    }
+  }
+  // Objects next, so that lights, dynamic and paths may name them.
+  if (root.contains("objects")) {
+    if (!root["objects"].is_array()) return reader.error("objects", "must be an array");
+    for (size_t i = 0; i < root["objects"].size(); ++i) {
+      int node = -1;
+      if (Status s = reader.readObject(root["objects"][i], "objects[" + std::to_string(i) + "]", scene, node); !s.ok()) return s;
+      roots.push_back(node);
+    }
+  }
   if (root.contains("sun")) {
     if (Status s = reader.readSun(root["sun"], scene.sun); !s.ok()) return s;
   }
@@ -391,7 +664,7 @@ Expected<Scene> loadLevelJson(const std::string& path, const LoadOptions& option
     if (!root["lights"].is_array()) return reader.error("lights", "must be an array");
     for (size_t i = 0; i < root["lights"].size(); ++i) {
       Light light;
-      if (Status s = reader.readLight(root["lights"][i], "lights[" + std::to_string(i) + "]", light); !s.ok()) return s;
+      if (Status s = reader.readLight(root["lights"][i], "lights[" + std::to_string(i) + "]", scene, light); !s.ok()) return s;
       scene.lights.push_back(light);
     }
   }
