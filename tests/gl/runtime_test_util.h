@@ -2,8 +2,8 @@
 // Bakes for the runtime's GL tests: each level baked once per test binary
 // into a temporary directory, at a quality that keeps the tests quick.
 
-#include <gtest/gtest.h>
-
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <unistd.h>
@@ -13,6 +13,17 @@
 #include "svit/baker/bake.h"
 #include "svit/level.h"
 #include "svit/scene.h"
+
+/// Setup that cannot go on (a bake failed): says why and aborts (usable
+/// from tests and benchmarks alike).
+#define SVIT_SETUP_CHECK(cond, message)                                                          \
+  do {                                                                                           \
+    if (!(cond)) {                                                                               \
+      std::fprintf(stderr, "%s:%d: %s failed: %s\n", __FILE__, __LINE__, #cond,                  \
+                   std::string(message).c_str());                                                \
+      std::abort();                                                                              \
+    }                                                                                            \
+  } while (0)
 
 namespace svit::test {
 
@@ -38,14 +49,14 @@ inline const BakedLevel& bakedLevel(const std::string& key, const std::string& l
   options.time_budget_s = seconds;
   options.seed = 7;
   Expected<baker::BakeResult> result = baker::bakeLevel(options, nullptr, nullptr);
-  EXPECT_TRUE(result.ok()) << result.status().message();
+  SVIT_SETUP_CHECK(result.ok(), result.status().message());
   BakedLevel level;
   level.dir = dir;
   Expected<Scene> scene = loadLevel(level_path);
-  EXPECT_TRUE(scene.ok()) << scene.status().message();
+  SVIT_SETUP_CHECK(scene.ok(), scene.status().message());
   if (scene.ok()) level.scene = std::move(scene).value();
   Expected<BakeData> bake = readBakeFile(dir + "/bake.svit");
-  EXPECT_TRUE(bake.ok()) << bake.status().message();
+  SVIT_SETUP_CHECK(bake.ok(), bake.status().message());
   if (bake.ok()) level.bake = std::move(bake).value();
   return cache.emplace(key, std::move(level)).first->second;
 }

@@ -29,6 +29,12 @@ struct RuntimeSettings {
   /// Static geometry in index maps: the bake's LOD proxies (true) or the
   /// full static triangles (false; slower, for checks).
   bool use_proxies = true;
+  /// Runtime patches over the static surfaces (the bake's patches cut to
+  /// about this many): the resolution of dynamic shadows and deltas.
+  int target_patches = 1024;
+  /// Shooters: groups of runtime patches that emit as one (hierarchical
+  /// shooting); about this many over the static surfaces, <= target_patches.
+  int target_shooters = 128;
   int map_resolution = 128;  ///< texels per map face edge, 16..2048
   /// Point samples per emitter: from min to max, in proportion to flux.
   int min_samples_per_emitter = 1;
@@ -109,6 +115,18 @@ struct ObjectInfo {
   std::vector<Rgb> triangle_emission; ///< per triangle, cd/m2
 };
 
+/// A runtime patch of static geometry (what patchDeltas() indexes, before
+/// the dynamic objects' patches).
+struct PatchInfo {
+  Vec3 centroid;               ///< world, metres
+  Vec3 normal;                 ///< unit
+  float area_m2 = 0;
+  Rgb albedo;
+  Rgb baseline_exitance;       ///< baked exitance under it, lm/m2 (emission + albedo x lightmap)
+  uint32_t bake_patch = 0;     ///< the bake patch (cluster-tree node) it was cut from
+  std::vector<Vec3> triangles; ///< its sub-triangles, 3 corners each, world metres
+};
+
 /// A runtime light as the game last set it.
 struct RuntimeLightInfo {
   Light light;       ///< position, direction, colour, intensity (before the dimmer), cone
@@ -182,8 +200,14 @@ class Runtime {
   /// lightmap there (as svit-probe reads it) plus the patch delta. Points
   /// farther than `max_distance_m` from static geometry give NaN.
   Rgb irradianceAt(const Vec3& point, const Vec3& normal, float max_distance_m = 0.05f) const;
-  /// Current irradiance delta of every patch (static, then dynamic), lux.
+  /// Displayed irradiance delta of every patch (static runtime patches,
+  /// then one per dynamic triangle), lux: what shading adds to the lightmap
+  /// (runtime lights' direct light excluded: shaders add it per pixel).
   const std::vector<Rgb>& patchDeltas() const;
+  /// Number of static runtime patches (the first entries of patchDeltas()).
+  uint32_t staticPatchCount() const;
+  /// One static runtime patch. Error: index out of range.
+  Expected<PatchInfo> patchInfo(uint32_t patch) const;
   /// Irradiance a dynamic object's patch receives (lux), all light included.
   Expected<Rgb> objectPatchIrradiance(ObjectId object, uint32_t triangle) const;
   ShadingResources shadingResources() const;

@@ -17,12 +17,13 @@ double SparseShares::total() const {
 }
 
 BounceResult bounceDeltas(const std::vector<Receiver>& receivers, const std::vector<glm::dvec3>& first,
-                          const std::vector<const SparseShares*>& shooter, const BounceSettings& settings) {
+                          const std::vector<int32_t>& group_of,
+                          const std::vector<const SparseShares*>& group_shares, const BounceSettings& settings) {
   const size_t n = receivers.size();
   BounceResult result;
   result.received.assign(n, glm::dvec3(0.0));
-  result.wanted.assign(n, 0.0);
-  std::vector<glm::dvec3> incoming = first, next(n);
+  result.wanted.assign(group_shares.size(), 0.0);
+  std::vector<glm::dvec3> incoming = first, next(n), group_out(group_shares.size());
   glm::dvec3 unshot(0.0);
   double reflected_total = 0, first_round = -1;
   for (int round = 0;; ++round) {
@@ -40,13 +41,23 @@ BounceResult bounceDeltas(const std::vector<Receiver>& receivers, const std::vec
     if (first_round < 0) first_round = round_abs;
     const bool last = round >= settings.max_bounces || round_abs <= settings.stop_share * first_round ||
                       !(round_abs > 0);
+    std::fill(group_out.begin(), group_out.end(), glm::dvec3(0.0));
     for (size_t r = 0; r < n; ++r) {
       const glm::dvec3& out = incoming[r];
       if (out == glm::dvec3(0.0)) continue;
-      const SparseShares* shares = shooter[r];
+      if (group_of[r] < 0) {
+        unshot += out;
+        continue;
+      }
+      group_out[size_t(group_of[r])] += out;
+    }
+    for (size_t g = 0; g < group_out.size(); ++g) {
+      const glm::dvec3& out = group_out[g];
+      if (out == glm::dvec3(0.0)) continue;
+      const SparseShares* shares = group_shares[g];
       if (last || shares == nullptr) {
         unshot += out;
-        if (shares == nullptr) result.wanted[r] += absLum(out);
+        if (shares == nullptr) result.wanted[g] += absLum(out);
         continue;
       }
       // What a share misses (escapes, absorbing backs) is simply lost, as

@@ -30,17 +30,19 @@ struct BounceSettings {
 
 struct BounceResult {
   std::vector<glm::dvec3> received;  ///< per receiver: delta flux received, all rounds + ambient, lm
-  /// Per receiver: |reflected delta flux| (luminance) it could not shoot for
+  /// Per group: |reflected delta flux| (luminance) it could not shoot for
   /// lack of cached shares; the caller refreshes the largest.
   std::vector<double> wanted;
   int rounds = 0;
   double unshot_share = 0;  ///< ambient-compensated |flux| / all |flux| reflected
 };
 
-/// `first` is the delta flux each receiver gets from the primary emitters;
-/// `shooter[r]` the current shares of receiver r as an emitter (null: none
-/// cached). Receivers of zero area take no part.
+/// `first` is the delta flux each receiver gets from the primary emitters.
+/// Receivers reflect as groups (hierarchical shooting): `group_of[r]` is the
+/// group receiver r shoots with (-1: none), `group_shares[g]` the group's
+/// current shares (null: none cached yet). Receivers of zero area take no part.
 BounceResult bounceDeltas(const std::vector<Receiver>& receivers, const std::vector<glm::dvec3>& first,
-                          const std::vector<const SparseShares*>& shooter, const BounceSettings& settings);
+                          const std::vector<int32_t>& group_of,
+                          const std::vector<const SparseShares*>& group_shares, const BounceSettings& settings);
 
 }  // namespace svit::gl

@@ -130,15 +130,16 @@ std::vector<PointSample> skySamples(const Sky& sky, const ParallelWindow& window
 }
 
 std::vector<PointSample> surfaceSamples(const MapTriangles& map, uint32_t triangle_base,
-                                        const std::vector<uint32_t>& triangles, uint32_t receiver, int count,
-                                        float offset_m, uint64_t seed, uint64_t stream, bool jitter_roll) {
+                                        const std::vector<uint32_t>& triangles, const std::vector<double>& density,
+                                        int count, float offset_m, uint64_t seed, uint64_t stream, bool jitter_roll) {
   // Cumulative area of the triangles, in double for long lists.
   std::vector<double> cumulative;
   double total = 0;
-  for (uint32_t t : triangles) {
+  for (size_t k = 0; k < triangles.size(); ++k) {
+    const uint32_t t = triangles[k];
     const glm::vec3 a = toGlm(map.positions[size_t(t) * 3]), b = toGlm(map.positions[size_t(t) * 3 + 1]),
                     c = toGlm(map.positions[size_t(t) * 3 + 2]);
-    total += 0.5 * double(glm::length(glm::cross(b - a, c - a)));
+    total += 0.5 * double(glm::length(glm::cross(b - a, c - a))) * (density.empty() ? 1.0 : std::max(density[k], 0.0));
     cumulative.push_back(total);
   }
   std::vector<PointSample> out;
@@ -155,8 +156,7 @@ std::vector<PointSample> surfaceSamples(const MapTriangles& map, uint32_t triang
       u = 1 - u;
       v = 1 - v;
     }
-    glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
-    if (map.front_receiver[t] != receiver) n = -n;  // the sample emits from the back side
+    const glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
     PointSample s;
     s.position = fromGlm(a + u * (b - a) + v * (c - a) + n * offset_m);
     s.axis = fromGlm(n);

@@ -40,13 +40,14 @@ std::vector<PointSample> sunSamples(const Sun& sun, const ParallelWindow& window
 std::vector<PointSample> skySamples(const Sky& sky, const ParallelWindow& window, int count, uint64_t seed,
                                     bool jitter_roll, Rgb& flux_out);
 
-/// Samples stratified by area over the map triangles `triangles` (indices
-/// into `map`), each facing the side whose receiver is `receiver`, pushed
-/// `offset_m` off the surface. `own_triangle` is set so a sample never
-/// lights its own triangle. Weights sum to 1. Empty when the triangles have
-/// no area.
+/// Samples stratified over the map triangles `triangles` (indices into
+/// `map`) in proportion to area x `density` (per listed triangle; empty =
+/// uniform), so samples sit where the light is (thesis 5.4). Each faces the
+/// triangle's front side and is pushed `offset_m` off it; `own_triangle`
+/// keeps it from lighting its own triangle. Weights sum to 1. Empty when
+/// nothing has weight.
 std::vector<PointSample> surfaceSamples(const MapTriangles& map, uint32_t triangle_base,
-                                        const std::vector<uint32_t>& triangles, uint32_t receiver, int count,
-                                        float offset_m, uint64_t seed, uint64_t stream, bool jitter_roll);
+                                        const std::vector<uint32_t>& triangles, const std::vector<double>& density,
+                                        int count, float offset_m, uint64_t seed, uint64_t stream, bool jitter_roll);
 
 }  // namespace svit::gl

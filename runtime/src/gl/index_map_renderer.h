@@ -7,7 +7,8 @@
 // reduced per-receiver sums come back to the CPU, never a map.
 //
 // Internal to svit::runtime; needs a current OpenGL 4.5 core context on the
-// calling thread for every call (the Runtime checks it once at creation).
+// calling thread for every call, destruction included (the Runtime checks it
+// once at creation). Thread-safe: no; one GL thread.
 
 #include <cstdint>
 #include <memory>
@@ -46,7 +47,8 @@ enum class MapLayout : uint32_t {
 enum class Lobe : uint32_t {
   kCosine = 0,     ///< Lambertian surface: cos(theta)/pi about `axis`, front hemisphere
   kIsotropic = 1,  ///< point light: 1/(4 pi)
-  kSpot = 2,       ///< glTF spot: smoothstep-free linear falloff between cone cosines, normalised
+  kSpot = 2,       ///< glTF spot: t^2, t = clamp((cos - cos_outer) / (cos_inner - cos_outer)), normalised
+                   ///< (the baker's spotFalloff; integral 2 pi ((1 - ci) + (ci - co) / 3))
   kParallel = 3,   ///< parallel rays along `axis` through a square window
 };
 
@@ -70,9 +72,13 @@ struct PointSample {
 struct IndexMapSettings {
   int resolution = 128;               ///< texels per face edge (kParallel: per window edge)
   int max_batch_samples = 32;         ///< samples rendered before one reduction
-  bool small_polygon_fallback = true; ///< vertex visibility for triangles that got no texel
-  bool edge_taps = true;              ///< half-texel shrink + 3x3 neighbour taps in vertex tests
-  bool neighbour_ids = true;          ///< accept ids of triangles sharing the vertex
+  /// Triangles projecting to fewer than 4 texels are credited analytically
+  /// (exact solid angle x lobe at the centroid x share of visible vertices)
+  /// instead of by their texels, which hit or miss them all or nothing; the
+  /// reduction skips their texels so nothing counts twice. Off: texels only.
+  bool small_polygon_fallback = true;
+  bool edge_taps = true;              ///< vertex tests: half-texel shrink toward the centroid + 3x3 id taps
+  bool neighbour_ids = true;          ///< vertex tests: a tap showing a triangle sharing the vertex counts
   double layout_miss_tolerance = 1e-3;  ///< chooseLayout: largest share of the lobe a layout may miss
 };
 
@@ -81,36 +87,62 @@ struct GatherStats {
   uint32_t samples = 0;
   uint32_t faces_rendered = 0;        ///< raster passes (a cube = 6)
   uint64_t texels = 0;                ///< texels reduced
-  uint32_t fallback_triangles = 0;    ///< triangles credited by vertex visibility
+  uint32_t fallback_triangles = 0;    ///< (sample, triangle) pairs credited by vertex visibility
+  uint32_t buffer_allocations = 0;    ///< GL buffer (re)allocations since the previous gather (0 when steady)
   double render_ms = 0, reduce_ms = 0, readback_ms = 0;  ///< CPU wall time incl. glFinish per stage
 };
 
 class IndexMapRenderer {
  public:
   /// Compiles the shaders and allocates the map array for
-  /// `settings.max_batch_samples` cubes. Error (never a crash) when no GL 4.5
-  /// context is current, a setting is out of range, or a shader fails.
+  /// `settings.max_batch_samples` cubes (12 bytes per texel: 6 x res^2 x
+  /// batch; at most 2 GiB). Errors, never a crash: kInvalidInput naming the
+  /// setting (resolution outside [8, 8192], max_batch_samples outside
+  /// [1, 1024], tolerance outside [0, 1], maps over 2 GiB), checked before
+  /// any GL call; kUnsupported when no GL 4.5 context is current or the
+  /// maps exceed the GL's limits; kInternal when a shader fails.
   static Expected<std::unique_ptr<IndexMapRenderer>> create(const IndexMapSettings& settings);
   ~IndexMapRenderer();
 
-  /// Static triangles: uploaded once (proxies or full geometry).
+  /// Static triangles: uploaded once (proxies or full geometry). Buffers
+  /// grow by half again when the triangles no longer fit, never shrink;
+  /// GPU memory per triangle: 44 bytes, plus 4 x max_batch_samples with the
+  /// small-polygon fallback. Triangle count x max_batch_samples must stay
+  /// below 2^31 (gather() says so otherwise).
+  /// A bad set (size mismatch, non-finite corner) is dropped and every
+  /// gather() returns its kInvalidInput error until a good set replaces it.
   void setStaticTriangles(const MapTriangles& triangles);
   /// Dynamic triangles (ids after the static ones); call when any moved.
-  /// An empty set draws nothing and allocates nothing.
+  /// An empty set draws nothing and allocates nothing. Errors as above.
   void setDynamicTriangles(const MapTriangles& triangles);
   /// Number of receivers the accumulators hold.
   void setReceiverCount(uint32_t receivers);
 
   /// The cheapest layout missing at most settings.layout_miss_tolerance of
-  /// the sample's lobe.
+  /// the sample's lobe (kSingle, kTriple, kHemicube, else kCube; parallel
+  /// lobes kParallel).
   MapLayout chooseLayout(const PointSample& sample) const;
-  /// Share of the sample's lobe that `layout` does not cover, in [0, 1].
+  /// Share of the sample's lobe that `layout` does not cover, in [0, 1],
+  /// summed on the CPU from the texel weights at settings.resolution (so 0
+  /// exactly for a covering layout); cached per lobe and spot cone.
   double missedShare(MapLayout layout, const PointSample& sample) const;
 
   /// Renders a map per sample (layout from chooseLayout) and reduces them:
   /// shares[slot * receiver_count + r] = sum over the slot's samples of
   /// weight x share of the sample's flux receiver r gets. `shares` is
   /// resized to slot_count * receiver_count. Deterministic (integer atomics).
+  /// Texel weights are normalised by the discrete sum of the lobe over the
+  /// whole cube, so a closed room gets exactly the sample's weight.
+  /// Geometry nearer than max(1e-4 x scene diagonal, 1e-6 x |position|) to
+  /// the sample is clipped; own_triangle is not drawn at all (place surface
+  /// samples on or just above their triangle).
+  /// Errors (kInvalidInput, `shares` untouched): a sample with a non-finite
+  /// or zero axis, non-finite position/roll, negative weight, slot >=
+  /// slot_count, spot cosines outside [-1, 1], a parallel sample without a
+  /// positive half_extent_m; a bad triangle set (see the setters).
+  /// GL state: restores framebuffers, viewport, scissor, depth, clip
+  /// control, front face, program, VAO and the capabilities it touches;
+  /// leaves shader-storage bindings 0-6 and texture units 0-1 changed.
   Status gather(std::span<const PointSample> samples, uint32_t slot_count, std::vector<float>& shares,
                 GatherStats* stats = nullptr);
 

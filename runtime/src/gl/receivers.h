@@ -1,14 +1,12 @@
 #pragma once
-// The runtime's receivers: the bake's static patches (ids 0..P-1) and one
-// receiver per triangle of each dynamic object (appended per object, never
-// reused), with the triangles index maps draw for them.
+// The runtime's receivers: the runtime patches (ids 0..P-1, runtime_patches.h)
+// and one receiver per triangle of each dynamic object (appended per object,
+// never reused), with the triangles index maps draw for them.
 
 #include <cstdint>
 #include <vector>
 
 #include "index_map_renderer.h"
-#include "svit/bake_file.h"
-#include "svit/baked_surfaces.h"
 #include "svit/math_types.h"
 #include "svit/runtime.h"
 #include "svit/status.h"
@@ -37,15 +35,6 @@ struct DynamicObject {
   std::vector<Vec3> world_positions;  ///< 3 per triangle, kept current
   Aabb bounds;                        ///< of world_positions (empty when hidden)
 };
-
-/// Static map triangles for the patches: the bake's LOD proxy faces, or the
-/// full static triangles (each side to its patch via patch_elements).
-/// `surfaces` is the bake's static triangles (BakedSurfaces::build).
-/// Error: a proxy face or element naming a patch out of range.
-Expected<MapTriangles> staticMapTriangles(const BakeData& bake, const BakedSurfaces& surfaces, bool use_proxies);
-
-/// Receivers of the static patches.
-std::vector<Receiver> staticReceivers(const BakeData& bake);
 
 /// Recomputes world_positions and bounds of `object` from its transform.
 void placeObject(DynamicObject& object);

@@ -31,6 +31,10 @@ Status settingError(const std::string& name, double value, const std::string& ra
 
 Status checkSettings(const RuntimeSettings& s) {
   if (s.map_resolution < 16 || s.map_resolution > 2048) return settingError("map_resolution", s.map_resolution, "16..2048");
+  if (s.target_patches < 16 || s.target_patches > 1 << 20) return settingError("target_patches", s.target_patches, "16..1048576");
+  if (s.target_shooters < 1 || s.target_shooters > s.target_patches) {
+    return settingError("target_shooters", s.target_shooters, "1..target_patches");
+  }
   if (s.min_samples_per_emitter < 1) return settingError("min_samples_per_emitter", s.min_samples_per_emitter, ">= 1");
   if (s.max_samples_per_emitter < s.min_samples_per_emitter || s.max_samples_per_emitter > 1024) {
     return settingError("max_samples_per_emitter", s.max_samples_per_emitter, "min_samples_per_emitter..1024");
@@ -160,30 +164,25 @@ Expected<std::unique_ptr<Runtime>> Runtime::create(const Scene& scene, const Bak
   }
   Impl& r = *impl;
   if (bake.has_runtime_sections) {
-    r.receivers = rt::staticReceivers(bake);
+    // Runtime patches: about settings.target_patches over the static surfaces.
+    double area = 0;
+    for (size_t t = 0; t < r.surfaces.triangleCount(); ++t) area += r.surfaces.area(t) * (r.surfaces.doubleSided(t) ? 2 : 1);
+    const double max_area = area / double(settings.target_patches);
+    Expected<rt::RuntimePatches> patches = rt::buildRuntimePatches(scene, bake, r.surfaces, r.pages, max_area,
+                                                                   area / double(settings.target_shooters));
+    if (!patches.ok()) return Status(patches.status().code(), bake_dir + ": " + patches.status().message());
+    r.patches = std::move(patches).value();
+    r.receivers = r.patches.receivers;
     r.static_receivers = uint32_t(r.receivers.size());
-    Expected<rt::MapTriangles> map = rt::staticMapTriangles(bake, r.surfaces, settings.use_proxies);
-    if (!map.ok()) return Status(map.status().code(), bake_dir + ": " + map.status().message());
-    r.static_map = std::move(map).value();
+    r.static_groups = uint32_t(r.patches.shooter_members.size());
+    r.group_emitter.assign(r.static_groups, kInvalidId);
+    r.delta_total.assign(r.receivers.size(), glm::dvec3(0.0));
+    r.runtime_direct.assign(r.receivers.size(), glm::dvec3(0.0));
+    r.display.assign(r.receivers.size(), Rgb{});
+    r.static_map = settings.use_proxies ? rt::proxyMapTriangles(bake, r.patches, max_area) : r.patches.triangles;
     r.patch_map_triangles.assign(r.static_receivers, {});
     for (uint32_t t = 0; t < r.static_map.triangleCount(); ++t) {
       if (r.static_map.front_receiver[t] != rt::kNoReceiver) r.patch_map_triangles[r.static_map.front_receiver[t]].push_back(t);
-      if (r.static_map.back_receiver[t] != rt::kNoReceiver) r.patch_map_triangles[r.static_map.back_receiver[t]].push_back(t);
-    }
-    r.element_patch.assign(r.surfaces.triangleCount() * 2, kInvalidId);
-    for (uint32_t p = 0; p < r.static_receivers; ++p) {
-      const BakePatch& patch = bake.patches[p];
-      for (uint32_t i = 0; i < patch.element_count; ++i) {
-        const uint32_t element = bake.patch_elements[patch.first_element + i];
-        if (element < r.element_patch.size()) r.element_patch[element] = p;
-      }
-    }
-    r.patch_bounds.assign(r.static_receivers, Aabb{});
-    for (const BakeClusterNode& node : bake.clusters) {
-      if (node.patch >= 0 && uint32_t(node.patch) < r.static_receivers) r.patch_bounds[size_t(node.patch)] = node.bounds;
-    }
-    for (uint32_t p = 0; p < r.static_receivers; ++p) {
-      if (r.patch_bounds[p].empty()) r.patch_bounds[p] = Aabb{bake.patches[p].centroid, bake.patches[p].centroid};
     }
   }
   const Aabb& b = r.surfaces.bounds();
@@ -227,7 +226,7 @@ uint32_t Runtime::Impl::addObjectInternal(rt::DynamicObject object) {
   rt::placeObject(object);
   receivers.resize(receivers.size() + object.albedo.size());
   rt::updateObjectReceivers(object, receivers);
-  receiver_emitter.resize(receivers.size(), kInvalidId);
+  group_emitter.push_back(kInvalidId);
   delta_total.resize(receivers.size(), glm::dvec3(0.0));
   runtime_direct.resize(receivers.size(), glm::dvec3(0.0));
   display.resize(receivers.size(), Rgb{});
@@ -440,15 +439,45 @@ Rgb Runtime::irradianceAt(const Vec3& point, const Vec3& normal, float max_dista
   const std::optional<SurfaceHit> hit = impl_->surfaces.nearest(point, normal);
   if (!hit || hit->distance_m > max_distance_m) return {nan, nan, nan};
   Rgb e = impl_->pages[hit->page].sampleBilinear(hit->uv);
-  const size_t element = size_t(hit->triangle) * 2 + size_t(hit->side);
-  if (element < impl_->element_patch.size() && impl_->element_patch[element] != kInvalidId) {
-    const glm::dvec3& d = impl_->delta_total[impl_->element_patch[element]];
+  // The delta as shading interpolates it: between the welded vertices of
+  // the runtime patch sub-triangle under the point.
+  const uint32_t element = hit->triangle * 2 + uint32_t(hit->side);
+  float s1 = 0, s2 = 0;
+  const uint32_t sub = impl_->patches.subTriangle(element, hit->w1, hit->w2, s1, s2);
+  if (sub != rt::kNoReceiver) {
+    if (hit->side == 1) std::swap(s1, s2);  // back-side sub-triangles are wound the other way
+    const std::vector<glm::dvec3>& v = impl_->vertexDeltas();
+    const uint32_t* corner = &impl_->patches.triangle_vertices[size_t(sub) * 3];
+    const glm::dvec3 d = v[corner[0]] * double(1 - s1 - s2) + v[corner[1]] * double(s1) + v[corner[2]] * double(s2);
     e = {float(e.r + d.x), float(e.g + d.y), float(e.b + d.z)};
   }
   return e;
 }
 
 const std::vector<Rgb>& Runtime::patchDeltas() const { return impl_->display; }
+
+uint32_t Runtime::staticPatchCount() const { return impl_->static_receivers; }
+
+Expected<PatchInfo> Runtime::patchInfo(uint32_t patch) const {
+  if (patch >= impl_->static_receivers) {
+    return Status(StatusCode::kNotFound, "svit runtime: no static patch " + std::to_string(patch) + " (there are " +
+                                             std::to_string(impl_->static_receivers) + ")");
+  }
+  const rt::RuntimePatches& p = impl_->patches;
+  const rt::Receiver& r = p.receivers[patch];
+  PatchInfo info;
+  info.centroid = r.centroid;
+  info.normal = r.normal;
+  info.area_m2 = r.area_m2;
+  info.albedo = r.albedo;
+  info.baseline_exitance = {float(p.baseline[patch].x), float(p.baseline[patch].y), float(p.baseline[patch].z)};
+  info.bake_patch = p.bake_patch[patch];
+  for (size_t t = 0; t < p.triangles.triangleCount(); ++t) {
+    if (p.triangles.front_receiver[t] != patch) continue;
+    for (int k = 0; k < 3; ++k) info.triangles.push_back(p.triangles.positions[t * 3 + size_t(k)]);
+  }
+  return info;
+}
 
 Expected<Rgb> Runtime::objectPatchIrradiance(ObjectId id, uint32_t triangle) const {
   if (id >= impl_->objects.size() || impl_->objects[id].removed) return unknownObject(id);

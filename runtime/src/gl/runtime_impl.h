@@ -13,6 +13,7 @@
 #include "emitter_samples.h"
 #include "index_map_renderer.h"
 #include "receivers.h"
+#include "runtime_patches.h"
 #include "svit/baked_surfaces.h"
 #include "svit/lightmap_image.h"
 #include "svit/runtime.h"
@@ -25,20 +26,21 @@ enum class EmitterKind {
   kBakedLight,    ///< a static light of the bake (BakeData emitter index)
   kSun,           ///< the baked sun
   kSky,           ///< the baked sky
-  kStaticPatch,   ///< a static patch: re-shoots its baseline (bright) and its deltas
-  kDynamicPatch,  ///< a dynamic object's triangle: emits and reflects
+  kStaticPatch,   ///< a bake patch (a group of runtime patches): re-shoots its baseline (bright) and deltas
+  kDynamicObject, ///< a dynamic object: emits and reflects
   kRuntimeLight,  ///< a light the game moves
 };
 
 /// One emitter and its cached form factors (thesis 5.10's cache).
 struct Emitter {
   EmitterKind kind = EmitterKind::kBakedLight;
-  uint32_t index = 0;          ///< bake emitter (lights, sun, sky), receiver (patches), light id
+  uint32_t index = 0;          ///< bake emitter (lights, sun, sky), bake patch, object, light id
   uint32_t bake_emitter = kInvalidId;  ///< BakeData::emitters index when the bake lists it
   bool needs_baseline = false; ///< baked emitters and bright patches: current minus baseline
   glm::dvec3 flux{0.0};        ///< lm: the flux its shares distribute (patches: baseline B x A)
   int sample_count = 1;
   std::vector<rt::PointSample> samples;
+  std::vector<double> density;  ///< objects: per-triangle exitance the samples were placed by
   rt::SparseShares current, baseline;
   bool has_current = false, has_baseline = false;
   bool stale = true;           ///< current out of date (something moved in its region)
@@ -63,13 +65,14 @@ struct Runtime::Impl {
   BakedSurfaces surfaces;
   std::vector<LightmapImage> pages;
 
-  // Receivers: static patches, then per object one per triangle.
+  // Receivers: runtime patches, then per object one per triangle. Groups
+  // (what shoots): bake patches, then objects.
+  rt::RuntimePatches patches;
   std::vector<rt::Receiver> receivers;
   uint32_t static_receivers = 0;
-  std::vector<uint32_t> element_patch;  ///< triangle*2+side -> patch (kInvalidId: none)
-  std::vector<Aabb> patch_bounds;
+  uint32_t static_groups = 0;
   rt::MapTriangles static_map;
-  std::vector<std::vector<uint32_t>> patch_map_triangles;  ///< per static patch: its static map triangles
+  std::vector<std::vector<uint32_t>> patch_map_triangles;  ///< per runtime patch: its static map triangles
   float sample_offset_m = 1e-4f;
   rt::ParallelWindow window{};
 
@@ -81,12 +84,21 @@ struct Runtime::Impl {
   std::vector<float> bake_emitter_scale;  ///< per BakeData emitter, 1 = as baked
 
   std::vector<Emitter> emitters;
-  std::vector<uint32_t> receiver_emitter;  ///< per receiver: its emitter or kInvalidId
+  std::vector<uint32_t> group_emitter;  ///< per group: its emitter or kInvalidId
 
   // Results, per receiver.
   std::vector<glm::dvec3> delta_total;    ///< irradiance delta incl. runtime lights' direct light, lux
   std::vector<glm::dvec3> runtime_direct; ///< direct irradiance of runtime lights, lux (shaded per pixel)
   std::vector<Rgb> display;               ///< what shading adds (temporally blended), lux
+  mutable std::vector<glm::dvec3> vertex_deltas;  ///< delta_total at the welded vertices (lazy)
+  mutable bool vertex_deltas_stale = true;
+  const std::vector<glm::dvec3>& vertexDeltas() const {
+    if (vertex_deltas_stale) {
+      vertex_deltas = rt::vertexValues(patches, delta_total);
+      vertex_deltas_stale = false;
+    }
+    return vertex_deltas;
+  }
   bool have_content = false;              ///< dynamic objects or runtime lights exist
 
   // Change tracking between updates.
@@ -111,7 +123,9 @@ struct Runtime::Impl {
   Status gatherShares(std::vector<uint32_t> emitter_ids, bool baseline, FrameStats& stats);
   void solve(FrameStats& stats, std::vector<std::pair<double, uint32_t>>& wanted);
   void uploadDisplay(FrameStats& stats);
-  uint32_t addPatchEmitter(uint32_t receiver, bool bright, double wanted_flux, double max_flux);
+  uint32_t addGroupEmitter(uint32_t group, bool bright, double wanted_flux, double max_flux);
+  int32_t groupOf(uint32_t receiver) const;
+  std::vector<double> objectExitance(uint32_t object) const;
   uint32_t addObjectInternal(rt::DynamicObject object);
 };
 

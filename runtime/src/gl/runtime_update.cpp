@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "glm_interop.h"
 #include "runtime_impl.h"
@@ -61,16 +62,19 @@ Status Runtime::Impl::ensureRenderer() {
   renderer->setStaticTriangles(static_map);
   renderer->setReceiverCount(uint32_t(receivers.size()));
   ++gl_objects_created;
-  // The baked emitters and the bright patches (thesis 5.3 step 1): every
-  // baked light, the sun, the sky, and the static patches carrying
+  // The baked emitters and the bright patch groups (thesis 5.3 step 1):
+  // every baked light, the sun, the sky, and the bake patches carrying
   // `secondary_emitter_share` of the reflected baseline flux.
-  double max_flux = 0;
+  std::vector<double> group_flux(static_groups, 0.0);
+  for (uint32_t r = 0; r < static_receivers; ++r) {
+    group_flux[patches.shooter[r]] += std::max(0.0, lum(patches.baseline[r])) * double(receivers[r].area_m2);
+  }
   std::vector<std::pair<double, uint32_t>> bright;
-  double bright_total = 0;
-  for (uint32_t p = 0; p < static_receivers; ++p) {
-    const double f = lum(dvec(bake.patches[p].radiosity)) * double(bake.patches[p].area_m2);
-    if (f > 0) bright.push_back({f, p});
-    bright_total += std::max(f, 0.0);
+  double bright_total = 0, max_flux = 0;
+  for (uint32_t g = 0; g < static_groups; ++g) {
+    if (group_flux[g] > 0) bright.push_back({group_flux[g], g});
+    bright_total += group_flux[g];
+    max_flux = std::max(max_flux, group_flux[g]);
   }
   std::sort(bright.begin(), bright.end(), [](auto& a, auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
   for (uint32_t i = 0; i < bake.emitters.size(); ++i) {
@@ -85,35 +89,66 @@ Status Runtime::Impl::ensureRenderer() {
     e.needs_baseline = true;
     emitters.push_back(std::move(e));
   }
-  for (auto& [f, p] : bright) max_flux = std::max(max_flux, f);
   double covered = 0;
-  for (auto& [f, p] : bright) {
+  for (auto& [f, g] : bright) {
     if (covered >= settings.secondary_emitter_share * bright_total) break;
     covered += f;
-    addPatchEmitter(p, true, f, max_flux);
+    addGroupEmitter(g, true, f, max_flux);
   }
+  // A lamp's emissive patch: its shooters can be dimmed as the baked emitter.
   for (uint32_t i = 0; i < bake.emitters.size(); ++i) {
     const BakeEmitter& be = bake.emitters[i];
-    if (be.kind == BakeEmitter::Kind::kPatch && be.index < static_receivers && receiver_emitter[be.index] != kInvalidId) {
-      emitters[receiver_emitter[be.index]].bake_emitter = i;
+    if (be.kind != BakeEmitter::Kind::kPatch) continue;
+    for (uint32_t g = 0; g < static_groups; ++g) {
+      if (patches.shooter_bake_patch[g] != be.index) continue;
+      const uint32_t id = addGroupEmitter(g, true, group_flux[g], max_flux);
+      emitters[id].bake_emitter = i;
     }
   }
   return Status();
 }
 
-uint32_t Runtime::Impl::addPatchEmitter(uint32_t receiver, bool bright, double wanted_flux, double max_flux) {
-  if (receiver_emitter[receiver] != kInvalidId) return receiver_emitter[receiver];
+std::vector<double> Runtime::Impl::objectExitance(uint32_t o) const {
+  const rt::DynamicObject& object = objects[o];
+  std::vector<double> exitance(object.albedo.size());
+  double total = 0;
+  for (size_t t = 0; t < exitance.size(); ++t) {
+    const uint32_t r = object.first_receiver + uint32_t(t);
+    exitance[t] = std::max(0.0, 3.14159265358979 * luminance(object.emission[t]) +
+                                    lum(delta_total[r] * dvec(object.albedo[t])));
+    total += exitance[t];
+  }
+  if (!(total > 0)) exitance.clear();
+  return exitance;
+}
+
+int32_t Runtime::Impl::groupOf(uint32_t receiver) const {
+  if (receiver < static_receivers) return int32_t(patches.shooter[receiver]);
+  for (size_t o = 0; o < objects.size(); ++o) {
+    const rt::DynamicObject& object = objects[o];
+    if (receiver >= object.first_receiver && receiver < object.first_receiver + object.albedo.size()) {
+      return int32_t(static_groups + o);
+    }
+  }
+  return -1;
+}
+
+uint32_t Runtime::Impl::addGroupEmitter(uint32_t group, bool bright, double wanted_flux, double max_flux) {
+  if (group_emitter[group] != kInvalidId) {
+    emitters[group_emitter[group]].needs_baseline |= bright && group < static_groups;
+    return group_emitter[group];
+  }
   Emitter e;
-  e.kind = receiver < static_receivers ? EmitterKind::kStaticPatch : EmitterKind::kDynamicPatch;
-  e.index = receiver;
-  e.needs_baseline = bright && receiver < static_receivers;
+  e.kind = group < static_groups ? EmitterKind::kStaticPatch : EmitterKind::kDynamicObject;
+  e.index = group < static_groups ? group : group - static_groups;
+  e.needs_baseline = bright && group < static_groups;
   if (e.kind == EmitterKind::kStaticPatch) {
-    e.flux = dvec(bake.patches[receiver].radiosity) * double(bake.patches[receiver].area_m2);
+    for (uint32_t r : patches.shooter_members[group]) e.flux += patches.baseline[r] * double(receivers[r].area_m2);
   }
   e.sample_count = sampleCount(wanted_flux, max_flux, settings);
   emitters.push_back(std::move(e));
-  receiver_emitter[receiver] = uint32_t(emitters.size() - 1);
-  return receiver_emitter[receiver];
+  group_emitter[group] = uint32_t(emitters.size() - 1);
+  return group_emitter[group];
 }
 
 void Runtime::Impl::refreshSamples(Emitter& e) {
@@ -139,26 +174,39 @@ void Runtime::Impl::refreshSamples(Emitter& e) {
       e.flux = dvec(flux);
       break;
     }
-    case EmitterKind::kStaticPatch:
-      e.samples = rt::surfaceSamples(static_map, 0, patch_map_triangles[e.index], e.index, e.sample_count,
-                                     sample_offset_m, seed, stream, jitter);
-      break;
-    case EmitterKind::kDynamicPatch: {
-      // The object owning this receiver, and the triangle's place in the dynamic map set.
-      for (size_t o = 0; o < objects.size(); ++o) {
-        const rt::DynamicObject& object = objects[o];
-        if (e.index < object.first_receiver || e.index >= object.first_receiver + object.albedo.size()) continue;
-        const uint32_t t = e.index - object.first_receiver;
-        rt::MapTriangles one;
-        for (int k = 0; k < 3; ++k) one.positions.push_back(object.world_positions[size_t(t) * 3 + size_t(k)]);
-        one.front_receiver.push_back(e.index);
-        one.back_receiver.push_back(object.double_sided ? e.index : rt::kNoReceiver);
-        e.samples.clear();
-        if (!object.visible || object.removed) break;
-        e.samples = rt::surfaceSamples(one, uint32_t(static_map.triangleCount()) + object_map_base[o] + t, {0}, e.index, e.sample_count,
-                                       sample_offset_m, seed, stream, jitter);
-        break;
+    case EmitterKind::kStaticPatch: {
+      // Samples where the group's baseline light is (thesis 5.4): density
+      // by each member patch's baked exitance.
+      std::vector<uint32_t> triangles;
+      std::vector<double> density;
+      bool any = false;
+      for (uint32_t r : patches.shooter_members[e.index]) {
+        const double b = std::max(0.0, lum(patches.baseline[r]));
+        any |= b > 0;
+        for (uint32_t t : patch_map_triangles[r]) {
+          triangles.push_back(t);
+          density.push_back(b);
+        }
       }
+      if (!any) density.clear();
+      e.samples = rt::surfaceSamples(static_map, 0, triangles, density, e.sample_count, sample_offset_m, seed, stream, jitter);
+      break;
+    }
+    case EmitterKind::kDynamicObject: {
+      const rt::DynamicObject& object = objects[e.index];
+      e.samples.clear();
+      if (!object.visible || object.removed) break;
+      rt::MapTriangles own;
+      own.positions = object.world_positions;
+      std::vector<uint32_t> triangles(object.albedo.size());
+      std::iota(triangles.begin(), triangles.end(), 0u);
+      own.front_receiver.resize(triangles.size(), rt::kNoReceiver);
+      own.back_receiver.resize(triangles.size(), rt::kNoReceiver);
+      // Samples where the object's light leaves it (thesis 5.4): density by
+      // each triangle's exitance from the last solve (uniform at first).
+      e.density = objectExitance(e.index);
+      e.samples = rt::surfaceSamples(own, uint32_t(static_map.triangleCount()) + object_map_base[e.index], triangles,
+                                     e.density, e.sample_count, sample_offset_m, seed, stream, jitter);
       break;
     }
     case EmitterKind::kRuntimeLight: {
@@ -231,7 +279,7 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
         sparse.receivers.push_back(r);
         sparse.shares.push_back(row[r]);
         if (r < static_receivers) {
-          grow(region, patch_bounds[r]);
+          grow(region, patches.bounds[r]);
         } else {
           grow(region, receivers[r].centroid);
         }
@@ -251,7 +299,7 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
         e.refreshed_frame = frame;
         e.region = region;
         if (e.has_baseline) {
-          for (uint32_t r : e.baseline.receivers) grow(e.region, r < static_receivers ? patch_bounds[r] : Aabb{});
+          for (uint32_t r : e.baseline.receivers) grow(e.region, r < static_receivers ? patches.bounds[r] : Aabb{});
         }
         ++stats.emitters_refreshed;
       }
@@ -287,19 +335,21 @@ void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint3
         if (e.bake_emitter != kInvalidId && e.has_current) {
           // A dimmed lamp: the change of its own emission.
           const double scale = bake_emitter_scale[e.bake_emitter];
-          const BakePatch& patch = bake.patches[e.index];
-          add(first, e.current, dvec(patch.emission) * double(patch.area_m2) * (scale - 1.0));
+          glm::dvec3 emitted(0.0);
+          for (uint32_t r : patches.shooter_members[e.index]) emitted += patches.emission[r] * double(receivers[r].area_m2);
+          add(first, e.current, emitted * (scale - 1.0));
         }
         break;
       }
-      case EmitterKind::kDynamicPatch: {
-        if (!e.has_current || e.index >= n || !(receivers[e.index].area_m2 > 0)) break;
+      case EmitterKind::kDynamicObject: {
+        const rt::DynamicObject& object = objects[e.index];
+        if (!e.has_current || !object.visible || object.removed) break;
         // Its own emission (Lambertian: exitance pi L); reflection is a bounce.
-        for (const rt::DynamicObject& object : objects) {
-          if (e.index < object.first_receiver || e.index >= object.first_receiver + object.albedo.size()) continue;
-          const glm::dvec3 exitance = 3.14159265358979 * dvec(object.emission[e.index - object.first_receiver]);
-          add(first, e.current, exitance * double(receivers[e.index].area_m2));
+        glm::dvec3 emitted(0.0);
+        for (size_t t = 0; t < object.emission.size(); ++t) {
+          emitted += 3.14159265358979 * dvec(object.emission[t]) * double(receivers[object.first_receiver + t].area_m2);
         }
+        if (emitted != glm::dvec3(0.0)) add(first, e.current, emitted);
         break;
       }
       case EmitterKind::kRuntimeLight: {
@@ -314,24 +364,29 @@ void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint3
     }
   }
   const auto t0 = Clock::now();
-  std::vector<const rt::SparseShares*> shooters(n, nullptr);
-  for (size_t r = 0; r < n; ++r) {
-    const uint32_t id = receiver_emitter[r];
-    if (id != kInvalidId && emitters[id].has_current) shooters[r] = &emitters[id].current;
+  std::vector<int32_t> group_of(n);
+  for (size_t r = 0; r < n; ++r) group_of[r] = groupOf(uint32_t(r));
+  std::vector<const rt::SparseShares*> shooters(group_emitter.size(), nullptr);
+  for (size_t g = 0; g < group_emitter.size(); ++g) {
+    const uint32_t id = group_emitter[g];
+    if (id != kInvalidId && emitters[id].has_current) shooters[g] = &emitters[id].current;
   }
   rt::BounceSettings bounce;
   bounce.max_bounces = settings.max_bounces;
   bounce.stop_share = settings.bounce_stop_share;
   bounce.ambient = settings.ambient_compensation;
-  const rt::BounceResult result = rt::bounceDeltas(receivers, first, shooters, bounce);
+  const rt::BounceResult result = rt::bounceDeltas(receivers, first, group_of, shooters, bounce);
   stats.bounce_rounds = uint32_t(result.rounds);
   stats.unshot_share = result.unshot_share;
   for (size_t r = 0; r < n; ++r) {
     const double area = receivers[r].area_m2;
     delta_total[r] = area > 0 ? result.received[r] / area : glm::dvec3(0.0);
     runtime_direct[r] = area > 0 ? direct[r] / area : glm::dvec3(0.0);
-    if (result.wanted[r] > 0) wanted.push_back({result.wanted[r], uint32_t(r)});
   }
+  for (size_t g = 0; g < result.wanted.size(); ++g) {
+    if (result.wanted[g] > 0) wanted.push_back({result.wanted[g], uint32_t(g)});
+  }
+  vertex_deltas_stale = true;
   std::sort(wanted.begin(), wanted.end(), [](auto& a, auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
   stats.bounce_ms += msSince(t0);
 }
@@ -391,18 +446,19 @@ FrameStats Runtime::Impl::update(double budget_ms) {
     renderer->setReceiverCount(uint32_t(receivers.size()));
     // Every dynamic emitter's samples follow its triangle (and its place in the map set).
     for (Emitter& e : emitters) {
-      if (e.kind == EmitterKind::kDynamicPatch) e.samples_stale = true;
+      if (e.kind == EmitterKind::kDynamicObject) e.samples_stale = true;
     }
-    // Emissive dynamic triangles are primary emitters.
+    // Emissive objects are primary emitters.
     double max_flux = 0;
     for (const Emitter& e : emitters) max_flux = std::max(max_flux, lum(e.flux));
-    for (const rt::DynamicObject& object : objects) {
+    for (size_t o = 0; o < objects.size(); ++o) {
+      const rt::DynamicObject& object = objects[o];
+      double flux = 0;
       for (size_t t = 0; t < object.emission.size(); ++t) {
-        const uint32_t r = object.first_receiver + uint32_t(t);
-        if (luminance(object.emission[t]) > 0 && receiver_emitter[r] == kInvalidId) {
-          const double flux = 3.14159265358979 * luminance(object.emission[t]) * receivers[r].area_m2;
-          addPatchEmitter(r, false, flux, std::max(max_flux, flux));
-        }
+        flux += 3.14159265358979 * luminance(object.emission[t]) * receivers[object.first_receiver + t].area_m2;
+      }
+      if (flux > 0 && group_emitter[static_groups + o] == kInvalidId) {
+        addGroupEmitter(static_groups + uint32_t(o), false, flux, std::max(max_flux, flux));
       }
     }
     dynamic_geometry_changed = false;
@@ -485,7 +541,7 @@ FrameStats Runtime::Impl::update(double budget_ms) {
     for (auto& [w, r] : wanted) {
       if (covered >= (1.0 - settings.bounce_stop_share) * total) break;
       covered += w;
-      const uint32_t id = addPatchEmitter(r, false, w, wanted.front().first);
+      const uint32_t id = addGroupEmitter(r, false, w, wanted.front().first);
       if (!emitters[id].has_current) fresh.push_back(id);
     }
     chosen = takeWithinBudget(fresh);
@@ -494,9 +550,25 @@ FrameStats Runtime::Impl::update(double budget_ms) {
     wanted.clear();
     solve(stats, wanted);
   }
+  // An object's lit side can change without it moving (a light switched):
+  // re-place its samples when its exitance shifted by more than a fifth.
+  for (Emitter& e : emitters) {
+    if (e.kind != EmitterKind::kDynamicObject || e.samples_stale) continue;
+    const std::vector<double> now = objectExitance(e.index);
+    double moved = 0, total = 0;
+    for (size_t t = 0; t < now.size(); ++t) {
+      const double before = e.density.empty() ? 1.0 : e.density[t];
+      moved += std::abs(now[t] - before);
+      total += now[t] + before;
+    }
+    if (total > 0 && moved > 0.2 * total) {
+      e.samples_stale = true;
+      e.stale = true;
+    }
+  }
   pending_wanted = false;
   for (auto& [w, r] : wanted) {
-    if (receiver_emitter[r] == kInvalidId || !emitters[receiver_emitter[r]].has_current) pending_wanted = true;
+    if (group_emitter[r] == kInvalidId || !emitters[group_emitter[r]].has_current) pending_wanted = true;
   }
   if (!status.ok()) stats.error = status.message();
   for (const Emitter& e : emitters) {

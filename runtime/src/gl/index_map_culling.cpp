@@ -1,0 +1,101 @@
+// Chunk culling for index-map faces (see index_map_culling.h).
+
+#include "index_map_culling.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace svit::gl {
+
+void appendChunks(std::span<const float> positions, uint32_t first_triangle, std::vector<TriangleChunk>& out) {
+  const uint32_t triangles = uint32_t(positions.size() / 9);
+  for (uint32_t begin = 0; begin < triangles; begin += kChunkTriangles) {
+    TriangleChunk c;
+    c.first = first_triangle + begin;
+    c.count = std::min(kChunkTriangles, triangles - begin);
+    c.lo = glm::dvec3(1e300);
+    c.hi = glm::dvec3(-1e300);
+    for (size_t v = size_t(begin) * 3; v < size_t(begin + c.count) * 3; ++v) {
+      const glm::dvec3 p(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
+      c.lo = glm::min(c.lo, p);
+      c.hi = glm::max(c.hi, p);
+    }
+    out.push_back(c);
+  }
+}
+
+Frustum faceFrustum(const glm::dvec3& eye, const glm::dvec3& right, const glm::dvec3& up, const glm::dvec3& forward,
+                    double near_m, bool half_face, bool parallel, double half_extent_m, double far_m) {
+  Frustum f;
+  f.eye = eye;
+  auto add = [&](const glm::dvec3& n, double offset) {
+    f.normal[size_t(f.count)] = n;
+    f.offset[size_t(f.count)] = offset;
+    ++f.count;
+  };
+  if (parallel) {
+    add(right, -half_extent_m);
+    add(-right, -half_extent_m);
+    add(up, -half_extent_m);
+    add(-up, -half_extent_m);
+    add(forward, near_m);
+    add(-forward, -far_m);
+  } else {
+    add(forward - right, 0);
+    add(forward + right, 0);
+    add(forward - up, 0);
+    add(forward + up, 0);
+    add(forward, near_m);
+    if (half_face) add(up, 0);
+  }
+  return f;
+}
+
+namespace {
+
+// False only when the box lies wholly outside one plane. The planes pass
+// through the eye, so their tests are exact up to rounding; a margin of
+// 1e-6 of the box's reach keeps a triangle grazing a face edge in.
+bool mayMeet(const TriangleChunk& c, const Frustum& f) {
+  const glm::dvec3 centre = 0.5 * (c.lo + c.hi) - f.eye, half = 0.5 * (c.hi - c.lo);
+  const double reach = glm::length(centre) + glm::length(half);
+  for (int i = 0; i < f.count; ++i) {
+    const glm::dvec3& n = f.normal[size_t(i)];
+    const double best = glm::dot(n, centre) + glm::dot(glm::abs(n), half);
+    if (best < f.offset[size_t(i)] - 1e-6 * reach * glm::length(n)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+void visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& frustum, uint32_t skip,
+                   std::vector<int32_t>& firsts, std::vector<int32_t>& counts) {
+  firsts.clear();
+  counts.clear();
+  auto push = [&](uint32_t first, uint32_t end) {  // triangles [first, end)
+    if (end <= first) return;
+    if (!firsts.empty() && uint32_t(firsts.back() + counts.back()) == 3 * first) {
+      counts.back() += int32_t(3 * (end - first));
+    } else {
+      firsts.push_back(int32_t(3 * first));
+      counts.push_back(int32_t(3 * (end - first)));
+    }
+  };
+  for (const TriangleChunk& c : chunks) {
+    if (!mayMeet(c, frustum)) continue;
+    const uint32_t end = c.first + c.count;
+    if (skip >= c.first && skip < end) {
+      push(c.first, skip);
+      // A break in the run, so the range after the skipped one starts anew.
+      if (skip + 1 < end) {
+        firsts.push_back(int32_t(3 * (skip + 1)));
+        counts.push_back(int32_t(3 * (end - skip - 1)));
+      }
+    } else {
+      push(c.first, end);
+    }
+  }
+}
+
+}  // namespace svit::gl

@@ -1,0 +1,53 @@
+#pragma once
+// Coarse culling for index-map faces. llvmpipe (and any GPU on a big level)
+// spends a face's time on vertices and triangle setup, most of them outside
+// the face's 90-degree frustum; so triangles are kept in runs of
+// kChunkTriangles consecutive ones (meshes are spatially coherent in index
+// order) with a bounding box each, and a face draws only the runs whose box
+// meets its frustum. Triangle indices never change: the ranges are ranges
+// of the original order.
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace svit::gl {
+
+inline constexpr uint32_t kChunkTriangles = 256;
+
+/// A run of triangles [first, first + count) and its world box, m.
+struct TriangleChunk {
+  uint32_t first = 0, count = 0;
+  glm::dvec3 lo{0}, hi{0};
+};
+
+/// Appends the chunks of `positions` (9 floats per triangle), numbering the
+/// triangles from `first_triangle`.
+void appendChunks(std::span<const float> positions, uint32_t first_triangle, std::vector<TriangleChunk>& out);
+
+/// A convex region: p is inside when dot(normal[i], p - eye) >= offset[i] for
+/// every plane i < count.
+struct Frustum {
+  glm::dvec3 eye{0};
+  std::array<glm::dvec3, 6> normal{};
+  std::array<double, 6> offset{};
+  int count = 0;
+};
+
+/// The frustum of one face: perspective (|right|, |up| <= forward, forward
+/// >= near, and up >= 0 for a half face) or, when `parallel`, the window
+/// |right|, |up| <= half_extent with near <= forward <= far. Directions are
+/// unit world vectors.
+Frustum faceFrustum(const glm::dvec3& eye, const glm::dvec3& right, const glm::dvec3& up, const glm::dvec3& forward,
+                    double near_m, bool half_face, bool parallel, double half_extent_m, double far_m);
+
+/// Vertex ranges (first vertex, vertex count) of the chunks that may meet
+/// `frustum`, merged where adjacent, with triangle `skip` left out (any
+/// value past the end skips nothing). Clears and fills `firsts`/`counts`.
+void visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& frustum, uint32_t skip,
+                   std::vector<int32_t>& firsts, std::vector<int32_t>& counts);
+
+}  // namespace svit::gl

@@ -1,0 +1,690 @@
+// Index shadow maps (thesis "Radiosity in dynamic scenes", Hrbek 2000, ch.
+// 5.2; DESIGN.md "Runtime: index shadow maps"). Per batch of point samples:
+//   1. raster: each face of each sample's layout into one layer of an RG32UI
+//      array (receiver, triangle) with a reversed float depth array, drawing
+//      only the triangle runs whose boxes meet the face (index_map_culling);
+//   2. fallback (index_map_fallback.comp): triangles projecting to under a
+//      few texels credited analytically x vertex visibility, and flagged;
+//   3. reduce (index_map_reduce.comp): every texel's weight (solid angle x
+//      normalised lobe x sample weight) added in 64-bit fixed point into
+//      acc[slot * receivers + receiver], skipping the flagged triangles.
+// The CPU twin of the texel weights and layouts is index_map_layouts.cpp.
+// Only the accumulators come back (one glGetNamedBufferSubData per gather).
+// GL objects are made in create(); buffers only grow (more triangles,
+// receivers or slots), so a steady scene allocates nothing per gather.
+
+#include "index_map_renderer.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <utility>
+
+#include "gl_program.h"
+#include "index_map_culling.h"
+#include "index_map_layouts.h"
+#include "svit/gl_context.h"
+
+namespace svit::gl {
+namespace {
+
+// 2^40 fixed-point units per unit share: a slot summing to 1 needs 41 of the
+// accumulators' 64 bits (room for 2^23 x overshoot), and a texel of a 4096^2
+// cube map with 1024 samples of a slot (~1e-11) still rounds to ~10 units.
+constexpr double kFixedPoint = 1099511627776.0;
+// A triangle is "small" below this many texels of projected solid angle
+// (thesis 5.2: a few texels); its texels are then an all-or-nothing lottery.
+constexpr float kSmallTexels = 4.0f;
+// Near plane per metre of scene diagonal (scale-aware), and per metre of the
+// sample's coordinates: float positions carry ~6e-8 |p| of error, so a
+// sample on its own surface may sit that far behind it.
+constexpr double kNearPerSceneSize = 1e-4;
+constexpr double kNearPerCoordinate = 1e-6;
+constexpr uint32_t kNoTriangle = 0xffffffffu;
+// Shader storage and texture bindings (shaders/index_map_*.{frag,comp}).
+constexpr GLuint kReceiversBinding = 0, kSamplesBinding = 1, kLayersBinding = 2, kAccumulatorBinding = 3,
+                 kSmallFlagsBinding = 4, kPositionsBinding = 5, kCounterBinding = 6;
+constexpr GLuint kIdMapUnit = 0, kDepthMapUnit = 1;
+constexpr int kReduceRun = 16;         // texels per reduce invocation (index_map_reduce.comp kRun)
+constexpr int kLocalSize = 64;         // local_size_x of both compute shaders
+constexpr size_t kFallbackSamplesPerInvocation = 4;  // index_map_fallback.comp kSamplesPerInvocation
+constexpr GLuint kMaxGroups = 65535;   // GL_MAX_COMPUTE_WORK_GROUP_COUNT guaranteed minimum
+constexpr double kMaxMapBytes = 2.0 * 1024 * 1024 * 1024;
+
+// The std430 twin of SampleGpu in shaders/index_map_common.comp.
+struct SampleGpu {
+  float position_near[4];
+  float cube_x_far[4];
+  float cube_y_half[4];
+  float cube_z_scale[4];
+  float axis_cube[4];
+  float lobe_params[4];
+  uint32_t info[4];   // lobe, layout, slot, own triangle
+  uint32_t faces[4];  // face mask, half-face mask, first layer
+};
+static_assert(sizeof(SampleGpu) == 128, "SampleGpu must match std430 in index_map_common.comp");
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+std::string str(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+std::string str(const Vec3& v) { return "(" + str(v.x) + ", " + str(v.y) + ", " + str(v.z) + ")"; }
+
+// Saves the GL state a gather changes and puts it back, so the host's
+// rendering never sees our framebuffer, depth convention or viewport.
+// Indexed buffer bindings 0-6, texture units 0-1 and the active program's
+// uniforms are not restored (engines re-bind those before use).
+class StateGuard {
+ public:
+  StateGuard() {
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_fbo_);
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_fbo_);
+    glGetIntegerv(GL_VIEWPORT, viewport_.data());
+    glGetIntegerv(GL_SCISSOR_BOX, scissor_.data());
+    glGetIntegerv(GL_DEPTH_FUNC, &depth_func_);
+    glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask_);
+    glGetBooleani_v(GL_COLOR_WRITEMASK, 0, color_mask_.data());
+    glGetIntegerv(GL_CLIP_ORIGIN, &clip_origin_);
+    glGetIntegerv(GL_CLIP_DEPTH_MODE, &clip_depth_);
+    glGetIntegerv(GL_FRONT_FACE, &front_face_);
+    glGetIntegerv(GL_CURRENT_PROGRAM, &program_);
+    glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vao_);
+    for (size_t i = 0; i < kCaps.size(); ++i) enabled_[i] = glIsEnabled(kCaps[i]);
+  }
+  ~StateGuard() {
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw_fbo_));
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read_fbo_));
+    glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);
+    glScissor(scissor_[0], scissor_[1], scissor_[2], scissor_[3]);
+    glDepthFunc(GLenum(depth_func_));
+    glDepthMask(depth_mask_);
+    glColorMaski(0, color_mask_[0], color_mask_[1], color_mask_[2], color_mask_[3]);
+    glClipControl(GLenum(clip_origin_), GLenum(clip_depth_));
+    glFrontFace(GLenum(front_face_));
+    glUseProgram(GLuint(program_));
+    glBindVertexArray(GLuint(vao_));
+    for (size_t i = 0; i < kCaps.size(); ++i) {
+      if (enabled_[i]) {
+        glEnable(kCaps[i]);
+      } else {
+        glDisable(kCaps[i]);
+      }
+    }
+  }
+  StateGuard(const StateGuard&) = delete;
+  StateGuard& operator=(const StateGuard&) = delete;
+
+ private:
+  static constexpr std::array<GLenum, 8> kCaps = {GL_SCISSOR_TEST, GL_DEPTH_TEST,         GL_CULL_FACE,
+                                                  GL_BLEND,        GL_RASTERIZER_DISCARD, GL_POLYGON_OFFSET_FILL,
+                                                  GL_STENCIL_TEST, GL_DEPTH_CLAMP};
+  GLint draw_fbo_ = 0, read_fbo_ = 0, depth_func_ = GL_LESS, clip_origin_ = GL_LOWER_LEFT,
+        clip_depth_ = GL_NEGATIVE_ONE_TO_ONE, front_face_ = GL_CCW, program_ = 0, vao_ = 0;
+  std::array<GLint, 4> viewport_{}, scissor_{};
+  GLboolean depth_mask_ = GL_TRUE;
+  std::array<GLboolean, 4> color_mask_{};
+  std::array<GLboolean, kCaps.size()> enabled_{};
+};
+
+// What the GPU needs of one sample, and the layout it is rendered with.
+struct PreparedSample {
+  SampleGpu gpu;
+  MapLayout layout;
+  glm::dmat3 world_from_cube;
+};
+
+}  // namespace
+
+struct IndexMapRenderer::Impl {
+  IndexMapSettings settings;
+  GlProgram raster, reduce, fallback;
+  GLuint vao = 0, fbo = 0, id_map = 0, depth_map = 0;
+  GLuint positions = 0, receivers = 0, accumulators = 0, samples = 0, layers = 0, small_flags = 0, counter = 0;
+  size_t triangle_capacity = 0;     // of positions / receivers
+  size_t accumulator_capacity = 0;  // uints
+  size_t small_flags_capacity = 0;   // uints
+  // CPU copies, so a growing buffer can be refilled: 9 floats and 2 ids per triangle.
+  std::vector<float> static_positions, dynamic_positions;
+  std::vector<uint32_t> static_receivers, dynamic_receivers;
+  Aabb static_bounds, dynamic_bounds;
+  // Culling runs of both sets, dynamic ones numbered after the static set.
+  std::vector<TriangleChunk> static_chunks, chunks;
+  std::vector<int32_t> draw_firsts, draw_counts;  // scratch of one face's draw, grow-only
+  uint32_t receiver_count = 0;
+  // Sticky: a bad triangle set given to a setter, returned by every gather()
+  // until a good set replaces it.
+  Status static_error, dynamic_error;
+  uint32_t allocations = 0;  // buffer (re)allocations since the last gather
+  std::vector<uint32_t> readback;  // scratch, grow-only
+  std::vector<SampleGpu> batch_samples;
+  std::vector<std::array<uint32_t, 4>> batch_layers;
+
+  struct CoverageEntry {
+    Lobe lobe;
+    float cos_inner, cos_outer;
+    LobeCoverage coverage;
+  };
+  mutable std::vector<CoverageEntry> coverage_cache;
+
+  ~Impl() {
+    const GLuint buffers[] = {positions, receivers, accumulators, samples, layers, small_flags, counter};
+    for (GLuint b : buffers) {
+      if (b != 0) glDeleteBuffers(1, &b);
+    }
+    const GLuint textures[] = {id_map, depth_map};
+    for (GLuint t : textures) {
+      if (t != 0) glDeleteTextures(1, &t);
+    }
+    if (fbo != 0) glDeleteFramebuffers(1, &fbo);
+    if (vao != 0) glDeleteVertexArrays(1, &vao);
+  }
+
+  uint32_t triangleCount() const { return uint32_t((static_receivers.size() + dynamic_receivers.size()) / 2); }
+
+  const LobeCoverage& coverage(const PointSample& s) const {
+    // Only a spot's cone changes the lobe; the key ignores the cone otherwise.
+    const bool spot = s.lobe == Lobe::kSpot;
+    const float ci = spot ? s.cos_inner : 0.0f, co = spot ? s.cos_outer : 0.0f;
+    for (const CoverageEntry& e : coverage_cache) {
+      if (e.lobe == s.lobe && e.cos_inner == ci && e.cos_outer == co) return e.coverage;
+    }
+    // A handful of distinct spots per level; beyond that drop the oldest.
+    constexpr size_t kMaxEntries = 64;
+    if (coverage_cache.size() >= kMaxEntries) coverage_cache.erase(coverage_cache.begin());
+    coverage_cache.push_back({s.lobe, ci, co, lobeCoverage(s.lobe, ci, co, settings.resolution)});
+    return coverage_cache.back().coverage;
+  }
+
+  MapLayout chooseLayout(const PointSample& s) const {
+    if (s.lobe == Lobe::kParallel) return MapLayout::kParallel;
+    const LobeCoverage& c = coverage(s);
+    for (MapLayout layout : {MapLayout::kSingle, MapLayout::kTriple, MapLayout::kHemicube}) {
+      if (c.missed[size_t(layout)] <= settings.layout_miss_tolerance) return layout;
+    }
+    return MapLayout::kCube;
+  }
+
+  void growBuffer(GLuint buffer, size_t bytes) {
+    glNamedBufferData(buffer, GLsizeiptr(bytes), nullptr, GL_DYNAMIC_DRAW);
+    ++allocations;
+  }
+
+  // Uploads the triangle sets (both: their offsets depend on each other),
+  // growing the buffers by half again when they no longer fit.
+  void uploadTriangles(bool static_changed) {
+    const size_t count = triangleCount();
+    const size_t static_count = static_receivers.size() / 2;
+    if (static_changed) {
+      static_chunks.clear();
+      appendChunks(static_positions, 0, static_chunks);
+    }
+    chunks = static_chunks;
+    appendChunks(dynamic_positions, uint32_t(static_count), chunks);
+    bool all = static_changed;
+    if (count > triangle_capacity) {
+      triangle_capacity = std::max(count, triangle_capacity + triangle_capacity / 2);
+      growBuffer(positions, triangle_capacity * 9 * sizeof(float));
+      growBuffer(receivers, triangle_capacity * 2 * sizeof(uint32_t));
+      all = true;
+    }
+    // The fallback's flags: one uint per (sample of a batch, triangle).
+    const size_t flags = size_t(settings.max_batch_samples) * count;
+    if (settings.small_polygon_fallback && flags > small_flags_capacity) {
+      small_flags_capacity = std::max(flags, small_flags_capacity + small_flags_capacity / 2);
+      growBuffer(small_flags, small_flags_capacity * sizeof(uint32_t));
+    }
+    if (all && !static_positions.empty()) {
+      glNamedBufferSubData(positions, 0, GLsizeiptr(static_positions.size() * sizeof(float)), static_positions.data());
+      glNamedBufferSubData(receivers, 0, GLsizeiptr(static_receivers.size() * sizeof(uint32_t)),
+                           static_receivers.data());
+    }
+    if (!dynamic_positions.empty()) {
+      glNamedBufferSubData(positions, GLintptr(static_count * 9 * sizeof(float)),
+                           GLsizeiptr(dynamic_positions.size() * sizeof(float)), dynamic_positions.data());
+      glNamedBufferSubData(receivers, GLintptr(static_count * 2 * sizeof(uint32_t)),
+                           GLsizeiptr(dynamic_receivers.size() * sizeof(uint32_t)), dynamic_receivers.data());
+    }
+  }
+
+  // Copies a triangle set in; a bad set leaves a sticky error and is dropped.
+  void setTriangles(const MapTriangles& t, const char* which, std::vector<float>& positions_out,
+                    std::vector<uint32_t>& receivers_out, Aabb& bounds, Status& pending) {
+    pending = Status();
+    const size_t n = t.triangleCount();
+    positions_out.clear();
+    receivers_out.clear();
+    bounds = Aabb{};
+    if (t.positions.size() != 3 * n || t.back_receiver.size() != n) {
+      pending = Status(StatusCode::kInvalidInput,
+                       std::string("index map ") + which + " triangles: " + std::to_string(t.positions.size()) +
+                           " positions and " + std::to_string(t.back_receiver.size()) + " back receivers for " +
+                           std::to_string(n) + " triangles (need 3 and 1 per triangle)");
+      return;
+    }
+    positions_out.reserve(9 * n);
+    receivers_out.reserve(2 * n);
+    for (size_t i = 0; i < 3 * n; ++i) {
+      const Vec3& p = t.positions[i];
+      if (!finite(p)) {
+        pending = Status(StatusCode::kInvalidInput, std::string("index map ") + which + " triangle " +
+                                                        std::to_string(i / 3) + ": corner " +
+                                                        std::to_string(i % 3) + " is not finite " + str(p));
+        positions_out.clear();
+        receivers_out.clear();
+        bounds = Aabb{};
+        return;
+      }
+      positions_out.insert(positions_out.end(), {p.x, p.y, p.z});
+      bounds.min = {std::min(bounds.min.x, p.x), std::min(bounds.min.y, p.y), std::min(bounds.min.z, p.z)};
+      bounds.max = {std::max(bounds.max.x, p.x), std::max(bounds.max.y, p.y), std::max(bounds.max.z, p.z)};
+    }
+    for (size_t i = 0; i < n; ++i) receivers_out.insert(receivers_out.end(), {t.front_receiver[i], t.back_receiver[i]});
+  }
+
+  Status validate(std::span<const PointSample> list, uint32_t slot_count) const;
+  PreparedSample prepare(const PointSample& s, uint32_t batch_index, const Aabb& bounds, double diagonal) const;
+  void render(std::span<const PreparedSample> batch, GatherStats& stats);
+  void reduceBatch(std::span<const PreparedSample> batch);
+};
+
+IndexMapRenderer::IndexMapRenderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+IndexMapRenderer::~IndexMapRenderer() = default;
+
+Expected<std::unique_ptr<IndexMapRenderer>> IndexMapRenderer::create(const IndexMapSettings& settings) {
+  // Settings first: they need no context, and a bad one is the caller's to fix.
+  auto bad = [](const std::string& what) {
+    return Status(StatusCode::kInvalidInput, "IndexMapSettings: " + what);
+  };
+  if (settings.resolution < 8 || settings.resolution > 8192) {
+    return bad("resolution " + std::to_string(settings.resolution) + " is outside [8, 8192]");
+  }
+  if (settings.max_batch_samples < 1 || settings.max_batch_samples > 1024) {
+    return bad("max_batch_samples " + std::to_string(settings.max_batch_samples) + " is outside [1, 1024]");
+  }
+  if (!(settings.layout_miss_tolerance >= 0 && settings.layout_miss_tolerance <= 1)) {
+    return bad("layout_miss_tolerance " + str(settings.layout_miss_tolerance) + " is outside [0, 1]");
+  }
+  const double texels = double(settings.resolution) * settings.resolution * settings.max_batch_samples * kCubeFaceCount;
+  const double map_bytes = texels * (8 + 4);  // RG32UI + DEPTH32F
+  if (map_bytes > kMaxMapBytes) {
+    return bad("resolution " + std::to_string(settings.resolution) + " with max_batch_samples " +
+               std::to_string(settings.max_batch_samples) + " needs " + str(map_bytes / (1 << 20)) +
+               " MiB of maps (limit " + str(kMaxMapBytes / (1 << 20)) + ")");
+  }
+  Expected<GlContextInfo> context = checkGlContext();
+  if (!context.ok()) return context.status();
+  // Errors the host left behind are not ours to report.
+  while (glGetError() != GL_NO_ERROR) {
+  }
+  GLint max_size = 0, max_layers = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+  const int layer_count = settings.max_batch_samples * kCubeFaceCount;
+  if (settings.resolution > max_size || layer_count > max_layers) {
+    return Status(StatusCode::kUnsupported, "IndexMapSettings: resolution " + std::to_string(settings.resolution) +
+                                                " x " + std::to_string(layer_count) + " layers exceed this GL's " +
+                                                std::to_string(max_size) + " x " + std::to_string(max_layers));
+  }
+
+  auto impl = std::make_unique<Impl>();
+  impl->settings = settings;
+  Expected<GlProgram> raster = linkProgram({"index_map.vert", "index_map.frag"});
+  if (!raster.ok()) return raster.status();
+  Expected<GlProgram> reduce = linkProgram({"index_map_reduce.comp", "index_map_common.comp"});
+  if (!reduce.ok()) return reduce.status();
+  Expected<GlProgram> fallback = linkProgram({"index_map_fallback.comp", "index_map_common.comp"});
+  if (!fallback.ok()) return fallback.status();
+  impl->raster = std::move(raster).value();
+  impl->reduce = std::move(reduce).value();
+  impl->fallback = std::move(fallback).value();
+
+  Impl& m = *impl;
+  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &m.id_map);
+  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &m.depth_map);
+  glTextureStorage3D(m.id_map, 1, GL_RG32UI, settings.resolution, settings.resolution, layer_count);
+  glTextureStorage3D(m.depth_map, 1, GL_DEPTH_COMPONENT32F, settings.resolution, settings.resolution, layer_count);
+  for (GLuint t : {m.id_map, m.depth_map}) {
+    // Integer textures are incomplete with linear filters (texelFetch would read 0).
+    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  }
+  glCreateFramebuffers(1, &m.fbo);
+  glNamedFramebufferTextureLayer(m.fbo, GL_COLOR_ATTACHMENT0, m.id_map, 0, 0);
+  glNamedFramebufferTextureLayer(m.fbo, GL_DEPTH_ATTACHMENT, m.depth_map, 0, 0);
+  glNamedFramebufferDrawBuffer(m.fbo, GL_COLOR_ATTACHMENT0);
+  const GLenum fbo_status = glCheckNamedFramebufferStatus(m.fbo, GL_DRAW_FRAMEBUFFER);
+  if (fbo_status != GL_FRAMEBUFFER_COMPLETE) {
+    char code[16];
+    std::snprintf(code, sizeof code, "0x%04x", unsigned(fbo_status));
+    return Status(StatusCode::kUnsupported, std::string("index map framebuffer (RG32UI + DEPTH32F array) is incomplete: ") + code);
+  }
+  GLuint* buffers[] = {&m.positions, &m.receivers, &m.accumulators, &m.samples, &m.layers, &m.small_flags, &m.counter};
+  for (GLuint* b : buffers) glCreateBuffers(1, b);
+  glNamedBufferData(m.samples, GLsizeiptr(sizeof(SampleGpu) * size_t(settings.max_batch_samples)), nullptr,
+                    GL_DYNAMIC_DRAW);
+  glNamedBufferData(m.layers, GLsizeiptr(4 * sizeof(uint32_t) * size_t(layer_count)), nullptr, GL_DYNAMIC_DRAW);
+  glNamedBufferData(m.counter, sizeof(uint32_t), nullptr, GL_DYNAMIC_DRAW);
+  glCreateVertexArrays(1, &m.vao);
+  glEnableVertexArrayAttrib(m.vao, 0);
+  glVertexArrayAttribFormat(m.vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(m.vao, 0, 0);
+  glVertexArrayVertexBuffer(m.vao, 0, m.positions, 0, GLsizei(3 * sizeof(float)));
+  if (Status s = checkGlError("IndexMapRenderer::create"); !s.ok()) return s;
+  return std::unique_ptr<IndexMapRenderer>(new IndexMapRenderer(std::move(impl)));
+}
+
+void IndexMapRenderer::setStaticTriangles(const MapTriangles& triangles) {
+  Impl& m = *impl_;
+  m.setTriangles(triangles, "static", m.static_positions, m.static_receivers, m.static_bounds, m.static_error);
+  m.uploadTriangles(true);
+}
+
+void IndexMapRenderer::setDynamicTriangles(const MapTriangles& triangles) {
+  Impl& m = *impl_;
+  m.setTriangles(triangles, "dynamic", m.dynamic_positions, m.dynamic_receivers, m.dynamic_bounds, m.dynamic_error);
+  m.uploadTriangles(false);
+}
+
+void IndexMapRenderer::setReceiverCount(uint32_t receivers) { impl_->receiver_count = receivers; }
+
+MapLayout IndexMapRenderer::chooseLayout(const PointSample& sample) const { return impl_->chooseLayout(sample); }
+
+double IndexMapRenderer::missedShare(MapLayout layout, const PointSample& sample) const {
+  return impl_->coverage(sample).missed[size_t(layout)];
+}
+
+const IndexMapSettings& IndexMapRenderer::settings() const { return impl_->settings; }
+
+Status IndexMapRenderer::Impl::validate(std::span<const PointSample> list, uint32_t slot_count) const {
+  for (size_t i = 0; i < list.size(); ++i) {
+    const PointSample& s = list[i];
+    auto bad = [&](const std::string& what) {
+      return Status(StatusCode::kInvalidInput, "index map sample " + std::to_string(i) + ": " + what);
+    };
+    if (!finite(s.position)) return bad("position " + str(s.position) + " is not finite");
+    const double len2 = double(s.axis.x) * s.axis.x + double(s.axis.y) * s.axis.y + double(s.axis.z) * s.axis.z;
+    if (!finite(s.axis) || !(len2 > 1e-24)) return bad("axis " + str(s.axis) + " is not a direction");
+    if (uint32_t(s.lobe) > uint32_t(Lobe::kParallel)) return bad("lobe " + std::to_string(uint32_t(s.lobe)) + " is unknown");
+    if (!(s.weight >= 0) || !std::isfinite(s.weight)) return bad("weight " + str(s.weight) + " is not finite and >= 0");
+    if (!std::isfinite(s.roll_rad)) return bad("roll_rad " + str(s.roll_rad) + " is not finite");
+    if (s.slot >= slot_count) {
+      return bad("slot " + std::to_string(s.slot) + " >= slot count " + std::to_string(slot_count));
+    }
+    if (s.lobe == Lobe::kSpot && !(s.cos_inner >= -1 && s.cos_inner <= 1 && s.cos_outer >= -1 && s.cos_outer <= 1)) {
+      return bad("spot cosines inner " + str(s.cos_inner) + ", outer " + str(s.cos_outer) + " are outside [-1, 1]");
+    }
+    if (s.lobe == Lobe::kParallel && !(s.half_extent_m > 0 && std::isfinite(s.half_extent_m))) {
+      return bad("half_extent_m " + str(s.half_extent_m) + " is not a positive length");
+    }
+  }
+  return Status();
+}
+
+PreparedSample IndexMapRenderer::Impl::prepare(const PointSample& s, uint32_t batch_index, const Aabb& bounds,
+                                               double diagonal) const {
+  PreparedSample out{};
+  out.layout = chooseLayout(s);
+  out.world_from_cube = worldFromCube(out.layout, mapFrame(s.axis, s.roll_rad));
+  const glm::dvec3 p(s.position.x, s.position.y, s.position.z);
+  const double coordinate = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), 1.0});
+  const double near_m = std::max(kNearPerSceneSize * diagonal, kNearPerCoordinate * coordinate);
+  double far_m = 2 * near_m;
+  const glm::dvec3 travel = out.world_from_cube[2];
+  for (int k = 0; k < 8; ++k) {
+    const glm::dvec3 corner((k & 1) ? bounds.max.x : bounds.min.x, (k & 2) ? bounds.max.y : bounds.min.y,
+                            (k & 4) ? bounds.max.z : bounds.min.z);
+    far_m = std::max(far_m, glm::dot(corner - p, travel) * 1.001 + near_m);
+  }
+  const double res = settings.resolution;
+  double scale;
+  if (s.lobe == Lobe::kParallel) {
+    scale = double(s.weight) * kFixedPoint / (res * res);
+  } else {
+    const LobeCoverage& c = coverage(s);
+    double normaliser = out.layout == MapLayout::kTriple ? c.normaliser_corner_axis : c.normaliser_face_axis;
+    // A cone narrower than a texel has no discrete sum; the analytic one
+    // still gives the right order of magnitude.
+    if (!(normaliser > 0)) normaliser = lobeIntegral(s.lobe, s.cos_inner, s.cos_outer);
+    scale = double(s.weight) * kFixedPoint / normaliser;
+  }
+  const glm::dmat3& w = out.world_from_cube;
+  const glm::dvec3 axis = cubeAxis(out.layout);
+  SampleGpu& g = out.gpu;
+  auto put = [](float* dst, const glm::dvec3& v, double last) {
+    dst[0] = float(v.x);
+    dst[1] = float(v.y);
+    dst[2] = float(v.z);
+    dst[3] = float(last);
+  };
+  put(g.position_near, p, near_m);
+  put(g.cube_x_far, w[0], far_m);
+  put(g.cube_y_half, w[1], s.half_extent_m);
+  put(g.cube_z_scale, w[2], scale);
+  put(g.axis_cube, axis, 0);
+  put(g.lobe_params, glm::dvec3(s.cos_inner, s.cos_outer, 0), 0);
+  g.info[0] = uint32_t(s.lobe);
+  g.info[1] = uint32_t(out.layout);
+  g.info[2] = s.slot;
+  g.info[3] = s.own_triangle < triangleCount() ? s.own_triangle : kNoTriangle;
+  g.faces[0] = layoutFaceMask(out.layout);
+  g.faces[1] = 0;
+  for (int f = 0; f < kCubeFaceCount; ++f) {
+    if (isHalfFace(out.layout, f)) g.faces[1] |= 1u << f;
+  }
+  g.faces[2] = batch_index * kCubeFaceCount;
+  return out;
+}
+
+void IndexMapRenderer::Impl::render(std::span<const PreparedSample> batch, GatherStats& stats) {
+  const int res = settings.resolution;
+  const GLuint program = raster.id();
+  glUseProgram(program);
+  glBindVertexArray(vao);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kReceiversBinding, receivers);
+  glViewport(0, 0, res, res);
+  const GLuint clear_id[4] = {kNoReceiver, kNoTriangle, 0, 0};
+  const GLfloat clear_depth = 0.0f;  // reversed depth: 0 = infinitely far
+  for (size_t b = 0; b < batch.size(); ++b) {
+    const PreparedSample& s = batch[b];
+    const bool parallel = s.layout == MapLayout::kParallel;
+    glProgramUniform3f(program, 0, s.gpu.position_near[0], s.gpu.position_near[1], s.gpu.position_near[2]);
+    glProgramUniform1i(program, 2, parallel ? 1 : 0);
+    glProgramUniform1f(program, 3, s.gpu.position_near[3]);
+    glProgramUniform1f(program, 4, s.gpu.cube_x_far[3]);
+    glProgramUniform1f(program, 5, s.gpu.cube_y_half[3]);
+    const LayoutFaces faces = layoutFaces(s.layout);
+    for (int i = 0; i < faces.count; ++i) {
+      const int face = faces.faces[size_t(i)];
+      const GLint layer = GLint(b * kCubeFaceCount + size_t(face));
+      glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, id_map, 0, layer);
+      glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, depth_map, 0, layer);
+      // Half faces: only the rows above the horizon are drawn, cleared and reduced.
+      const int first_row = firstRow(s.layout, face, res);
+      glScissor(0, first_row, res, res - first_row);
+      glClearBufferuiv(GL_COLOR, 0, clear_id);
+      glClearBufferfv(GL_DEPTH, 0, &clear_depth);
+      const FaceBasis basis = cubeFaceBasis(face);
+      const glm::dvec3 rows[3] = {s.world_from_cube * basis.right, s.world_from_cube * basis.up,
+                                  s.world_from_cube * basis.forward};
+      const glm::dvec3 eye(s.gpu.position_near[0], s.gpu.position_near[1], s.gpu.position_near[2]);
+      const Frustum frustum = faceFrustum(eye, rows[0], rows[1], rows[2], s.gpu.position_near[3],
+                                          isHalfFace(s.layout, face), parallel, s.gpu.cube_y_half[3],
+                                          s.gpu.cube_x_far[3]);
+      GLfloat view_from_world[9];
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) view_from_world[r * 3 + c] = GLfloat(rows[r][c]);
+      }
+      glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, view_from_world);  // row-major rows
+      // Only the runs that may meet the face, and never the sample's own
+      // triangle (the ranges split around it).
+      visibleRanges(chunks, frustum, s.gpu.info[3], draw_firsts, draw_counts);
+      if (!draw_firsts.empty()) {
+        glMultiDrawArrays(GL_TRIANGLES, draw_firsts.data(), draw_counts.data(), GLsizei(draw_firsts.size()));
+      }
+      ++stats.faces_rendered;
+      stats.texels += uint64_t(res) * uint64_t(res - first_row);
+      batch_layers.push_back({uint32_t(b), uint32_t(face), uint32_t(first_row), uint32_t(layer)});
+    }
+  }
+}
+
+void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) {
+  const int res = settings.resolution;
+  const uint32_t count = triangleCount();
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kReceiversBinding, receivers);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSamplesBinding, samples);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLayersBinding, layers);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccumulatorBinding, accumulators);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSmallFlagsBinding, small_flags);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPositionsBinding, positions);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCounterBinding, counter);
+  glBindTextureUnit(kIdMapUnit, id_map);
+  glBindTextureUnit(kDepthMapUnit, depth_map);
+  const bool fallback_on = settings.small_polygon_fallback;
+  if (fallback_on) {
+    const GLuint p = fallback.id();
+    glUseProgram(p);
+    glProgramUniform1i(p, 0, res);
+    glProgramUniform1ui(p, 1, receiver_count);
+    glProgramUniform1ui(p, 2, count);
+    glProgramUniform1f(p, 4, kSmallTexels);
+    glProgramUniform1i(p, 5, settings.edge_taps ? 1 : 0);
+    glProgramUniform1i(p, 6, settings.neighbour_ids ? 1 : 0);
+    glProgramUniform1ui(p, 7, GLuint(batch.size()));
+    // Triangles over x (<= 65535 groups) and z; runs of samples over y.
+    const GLuint groups = (count + kLocalSize - 1) / kLocalSize;
+    const GLuint x = std::min(groups, kMaxGroups);
+    const GLuint runs = GLuint(batch.size() + kFallbackSamplesPerInvocation - 1) / kFallbackSamplesPerInvocation;
+    glDispatchCompute(x, runs, (groups + x - 1) / x);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  }
+  const GLuint p = reduce.id();
+  glUseProgram(p);
+  glProgramUniform1i(p, 0, res);
+  glProgramUniform1ui(p, 1, receiver_count);
+  glProgramUniform1ui(p, 2, count);
+  glProgramUniform1i(p, 3, fallback_on ? 1 : 0);
+  const GLuint runs = GLuint(res) * GLuint((res + kReduceRun - 1) / kReduceRun);
+  glDispatchCompute((runs + kLocalSize - 1) / kLocalSize, GLuint(batch_layers.size()), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32_t slot_count,
+                                std::vector<float>& shares, GatherStats* stats_out) {
+  Impl& m = *impl_;
+  if (!m.static_error.ok()) return m.static_error;
+  if (!m.dynamic_error.ok()) return m.dynamic_error;
+  if (Status s = m.validate(sample_list, slot_count); !s.ok()) return s;
+  const size_t cells = size_t(slot_count) * m.receiver_count;
+  // The accumulators are indexed with 32-bit uints (2 words per cell).
+  if (cells > (size_t(1) << 30)) {
+    return Status(StatusCode::kInvalidInput, "index map gather: " + std::to_string(slot_count) + " slots x " +
+                                                 std::to_string(m.receiver_count) + " receivers exceed 2^30 sums");
+  }
+  GatherStats stats;
+  const uint32_t triangles = m.triangleCount();
+  // The fallback's flags are indexed with 32-bit uints too.
+  if (uint64_t(triangles) * uint64_t(m.settings.max_batch_samples) > (uint64_t(1) << 31)) {
+    return Status(StatusCode::kInvalidInput, "index map gather: " + std::to_string(triangles) + " triangles x " +
+                                                 std::to_string(m.settings.max_batch_samples) +
+                                                 " max_batch_samples exceed 2^31 (use proxies or smaller batches)");
+  }
+  if (sample_list.empty() || cells == 0 || triangles == 0) {
+    shares.assign(cells, 0.0f);
+    stats.buffer_allocations = std::exchange(m.allocations, 0u);
+    if (stats_out) *stats_out = stats;
+    return Status();
+  }
+  if (2 * cells > m.accumulator_capacity) {
+    m.accumulator_capacity = std::max(2 * cells, m.accumulator_capacity + m.accumulator_capacity / 2);
+    m.growBuffer(m.accumulators, m.accumulator_capacity * sizeof(uint32_t));
+  }
+  const GLuint zero = 0;
+  glClearNamedBufferSubData(m.accumulators, GL_R32UI, 0, GLsizeiptr(2 * cells * sizeof(uint32_t)), GL_RED_INTEGER,
+                            GL_UNSIGNED_INT, &zero);
+  glClearNamedBufferSubData(m.counter, GL_R32UI, 0, sizeof(uint32_t), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+
+  Aabb bounds = m.static_bounds;
+  for (const Vec3& v : {m.dynamic_bounds.min, m.dynamic_bounds.max}) {
+    if (m.dynamic_bounds.empty()) break;
+    bounds.min = {std::min(bounds.min.x, v.x), std::min(bounds.min.y, v.y), std::min(bounds.min.z, v.z)};
+    bounds.max = {std::max(bounds.max.x, v.x), std::max(bounds.max.y, v.y), std::max(bounds.max.z, v.z)};
+  }
+  const double diagonal = bounds.empty() ? 0.0
+                                         : std::hypot(double(bounds.max.x) - bounds.min.x,
+                                                      double(bounds.max.y) - bounds.min.y,
+                                                      double(bounds.max.z) - bounds.min.z);
+  {
+    StateGuard guard;
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_RASTERIZER_DISCARD);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    glDisable(GL_STENCIL_TEST);
+    glDisable(GL_DEPTH_CLAMP);
+    glEnable(GL_SCISSOR_TEST);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);  // reversed depth: nearer is larger
+    glDepthMask(GL_TRUE);
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glFrontFace(GL_CCW);
+
+    std::vector<PreparedSample> batch;
+    batch.reserve(size_t(m.settings.max_batch_samples));
+    const size_t batch_size = size_t(m.settings.max_batch_samples);
+    for (size_t begin = 0; begin < sample_list.size(); begin += batch_size) {
+      const size_t end = std::min(sample_list.size(), begin + batch_size);
+      batch.clear();
+      m.batch_samples.clear();
+      m.batch_layers.clear();
+      for (size_t i = begin; i < end; ++i) {
+        batch.push_back(m.prepare(sample_list[i], uint32_t(i - begin), bounds, diagonal));
+        m.batch_samples.push_back(batch.back().gpu);
+      }
+      glNamedBufferSubData(m.samples, 0, GLsizeiptr(m.batch_samples.size() * sizeof(SampleGpu)),
+                           m.batch_samples.data());
+      auto t0 = Clock::now();
+      m.render(batch, stats);
+      glFinish();
+      stats.render_ms += msSince(t0);
+      glNamedBufferSubData(m.layers, 0, GLsizeiptr(m.batch_layers.size() * sizeof(m.batch_layers[0])),
+                           m.batch_layers.data());
+      t0 = Clock::now();
+      m.reduceBatch(batch);
+      glFinish();
+      stats.reduce_ms += msSince(t0);
+      stats.samples += uint32_t(batch.size());
+    }
+  }
+  const auto t0 = Clock::now();
+  if (m.readback.size() < 2 * cells) m.readback.resize(2 * cells);
+  glGetNamedBufferSubData(m.accumulators, 0, GLsizeiptr(2 * cells * sizeof(uint32_t)), m.readback.data());
+  uint32_t credited = 0;
+  glGetNamedBufferSubData(m.counter, 0, sizeof(uint32_t), &credited);
+  stats.fallback_triangles = credited;
+  shares.resize(cells);
+  for (size_t i = 0; i < cells; ++i) {
+    const double fixed = double(m.readback[2 * i + 1]) * 4294967296.0 + double(m.readback[2 * i]);
+    shares[i] = float(fixed / kFixedPoint);
+  }
+  stats.readback_ms = msSince(t0);
+  stats.buffer_allocations = std::exchange(m.allocations, 0u);
+  if (Status s = checkGlError("IndexMapRenderer::gather"); !s.ok()) return s;
+  if (stats_out) *stats_out = stats;
+  return Status();
+}
+
+}  // namespace svit::gl

@@ -1,0 +1,425 @@
+// svit::SceneRenderer: one forward pass over the static mesh (lightmap +
+// interpolated runtime deltas + runtime lights) and the dynamic objects
+// (probe grid + lights + the runtime's patch deltas), tone mapped in the
+// shaders into an RGBA8 target (DESIGN.md "Runtime"). Everything that
+// depends only on the level is built in create(); a frame allocates GL
+// objects only when something grows (more dynamic triangles or lights than
+// before), and does no work for features the level lacks.
+
+#include "svit/scene_renderer.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <utility>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "gl_program.h"
+#include "glm_interop.h"
+#include "scene_renderer_bindings.h"
+#include "scene_renderer_delta_interpolation.h"
+#include "scene_renderer_dynamic_objects.h"
+#include "scene_renderer_lightmaps.h"
+#include "scene_renderer_materials.h"
+#include "scene_renderer_probe_grid.h"
+#include "scene_renderer_shadow_maps.h"
+#include "scene_renderer_static_mesh.h"
+#include "scene_renderer_target.h"
+#include "shader_sources.h"
+#include "svit/gl_context.h"
+#include "svit/runtime.h"
+
+namespace svit {
+namespace {
+
+namespace b = gl::render_binding;
+
+// Auto exposure: a white surface at the lightmaps' log-mean irradiance E
+// has radiance E/pi; it is scaled to kExposureKey before the filmic curve,
+// which puts typical walls (albedo ~0.7) at ~0.55 display value and leaves
+// headroom for the lit spots the log-mean discounts.
+constexpr double kExposureKey = 0.35;
+constexpr double kPi = 3.14159265358979323846;
+
+// A copy of what frames need from the level, so the caller's Scene need not
+// outlive the renderer: materials, instances, lights, sun, and the meshes
+// of dynamic instances (static meshes live on the GPU; textures too).
+Scene frameSceneOf(const Scene& scene) {
+  Scene out;
+  out.source_path = scene.source_path;
+  out.materials = scene.materials;
+  out.instances = scene.instances;
+  out.lights = scene.lights;
+  out.sun = scene.sun;
+  out.meshes.resize(scene.meshes.size());
+  for (const Instance& instance : scene.instances) {
+    if (instance.dynamic && instance.mesh >= 0 && size_t(instance.mesh) < scene.meshes.size()) {
+      out.meshes[size_t(instance.mesh)] = scene.meshes[size_t(instance.mesh)];
+    }
+  }
+  return out;
+}
+
+bool sceneHasDynamicInstances(const Scene& scene) {
+  return std::any_of(scene.instances.begin(), scene.instances.end(), [](const Instance& i) { return i.dynamic; });
+}
+
+bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+Status validateSettings(const SceneRendererSettings& s) {
+  auto bad = [](const std::string& what) { return Status(StatusCode::kInvalidInput, "SceneRendererSettings: " + what); };
+  if (s.width < 1 || s.height < 1 || s.width > 16384 || s.height > 16384) {
+    return bad("size " + std::to_string(s.width) + "x" + std::to_string(s.height) + " is outside 1..16384");
+  }
+  if (!(s.exposure > 0) || !std::isfinite(s.exposure)) return bad("exposure " + std::to_string(s.exposure) + " is not > 0");
+  if (s.shadow_map_size < 16 || s.shadow_map_size > 8192) {
+    return bad("shadow_map_size " + std::to_string(s.shadow_map_size) + " is outside 16..8192");
+  }
+  if (s.shadow_taps < 1 || s.shadow_taps > 256) return bad("shadow_taps " + std::to_string(s.shadow_taps) + " is outside 1..256");
+  return Status();
+}
+
+}  // namespace
+
+struct SceneRenderer::Impl {
+  Scene scene;  // frameSceneOf() the level
+  const Runtime* runtime = nullptr;
+  SceneRendererSettings settings;
+  size_t static_patch_count = 0;
+
+  std::vector<gl::StaticBatch> batches;
+  uint32_t static_vertex_count = 0;
+  Aabb static_bounds;
+  uint32_t static_vao = 0, static_buffer = 0;
+
+  gl::GlProgram static_program, dynamic_program;
+  gl::LightmapTextures lightmaps;
+  gl::MaterialTextures materials;
+  gl::VertexDeltaInterpolator vertex_deltas;
+  gl::LightShadowMaps shadows;
+  gl::ProbeGridTextures probes;
+  gl::DynamicObjectMeshes dynamic_objects;
+  gl::OffscreenTarget target;
+  bool has_offscreen_frame = false;
+
+  std::vector<Rgb> shown_deltas;  // static patch deltas the vertex deltas were made from
+  bool vertex_deltas_valid = false;
+  float exposure = 1;
+  float delta_reference_lux = 1;
+
+  ~Impl() {
+    if (static_buffer != 0) glDeleteBuffers(1, &static_buffer);
+    if (static_vao != 0) glDeleteVertexArrays(1, &static_vao);
+  }
+
+  void uploadStaticMesh(const gl::StaticMesh& mesh);
+  bool refreshVertexDeltas(uint32_t patch_delta_buffer);
+  std::vector<gl::FrameLight> frameLights(bool with_runtime_lights, bool with_baked_lights, size_t* baked_count) const;
+  void setSharedUniforms(const glm::mat4& clip_from_world, ShadingView view, int light_begin, int light_end) const;
+};
+
+void SceneRenderer::Impl::uploadStaticMesh(const gl::StaticMesh& mesh) {
+  batches = mesh.batches;
+  static_vertex_count = uint32_t(mesh.vertices.size());
+  static_bounds = mesh.bounds;
+  glCreateBuffers(1, &static_buffer);
+  glNamedBufferStorage(static_buffer, GLsizeiptr(mesh.vertices.size() * sizeof(gl::StaticVertex)),
+                       mesh.vertices.data(), 0);
+  glCreateVertexArrays(1, &static_vao);
+  struct Attribute {
+    GLint size;
+    GLuint offset;
+  };
+  const Attribute floats[5] = {{3, offsetof(gl::StaticVertex, position)},
+                               {3, offsetof(gl::StaticVertex, normal)},
+                               {2, offsetof(gl::StaticVertex, uv0)},
+                               {2, offsetof(gl::StaticVertex, uv1)},
+                               {2, offsetof(gl::StaticVertex, uv_lightmap)}};
+  for (GLuint a = 0; a < 5; ++a) {
+    glEnableVertexArrayAttrib(static_vao, a);
+    glVertexArrayAttribFormat(static_vao, a, floats[a].size, GL_FLOAT, GL_FALSE, floats[a].offset);
+    glVertexArrayAttribBinding(static_vao, a, 0);
+  }
+  glEnableVertexArrayAttrib(static_vao, 5);
+  glVertexArrayAttribIFormat(static_vao, 5, 2, GL_UNSIGNED_INT, offsetof(gl::StaticVertex, delta_vertex));
+  glVertexArrayAttribBinding(static_vao, 5, 0);
+  glVertexArrayVertexBuffer(static_vao, 0, static_buffer, 0, sizeof(gl::StaticVertex));
+}
+
+// Re-interpolates the vertex deltas when the runtime's static patch deltas
+// differ from the ones shown (a compare of P colours on the CPU is far
+// cheaper than the pass it saves). Returns whether deltas are usable.
+bool SceneRenderer::Impl::refreshVertexDeltas(uint32_t patch_delta_buffer) {
+  if (runtime == nullptr || patch_delta_buffer == 0 || vertex_deltas.vertexCount() == 0) return false;
+  const std::vector<Rgb>& deltas = runtime->patchDeltas();
+  const size_t n = std::min(deltas.size(), static_patch_count);
+  const bool same = vertex_deltas_valid && shown_deltas.size() == n &&
+                    (n == 0 || std::memcmp(shown_deltas.data(), deltas.data(), n * sizeof(Rgb)) == 0);
+  if (!same) {
+    shown_deltas.assign(deltas.begin(), deltas.begin() + std::ptrdiff_t(n));
+    vertex_deltas.update(patch_delta_buffer);
+    vertex_deltas_valid = true;
+  }
+  return true;
+}
+
+// Baked lights first (stable slots: their maps survive view switches),
+// then the runtime's enabled lights.
+std::vector<gl::FrameLight> SceneRenderer::Impl::frameLights(bool with_runtime_lights, bool with_baked_lights,
+                                                             size_t* baked_count) const {
+  std::vector<gl::FrameLight> lights;
+  auto scaled = [](const Light& l, float dimmer) {
+    const float s = l.intensity * dimmer;
+    return Rgb{l.color.r * s, l.color.g * s, l.color.b * s};
+  };
+  if (with_baked_lights) {
+    for (const Light& l : scene.lights) {
+      if (!l.dynamic && l.intensity > 0) lights.push_back({l, scaled(l, 1.0f), true});
+    }
+    if (scene.sun.enabled && scene.sun.illuminance_lux > 0) {
+      Light sun;
+      sun.name = "sun";
+      sun.type = LightType::kDirectional;
+      sun.direction = {-scene.sun.direction_to_sun.x, -scene.sun.direction_to_sun.y, -scene.sun.direction_to_sun.z};
+      sun.color = scene.sun.color;
+      sun.intensity = scene.sun.illuminance_lux;
+      lights.push_back({sun, scaled(sun, 1.0f), true});
+    }
+  }
+  *baked_count = lights.size();
+  if (with_runtime_lights) {
+    if (runtime != nullptr) {
+      for (LightId id : runtime->lights()) {
+        Expected<RuntimeLightInfo> info = runtime->lightInfo(id);
+        if (!info.ok() || !info->enabled || !(info->dimmer * info->light.intensity > 0)) continue;
+        lights.push_back({info->light, scaled(info->light, info->dimmer), true});
+      }
+    } else {
+      // No runtime: the level's runtime lights as the level places them.
+      for (const Light& l : scene.lights) {
+        if (l.dynamic && l.intensity > 0 && l.type != LightType::kDirectional) lights.push_back({l, scaled(l, 1.0f), true});
+      }
+    }
+  }
+  return lights;
+}
+
+void SceneRenderer::Impl::setSharedUniforms(const glm::mat4& clip_from_world, ShadingView view, int light_begin,
+                                            int light_end) const {
+  glUniformMatrix4fv(b::kClipFromWorld, 1, GL_FALSE, glm::value_ptr(clip_from_world));
+  glUniform1i(b::kView, int(view));
+  glUniform1f(b::kExposure, exposure);
+  glUniform1i(b::kLightBegin, light_begin);
+  glUniform1i(b::kLightEnd, light_end);
+  glUniform1i(b::kShadowTaps, settings.shadow_taps);
+  glUniform1f(b::kShadowTexel, 1.0f / float(settings.shadow_map_size));
+  glUniform1f(b::kDeltaReference, delta_reference_lux);
+}
+
+SceneRenderer::SceneRenderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+SceneRenderer::~SceneRenderer() = default;
+
+Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene, const BakeData& bake,
+                                                               const std::string& bake_dir, const Runtime* runtime,
+                                                               const SceneRendererSettings& settings) {
+  Expected<GlContextInfo> context = checkGlContext();
+  if (!context.ok()) return Status(context.status().code(), "SceneRenderer: " + context.status().message());
+  Status valid = validateSettings(settings);
+  if (!valid.ok()) return valid;
+  Expected<gl::StaticMesh> mesh = gl::buildStaticMesh(scene, bake);
+  if (!mesh.ok()) return Status(mesh.status().code(), bake_dir + "/bake.svit: " + mesh.status().message());
+
+  auto impl = std::make_unique<Impl>();
+  impl->scene = frameSceneOf(scene);
+  impl->runtime = runtime;
+  impl->settings = settings;
+  impl->static_patch_count = bake.patches.size();
+
+  // The runtime already holds the pages on the GPU: share them.
+  Expected<gl::LightmapTextures> lightmaps =
+      runtime != nullptr && !bake.pages.empty()
+          ? gl::LightmapTextures::borrow(bake, runtime->shadingResources().lightmap_textures)
+          : gl::LightmapTextures::create(bake, bake_dir);
+  if (!lightmaps.ok()) return lightmaps.status();
+  impl->lightmaps = std::move(lightmaps).value();
+  Expected<gl::MaterialTextures> materials = gl::MaterialTextures::create(scene);
+  if (!materials.ok()) return materials.status();
+  impl->materials = std::move(materials).value();
+
+  Expected<gl::GlProgram> static_program = gl::linkProgram({"lit_static.vert", "lit_static.frag", "svit_shading.frag"});
+  if (!static_program.ok()) return static_program.status();
+  impl->static_program = std::move(static_program).value();
+  Expected<gl::GlProgram> dynamic_program = gl::linkProgram({"lit_dynamic.vert", "lit_dynamic.frag", "svit_shading.frag"});
+  if (!dynamic_program.ok()) return dynamic_program.status();
+  impl->dynamic_program = std::move(dynamic_program).value();
+  Expected<gl::LightShadowMaps> shadows = gl::LightShadowMaps::create(settings.shadow_map_size);
+  if (!shadows.ok()) return shadows.status();
+  impl->shadows = std::move(shadows).value();
+
+  impl->uploadStaticMesh(*mesh);
+  // Pay for what is used: deltas only with a runtime, probes only when
+  // dynamic objects can exist.
+  if (runtime != nullptr && !bake.patches.empty()) {
+    Expected<gl::VertexDeltaInterpolator> deltas = gl::VertexDeltaInterpolator::create(mesh->deltas);
+    if (!deltas.ok()) return deltas.status();
+    impl->vertex_deltas = std::move(deltas).value();
+  }
+  if (runtime != nullptr || sceneHasDynamicInstances(scene)) {
+    Expected<gl::ProbeGridTextures> probes = gl::ProbeGridTextures::create(bake.probes);
+    if (!probes.ok()) return probes.status();
+    impl->probes = std::move(probes).value();
+  }
+  Expected<gl::OffscreenTarget> target = gl::OffscreenTarget::create(settings.width, settings.height);
+  if (!target.ok()) return target.status();
+  impl->target = std::move(target).value();
+
+  const double log_mean = impl->lightmaps.logMeanIrradiance();
+  impl->delta_reference_lux = log_mean > 0 ? float(log_mean) : 1.0f;
+  impl->exposure = settings.auto_exposure && log_mean > 0 ? float(settings.exposure * kExposureKey * kPi / log_mean)
+                                                          : settings.exposure;
+  Status error = gl::checkGlError("SceneRenderer::create");
+  if (!error.ok()) return error;
+  return std::unique_ptr<SceneRenderer>(new SceneRenderer(std::move(impl)));
+}
+
+Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView view, bool to_default_framebuffer) {
+  Impl& s = *impl_;
+  const auto start = std::chrono::steady_clock::now();
+  if (!finite(camera.position) || !finite(camera.look_at) || !finite(camera.up)) {
+    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera position, look_at or up is not finite");
+  }
+  const glm::vec3 eye = toGlm(camera.position), centre = toGlm(camera.look_at), up = toGlm(camera.up);
+  const glm::vec3 forward = centre - eye;
+  if (!(glm::length(forward) > 0) || !(glm::length(glm::cross(forward, up)) > 0)) {
+    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera looks nowhere (look_at == position or along up)");
+  }
+  if (!(camera.yfov_rad > 0 && camera.yfov_rad < 3.14159f) || !(camera.near_m > 0 && camera.far_m > camera.near_m)) {
+    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera yfov_rad " + std::to_string(camera.yfov_rad) +
+                                                 " or near/far " + std::to_string(camera.near_m) + "/" +
+                                                 std::to_string(camera.far_m) + " out of range");
+  }
+  RenderStats stats;
+  const bool runtime_view = view != ShadingView::kBakedOnly;
+
+  // Runtime deltas (static: interpolated per vertex; dynamic: per patch).
+  uint32_t delta_buffer = 0;
+  if (s.runtime != nullptr && runtime_view) delta_buffer = s.runtime->shadingResources().patch_delta_buffer;
+  const bool static_deltas = runtime_view && s.refreshVertexDeltas(delta_buffer);
+
+  // Dynamic objects and the lights that shade per pixel.
+  const bool casters_changed = s.dynamic_objects.update(s.scene, s.runtime);
+  const bool has_dynamic = s.dynamic_objects.vertexCount() > 0;
+  size_t baked_lights = 0;
+  const std::vector<gl::FrameLight> lights = s.frameLights(view == ShadingView::kRuntime, has_dynamic, &baked_lights);
+  Aabb bounds = s.static_bounds;
+  if (has_dynamic) {
+    const Aabb& d = s.dynamic_objects.bounds();
+    bounds.min = {std::min(bounds.min.x, d.min.x), std::min(bounds.min.y, d.min.y), std::min(bounds.min.z, d.min.z)};
+    bounds.max = {std::max(bounds.max.x, d.max.x), std::max(bounds.max.y, d.max.y), std::max(bounds.max.z, d.max.z)};
+  }
+  if (!lights.empty()) {
+    stats.shadow_maps_rendered = s.shadows.update(lights, bounds, casters_changed, [&] {
+      glBindVertexArray(s.static_vao);
+      glDrawArrays(GL_TRIANGLES, 0, GLsizei(s.static_vertex_count));
+      s.dynamic_objects.draw();
+      stats.draw_calls += has_dynamic ? 2 : 1;
+    });
+  }
+
+  // The frame.
+  const int width = s.settings.width, height = s.settings.height;
+  glBindFramebuffer(GL_FRAMEBUFFER, to_default_framebuffer ? 0 : s.target.framebuffer());
+  glViewport(0, 0, width, height);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_CULL_FACE);  // backs are drawn: black when single-sided, lit when double-sided
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glClearColor(0, 0, 0, 1);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  const glm::mat4 clip_from_world =
+      glm::perspective(camera.yfov_rad, float(width) / float(height), camera.near_m, camera.far_m) *
+      glm::lookAt(eye, centre, up);
+  const int light_count = int(lights.size());
+  if (!lights.empty()) s.shadows.bind();
+
+  // Static geometry: runtime lights only (baked lights are in the lightmap).
+  glUseProgram(s.static_program.id());
+  s.setSharedUniforms(clip_from_world, view, int(baked_lights), view == ShadingView::kRuntime ? light_count : int(baked_lights));
+  glUniform1i(b::kUseDeltas, static_deltas ? 1 : 0);
+  if (static_deltas) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kVertexDeltas, s.vertex_deltas.vertexDeltaBuffer());
+  glBindVertexArray(s.static_vao);
+  uint32_t bound_material = UINT32_MAX, bound_page = UINT32_MAX;
+  for (const gl::StaticBatch& batch : s.batches) {
+    if (batch.material != bound_material) {
+      s.materials.bind(s.scene.materials[batch.material]);
+      bound_material = batch.material;
+    }
+    if (batch.page != bound_page) {
+      glBindTextureUnit(b::kLightmapUnit, s.lightmaps.texture(batch.page));
+      bound_page = batch.page;
+    }
+    glDrawArrays(GL_TRIANGLES, GLint(batch.first_vertex), GLsizei(batch.vertex_count));
+    ++stats.draw_calls;
+  }
+
+  // Dynamic objects: probes + baked lights, + runtime lights and deltas.
+  if (has_dynamic) {
+    glUseProgram(s.dynamic_program.id());
+    s.setSharedUniforms(clip_from_world, view, 0, view == ShadingView::kRuntime ? light_count : int(baked_lights));
+    glUniform1i(b::kBakedLightEnd, int(baked_lights));
+    glUniform1i(b::kUseDeltas, delta_buffer != 0 ? 1 : 0);
+    if (delta_buffer != 0) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kPatchDeltas, delta_buffer);
+    s.probes.bind();
+    s.dynamic_objects.draw();
+    ++stats.draw_calls;
+  }
+
+  glBindVertexArray(0);
+  glUseProgram(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glFinish();  // honest timings on any driver (RenderStats::shading_ms)
+  Status error = gl::checkGlError("SceneRenderer::render");
+  if (!error.ok()) return error;
+  if (!to_default_framebuffer) s.has_offscreen_frame = true;
+  stats.shading_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+std::vector<uint8_t> SceneRenderer::readPixels() const {
+  if (!impl_->has_offscreen_frame) return {};
+  return impl_->target.readRgb();
+}
+
+Status SceneRenderer::writePng(const std::string& path) const {
+  if (!impl_->has_offscreen_frame) return Status(StatusCode::kInvalidInput, path + ": no offscreen frame rendered yet");
+  return gl::writeRgbPng(path, impl_->target.width(), impl_->target.height(), readPixels());
+}
+
+int SceneRenderer::width() const { return impl_->settings.width; }
+int SceneRenderer::height() const { return impl_->settings.height; }
+
+void SceneRenderer::resize(int width, int height) {
+  Impl& s = *impl_;
+  if (width == s.settings.width && height == s.settings.height) return;
+  Expected<gl::OffscreenTarget> target = gl::OffscreenTarget::create(width, height);
+  if (!target.ok()) return;  // out of range: keep the current size (width()/height() tell)
+  s.target = std::move(target).value();
+  s.settings.width = width;
+  s.settings.height = height;
+  s.has_offscreen_frame = false;
+}
+
+std::string_view shadingSource(std::string_view file_name) { return gl::shaderSource(file_name); }
+
+}  // namespace svit

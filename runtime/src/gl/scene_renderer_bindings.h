@@ -1,0 +1,63 @@
+#pragma once
+// Binding points and uniform locations shared by the SceneRenderer's C++
+// and its GLSL (shaders/lit_static.*, lit_dynamic.*, svit_shading.frag,
+// shadow_depth.*, delta_to_vertices.comp). The shaders spell the same
+// numbers in their layout() qualifiers; change both together.
+
+#include <cstdint>
+
+namespace svit::gl::render_binding {
+
+// ---- shader storage buffers ----
+inline constexpr uint32_t kPatchDeltas = 0;        ///< runtime's vec4 per patch (lux)
+inline constexpr uint32_t kDeltaOffsets = 1;       ///< per welded vertex: first entry (CSR)
+inline constexpr uint32_t kDeltaEntries = 2;       ///< (patch, weight bits) pairs
+inline constexpr uint32_t kVertexDeltas = 3;       ///< vec4 per welded vertex (lux)
+inline constexpr uint32_t kLights = 4;             ///< GpuLight array
+
+// ---- texture units ----
+inline constexpr uint32_t kBaseColorUnit = 0;
+inline constexpr uint32_t kEmissiveUnit = 1;
+inline constexpr uint32_t kLightmapUnit = 2;
+inline constexpr uint32_t kShadowCubeUnit = 3;     ///< samplerCubeArrayShadow
+inline constexpr uint32_t kShadowFaceUnit = 4;     ///< sampler2DArrayShadow
+inline constexpr uint32_t kProbeUnitR = 5;         ///< SH coefficients of red (Y00, Y1-1, Y10, Y11)
+inline constexpr uint32_t kProbeUnitG = 6;
+inline constexpr uint32_t kProbeUnitB = 7;
+
+// ---- uniform locations (layout(location = N) uniform) ----
+// Shared by both lit programs (svit_shading.frag reads some of them).
+inline constexpr int kClipFromWorld = 0;     ///< mat4
+inline constexpr int kView = 1;              ///< int: ShadingView
+inline constexpr int kExposure = 2;          ///< float
+inline constexpr int kLightBegin = 3;        ///< int: first light of the lights buffer to shade with
+inline constexpr int kLightEnd = 4;          ///< int: one past the last
+inline constexpr int kShadowTaps = 5;        ///< int
+inline constexpr int kShadowTexel = 6;       ///< float: 1 / shadow map size
+inline constexpr int kDeltaReference = 7;    ///< float: irradiance (lux) shown fully saturated in kPatchDelta
+// Material (per batch).
+inline constexpr int kBaseColor = 8;         ///< vec4: factor rgb + alpha
+inline constexpr int kEmissive = 9;          ///< vec3: cd/m2
+inline constexpr int kBaseTexture = 10;      ///< ivec2: (has texture, uv set)
+inline constexpr int kBaseTransform = 11;    ///< vec4: scale.xy, offset.xy
+inline constexpr int kBaseRotation = 12;     ///< float: radians
+inline constexpr int kEmissiveTexture = 13;  ///< ivec2
+inline constexpr int kEmissiveTransform = 14;
+inline constexpr int kEmissiveRotation = 15;
+inline constexpr int kMaterialFlags = 16;    ///< ivec2: (double sided, alpha mask)
+inline constexpr int kAlphaCutoff = 17;      ///< float
+// Static only.
+inline constexpr int kUseDeltas = 18;        ///< int: vertex deltas bound
+// Dynamic only: probe grid.
+inline constexpr int kProbeOrigin = 19;      ///< vec3: centre of probe (0,0,0)
+inline constexpr int kProbeSpacing = 20;     ///< vec3
+inline constexpr int kProbeDims = 21;        ///< vec3 (float)
+inline constexpr int kUseProbes = 22;        ///< int
+inline constexpr int kBakedLightEnd = 23;    ///< int: lights [0, this) are the baked ones (the runtime's patch values include them)
+// Shadow depth pass.
+inline constexpr int kShadowClipFromWorld = 0;  ///< mat4 (shadow_depth.vert)
+
+// Compute pass.
+inline constexpr int kComputeVertexCount = 0;  ///< uint (delta_to_vertices.comp)
+
+}  // namespace svit::gl::render_binding

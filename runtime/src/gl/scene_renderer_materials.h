@@ -1,0 +1,39 @@
+#pragma once
+// Materials for the SceneRenderer: the scene's colour textures on the GPU
+// (sRGB-decoded by the sampler, mipmapped) and the per-draw uniforms of a
+// material (base colour factor and texture with KHR_texture_transform,
+// emissive luminance and texture, sidedness, alpha mask).
+
+#include <cstdint>
+#include <vector>
+
+#include "svit/scene.h"
+#include "svit/status.h"
+
+namespace svit::gl {
+
+class MaterialTextures {
+ public:
+  /// Uploads every texture a material uses as base colour or emission
+  /// (GL_SRGB8_ALPHA8 + mipmaps, the glTF sampler's wrap modes). Textures
+  /// no material uses are not uploaded. Errors: a texture whose texel count
+  /// does not match its size (named), a GL error.
+  static Expected<MaterialTextures> create(const Scene& scene);
+  MaterialTextures() = default;
+  MaterialTextures(MaterialTextures&& other) noexcept;
+  MaterialTextures& operator=(MaterialTextures&& other) noexcept;
+  MaterialTextures(const MaterialTextures&) = delete;
+  MaterialTextures& operator=(const MaterialTextures&) = delete;
+  ~MaterialTextures();
+
+  /// Sets the material uniforms (scene_renderer_bindings.h) of the current
+  /// program and binds its textures (a white texel where it has none).
+  void bind(const Material& material) const;
+
+ private:
+  void release();
+  std::vector<uint32_t> textures_;  ///< per Scene::textures entry; 0 = not uploaded
+  uint32_t white_ = 0;
+};
+
+}  // namespace svit::gl

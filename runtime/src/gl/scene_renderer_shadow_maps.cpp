@@ -1,0 +1,240 @@
+// Depth shadow maps of the lights shaded per pixel (runtime lights on all
+// geometry; baked lights and the sun on dynamic objects). Soft edges come
+// from multi-tap PCF in svit_shading.frag; here the maps are rendered with
+// a slope-scaled polygon offset (the shader adds a normal offset too).
+
+#include "scene_renderer_shadow_maps.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <utility>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "glm_interop.h"
+#include "scene_renderer_bindings.h"
+
+namespace svit::gl {
+namespace {
+
+constexpr float kKindNone = 0, kKindCube = 1, kKindFace = 2;
+// A spot narrower than this half angle fits one perspective face (with
+// kSpotMargin to spare for the PCF taps at the cone's edge).
+constexpr float kMaxFaceSpotRad = 0.7853981634f;  // 45 degrees
+constexpr float kSpotMarginRad = 0.0349f;         // 2 degrees
+
+// GL's cube-map face order and orientations (OpenGL 4.5 spec table 8.19):
+// rendering each face with these views makes texture(samplerCube, d) find
+// the texel d points at.
+const glm::vec3 kCubeForward[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+const glm::vec3 kCubeUp[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+
+glm::vec3 anyPerpendicular(const glm::vec3& v) {
+  return std::abs(v.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+}
+
+// Near and far planes (metres) enclosing `bounds` as seen from `p`. Near is
+// a fixed ratio of far: 1e-4 keeps fp32 depth precise to ~1e-3 of distance.
+std::pair<float, float> nearFar(const glm::vec3& p, const Aabb& bounds) {
+  float far_m = 0;
+  for (int c = 0; c < 8; ++c) {
+    const glm::vec3 corner((c & 1) ? bounds.max.x : bounds.min.x, (c & 2) ? bounds.max.y : bounds.min.y,
+                           (c & 4) ? bounds.max.z : bounds.min.z);
+    far_m = std::max(far_m, glm::length(corner - p));
+  }
+  far_m = std::max(far_m * 1.01f, 1e-3f);
+  return {far_m * 1e-4f, far_m};
+}
+
+}  // namespace
+
+Expected<LightShadowMaps> LightShadowMaps::create(int map_size) {
+  if (map_size < 16 || map_size > 8192) {
+    return Status(StatusCode::kInvalidInput, "shadow_map_size " + std::to_string(map_size) + " is outside 16..8192");
+  }
+  LightShadowMaps out;
+  Expected<GlProgram> program = linkProgram({"shadow_depth.vert", "shadow_depth.frag"});
+  if (!program.ok()) return program.status();
+  out.program_ = std::move(program).value();
+  out.map_size_ = map_size;
+  return out;
+}
+
+LightShadowMaps::LightShadowMaps(LightShadowMaps&& other) noexcept { *this = std::move(other); }
+
+LightShadowMaps& LightShadowMaps::operator=(LightShadowMaps&& other) noexcept {
+  if (this != &other) {
+    release();
+    program_ = std::move(other.program_);
+    map_size_ = other.map_size_;
+    framebuffer_ = std::exchange(other.framebuffer_, 0);
+    cube_array_ = std::exchange(other.cube_array_, 0);
+    face_array_ = std::exchange(other.face_array_, 0);
+    lights_buffer_ = std::exchange(other.lights_buffer_, 0);
+    cube_capacity_ = std::exchange(other.cube_capacity_, 0);
+    face_capacity_ = std::exchange(other.face_capacity_, 0);
+    light_capacity_ = std::exchange(other.light_capacity_, 0);
+    gpu_lights_ = std::move(other.gpu_lights_);
+    rendered_keys_ = std::move(other.rendered_keys_);
+  }
+  return *this;
+}
+
+LightShadowMaps::~LightShadowMaps() { release(); }
+
+void LightShadowMaps::release() {
+  if (framebuffer_ != 0) glDeleteFramebuffers(1, &framebuffer_);
+  if (cube_array_ != 0) glDeleteTextures(1, &cube_array_);
+  if (face_array_ != 0) glDeleteTextures(1, &face_array_);
+  if (lights_buffer_ != 0) glDeleteBuffers(1, &lights_buffer_);
+  framebuffer_ = cube_array_ = face_array_ = lights_buffer_ = 0;
+  cube_capacity_ = face_capacity_ = light_capacity_ = 0;
+}
+
+void LightShadowMaps::ensureCapacity(uint32_t cubes, uint32_t faces) {
+  auto makeDepthArray = [&](GLenum target, uint32_t layers) {
+    GLuint texture = 0;
+    glCreateTextures(target, 1, &texture);
+    glTextureStorage3D(texture, 1, GL_DEPTH_COMPONENT32F, map_size_, map_size_, GLsizei(layers));
+    // Hardware 2x2 PCF under each of the shader's taps.
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(texture, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTextureParameteri(texture, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    return texture;
+  };
+  if (cubes > cube_capacity_) {
+    if (cube_array_ != 0) glDeleteTextures(1, &cube_array_);
+    cube_capacity_ = std::max(cubes, cube_capacity_ * 2);
+    cube_array_ = makeDepthArray(GL_TEXTURE_CUBE_MAP_ARRAY, cube_capacity_ * 6);
+    rendered_keys_.clear();  // the old maps are gone
+  }
+  if (faces > face_capacity_) {
+    if (face_array_ != 0) glDeleteTextures(1, &face_array_);
+    face_capacity_ = std::max(faces, face_capacity_ * 2);
+    face_array_ = makeDepthArray(GL_TEXTURE_2D_ARRAY, face_capacity_);
+    rendered_keys_.clear();
+  }
+  if (framebuffer_ == 0 && (cubes > 0 || faces > 0)) {
+    glCreateFramebuffers(1, &framebuffer_);
+    glNamedFramebufferDrawBuffer(framebuffer_, GL_NONE);
+    glNamedFramebufferReadBuffer(framebuffer_, GL_NONE);
+  }
+}
+
+uint32_t LightShadowMaps::update(const std::vector<FrameLight>& lights, const Aabb& scene_bounds, bool casters_changed,
+                                 const DrawCasters& draw_casters) {
+  // Lay the lights out and count the maps they need.
+  gpu_lights_.assign(lights.size(), GpuLight{});
+  uint32_t cubes = 0, faces = 0;
+  std::vector<glm::mat4> face_views(lights.size());
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const Light& l = lights[i].light;
+    GpuLight& g = gpu_lights_[i];
+    const glm::vec3 p = toGlm(l.position);
+    glm::vec3 d = toGlm(l.direction);
+    d = glm::length(d) > 0 ? glm::normalize(d) : glm::vec3(0, -1, 0);
+    const float type = l.type == LightType::kPoint ? 0.0f : l.type == LightType::kSpot ? 1.0f : 2.0f;
+    const float cos_inner = std::cos(l.inner_cone_rad), cos_outer = std::cos(l.outer_cone_rad);
+    std::memcpy(g.position, glm::value_ptr(glm::vec4(p, type)), sizeof g.position);
+    std::memcpy(g.direction, glm::value_ptr(glm::vec4(d, cos_outer)), sizeof g.direction);
+    const Rgb& c = lights[i].rgb_intensity;
+    const float intensity[4] = {c.r, c.g, c.b, cos_inner};
+    std::memcpy(g.intensity, intensity, sizeof g.intensity);
+    if (!lights[i].casts_shadows || scene_bounds.empty()) continue;
+    if (l.type == LightType::kDirectional) {
+      const glm::vec3 lo = toGlm(scene_bounds.min), hi = toGlm(scene_bounds.max);
+      const glm::vec3 centre = 0.5f * (lo + hi);
+      const float radius = std::max(0.5f * glm::length(hi - lo), 1e-3f);
+      const glm::vec3 eye = centre - d * (radius * 1.05f);
+      const glm::mat4 view = glm::lookAt(eye, centre, anyPerpendicular(d));
+      face_views[i] = glm::ortho(-radius, radius, -radius, radius, 0.0f, radius * 2.1f) * view;
+      g.shadow[0] = kKindFace, g.shadow[1] = float(faces++), g.shadow[2] = 0, g.shadow[3] = radius * 2.1f;
+      g.shadow_texel[1] = 2.0f * radius / float(map_size_);
+    } else {
+      const auto [near_m, far_m] = nearFar(p, scene_bounds);
+      g.shadow[2] = near_m, g.shadow[3] = far_m;
+      if (l.type == LightType::kSpot && l.outer_cone_rad <= kMaxFaceSpotRad) {
+        const float fov = 2.0f * (l.outer_cone_rad + kSpotMarginRad);
+        face_views[i] = glm::perspective(fov, 1.0f, near_m, far_m) * glm::lookAt(p, p + d, anyPerpendicular(d));
+        g.shadow[0] = kKindFace, g.shadow[1] = float(faces++);
+        g.shadow_texel[0] = 2.0f * std::tan(0.5f * fov) / float(map_size_);
+      } else {
+        g.shadow[0] = kKindCube, g.shadow[1] = float(cubes++);
+        g.shadow_texel[0] = 2.0f / float(map_size_);
+      }
+    }
+    std::memcpy(g.shadow_from_world, glm::value_ptr(face_views[i]), sizeof g.shadow_from_world);
+  }
+  ensureCapacity(cubes, faces);
+
+  // The lights buffer: grows, never shrinks (no allocation in steady state).
+  if (gpu_lights_.size() > light_capacity_) {
+    if (lights_buffer_ != 0) glDeleteBuffers(1, &lights_buffer_);
+    light_capacity_ = uint32_t(std::max<size_t>(gpu_lights_.size(), size_t(light_capacity_) * 2));
+    glCreateBuffers(1, &lights_buffer_);
+    glNamedBufferStorage(lights_buffer_, GLsizeiptr(light_capacity_ * sizeof(GpuLight)), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
+  }
+  if (!gpu_lights_.empty()) {
+    glNamedBufferSubData(lights_buffer_, 0, GLsizeiptr(gpu_lights_.size() * sizeof(GpuLight)), gpu_lights_.data());
+  }
+
+  // Render the maps whose light (or casters) changed.
+  uint32_t rendered = 0;
+  rendered_keys_.resize(gpu_lights_.size());
+  bool state_set = false;
+  for (size_t i = 0; i < gpu_lights_.size(); ++i) {
+    const GpuLight& g = gpu_lights_[i];
+    if (g.shadow[0] == kKindNone) continue;
+    std::vector<float> key(reinterpret_cast<const float*>(&g), reinterpret_cast<const float*>(&g) + 4 * 5 + 16);
+    key.insert(key.end(), {scene_bounds.min.x, scene_bounds.min.y, scene_bounds.min.z, scene_bounds.max.x,
+                           scene_bounds.max.y, scene_bounds.max.z});
+    if (!casters_changed && rendered_keys_[i] == key) continue;
+    rendered_keys_[i] = std::move(key);
+    if (!state_set) {
+      state_set = true;
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
+      glViewport(0, 0, map_size_, map_size_);
+      glUseProgram(program_.id());
+      glEnable(GL_DEPTH_TEST);
+      glDepthFunc(GL_LESS);
+      glDepthMask(GL_TRUE);
+      glDisable(GL_CULL_FACE);  // backs absorb light too (the baker's rule)
+      glEnable(GL_POLYGON_OFFSET_FILL);
+      glPolygonOffset(1.5f, 4.0f);
+    }
+    auto renderFace = [&](GLuint texture, int layer, const glm::mat4& clip_from_world) {
+      glNamedFramebufferTextureLayer(framebuffer_, GL_DEPTH_ATTACHMENT, texture, 0, layer);
+      glClear(GL_DEPTH_BUFFER_BIT);
+      glUniformMatrix4fv(render_binding::kShadowClipFromWorld, 1, GL_FALSE, glm::value_ptr(clip_from_world));
+      draw_casters();
+    };
+    if (g.shadow[0] == kKindFace) {
+      renderFace(face_array_, int(g.shadow[1]), face_views[i]);
+    } else {
+      const glm::vec3 p(g.position[0], g.position[1], g.position[2]);
+      const glm::mat4 projection = glm::perspective(glm::radians(90.0f), 1.0f, g.shadow[2], g.shadow[3]);
+      for (int f = 0; f < 6; ++f) {
+        renderFace(cube_array_, int(g.shadow[1]) * 6 + f, projection * glm::lookAt(p, p + kCubeForward[f], kCubeUp[f]));
+      }
+    }
+    ++rendered;
+  }
+  if (state_set) glDisable(GL_POLYGON_OFFSET_FILL);
+  return rendered;
+}
+
+void LightShadowMaps::bind() const {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, render_binding::kLights, lights_buffer_);
+  glBindTextureUnit(render_binding::kShadowCubeUnit, cube_array_);
+  glBindTextureUnit(render_binding::kShadowFaceUnit, face_array_);
+}
+
+}  // namespace svit::gl

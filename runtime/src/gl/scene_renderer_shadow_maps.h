@@ -1,0 +1,85 @@
+#pragma once
+// Lights the SceneRenderer shades per pixel, and their depth shadow maps:
+// a cube (six faces of a cube-map array) for point lights and wide spots,
+// one perspective face for spots up to 45 degrees, one orthographic face
+// for the sun and other directional lights. Maps are re-rendered only for a
+// light that changed or when the casters (dynamic objects) moved; storage
+// grows only when a frame has more lights than any before.
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gl_program.h"
+#include "svit/math_types.h"
+#include "svit/scene.h"
+#include "svit/status.h"
+
+namespace svit::gl {
+
+/// A light as lit_static.frag / lit_dynamic.frag read it (std430, binding
+/// render_binding::kLights; struct GpuLight in svit_shading.frag).
+struct GpuLight {
+  float position[4];    ///< xyz world metres; w: 0 point, 1 spot, 2 directional
+  float direction[4];   ///< xyz unit, the way light travels; w: cos(outer cone)
+  float intensity[4];   ///< rgb: candela (point, spot) or lux (directional), colour x dimmer applied; w: cos(inner cone)
+  float shadow[4];      ///< x: 0 none, 1 cube, 2 face; y: layer (cube index or face layer); z, w: near, far (m)
+  float shadow_texel[4];  ///< x: texel size per metre of distance (perspective); y: texel size in metres (ortho)
+  float shadow_from_world[16];  ///< face maps: clip space of the map
+};
+static_assert(sizeof(GpuLight) == 144, "svit_shading.frag reads this layout");
+
+/// A light to shade with this frame: type, position, direction, cones from
+/// `light`; `rgb_intensity` = colour x intensity x dimmer.
+struct FrameLight {
+  Light light;
+  Rgb rgb_intensity;
+  bool casts_shadows = true;
+};
+
+class LightShadowMaps {
+ public:
+  /// Compiles shadow_depth.*; allocates nothing until lights arrive.
+  /// `map_size`: texels per face edge, 16..8192. Errors: a shader fails, a
+  /// size out of range.
+  static Expected<LightShadowMaps> create(int map_size);
+  LightShadowMaps() = default;
+  LightShadowMaps(LightShadowMaps&& other) noexcept;
+  LightShadowMaps& operator=(LightShadowMaps&& other) noexcept;
+  LightShadowMaps(const LightShadowMaps&) = delete;
+  LightShadowMaps& operator=(const LightShadowMaps&) = delete;
+  ~LightShadowMaps();
+
+  /// Draws every shadow caster with the current program; the callee sets
+  /// nothing but its vertex arrays and draws (positions at attribute 0).
+  using DrawCasters = std::function<void()>;
+
+  /// Brings the lights buffer and the maps up to date for `lights` within
+  /// `scene_bounds` (world box holding every caster and receiver; sizes
+  /// directional maps and near/far planes). `casters_changed`: the casters
+  /// moved since the last call (every map is re-rendered). Returns the
+  /// number of maps rendered (a cube counts once). Leaves the draw
+  /// framebuffer and viewport changed; the caller restores its own.
+  uint32_t update(const std::vector<FrameLight>& lights, const Aabb& scene_bounds, bool casters_changed,
+                  const DrawCasters& draw_casters);
+
+  /// Binds the lights buffer and the two shadow textures (units of
+  /// scene_renderer_bindings.h); valid after update().
+  void bind() const;
+  size_t lightCount() const { return gpu_lights_.size(); }
+
+ private:
+  void release();
+  void ensureCapacity(uint32_t cubes, uint32_t faces);
+  GlProgram program_;
+  int map_size_ = 512;
+  uint32_t framebuffer_ = 0;
+  uint32_t cube_array_ = 0, face_array_ = 0, lights_buffer_ = 0;
+  uint32_t cube_capacity_ = 0, face_capacity_ = 0, light_capacity_ = 0;
+  std::vector<GpuLight> gpu_lights_;
+  std::vector<std::vector<float>> rendered_keys_;  ///< per light slot: what its map was rendered for
+};
+
+}  // namespace svit::gl

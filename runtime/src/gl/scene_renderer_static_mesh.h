@@ -1,0 +1,72 @@
+#pragma once
+// The static geometry as the SceneRenderer draws it: the bake's static
+// triangles (BakeData::triangle_uvs order) in world space with their
+// lightmap UVs, grouped into draw batches by (material, lightmap page), and
+// the welded vertices the runtime's per-patch deltas are interpolated at.
+// CPU only (no GL): built once at SceneRenderer::create.
+
+#include <cstdint>
+#include <vector>
+
+#include "svit/bake_file.h"
+#include "svit/math_types.h"
+#include "svit/scene.h"
+#include "svit/status.h"
+
+namespace svit::gl {
+
+/// One corner of a static triangle (3 per triangle, unshared: lightmap UVs
+/// belong to the triangle's chart). Layout read by lit_static.vert.
+struct StaticVertex {
+  float position[3];       ///< world, metres
+  float normal[3];         ///< world, unit, shading normal on the front (CCW) side
+  float uv0[2];            ///< TEXCOORD_0 (0 when the mesh has none)
+  float uv1[2];            ///< TEXCOORD_1 (0 when the mesh has none)
+  float uv_lightmap[2];    ///< page coordinates, v down the rows
+  uint32_t delta_vertex[2];  ///< welded vertex of the front and of the back side
+};
+static_assert(sizeof(StaticVertex) == 56, "lit_static.vert reads this layout");
+
+/// Consecutive vertices sharing a material and a lightmap page.
+struct StaticBatch {
+  uint32_t material = 0;  ///< Scene::materials index
+  uint32_t page = 0;      ///< BakeData::pages index
+  uint32_t first_vertex = 0;
+  uint32_t vertex_count = 0;
+};
+
+/// How each welded vertex's delta is made from the patches around it
+/// (CSR): delta[v] = sum over i in [offsets[v], offsets[v+1]) of
+/// weights[i] * patch_delta[patches[i]]; a vertex's weights sum to 1.
+struct DeltaInterpolation {
+  uint32_t vertex_count = 0;
+  std::vector<uint32_t> offsets;  ///< vertex_count + 1
+  std::vector<uint32_t> patches;
+  std::vector<float> weights;
+};
+
+struct StaticMesh {
+  std::vector<StaticVertex> vertices;  ///< sorted by batch
+  std::vector<StaticBatch> batches;
+  /// Empty (vertex_count 0, every delta_vertex 0) when the bake has no patches.
+  DeltaInterpolation deltas;
+  Aabb bounds;  ///< world, of all static triangles
+};
+
+/// Builds the static mesh of `scene` as `bake` lit it. Welded vertices join
+/// triangle sides whose corners share position (to 1e-6 of the scene's
+/// extent) and shading normal (to about 0.5 degree), so hard edges stay
+/// hard; each welded vertex takes the area-weighted mean of the patches of
+/// the sides around it (DESIGN.md "Patches": a delta interpolated on
+/// screen). Errors name the bake element: the bake's static triangle count
+/// differs from the level's (another level or version), an instance, mesh
+/// triangle or page out of range, a dynamic instance in the list, a patch
+/// element out of range.
+Expected<StaticMesh> buildStaticMesh(const Scene& scene, const BakeData& bake);
+
+/// The level's static triangles of positive world area, counted the way the
+/// baker counts them (baker/src/bake_geometry.cpp): what
+/// BakeData::triangle_uvs must list.
+size_t countBakeableStaticTriangles(const Scene& scene);
+
+}  // namespace svit::gl

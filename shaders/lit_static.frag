@@ -1,0 +1,78 @@
+#version 450 core
+// Static geometry: radiance = albedo x (lightmap irradiance + interpolated
+// runtime delta + runtime lights' direct irradiance) / pi + emission.
+// Albedo = base colour factor x base colour texture (sRGB-decoded by the
+// texture format). Single-sided surfaces are black from behind; the
+// lightmap holds irradiance in lux (DESIGN.md "Units"). Link with
+// svit_shading.frag (the shared functions declared below).
+// Bindings and uniform locations: runtime/src/gl/scene_renderer_bindings.h.
+
+in vec3 v_position;
+in vec3 v_normal;
+in vec2 v_uv0;
+in vec2 v_uv1;
+in vec2 v_uv_lightmap;
+in vec3 v_delta_front;
+in vec3 v_delta_back;
+
+layout(location = 0) out vec4 o_colour;  // display sRGB
+
+layout(binding = 0) uniform sampler2D u_base_texture;
+layout(binding = 1) uniform sampler2D u_emissive_texture;
+layout(binding = 2) uniform sampler2D u_lightmap;  // irradiance, lux
+
+layout(location = 1) uniform int u_view;  // 0 baked only, 1 runtime, 2 patch delta (ShadingView)
+layout(location = 8) uniform vec4 u_base_color;       // linear factor, alpha
+layout(location = 9) uniform vec3 u_emissive;         // cd/m2
+layout(location = 10) uniform ivec2 u_base_texture_use;     // (present, uv set)
+layout(location = 11) uniform vec4 u_base_transform;        // scale.xy, offset.xy
+layout(location = 12) uniform float u_base_rotation;        // radians
+layout(location = 13) uniform ivec2 u_emissive_texture_use;
+layout(location = 14) uniform vec4 u_emissive_transform;
+layout(location = 15) uniform float u_emissive_rotation;
+layout(location = 16) uniform ivec2 u_material_flags;  // (double sided, alpha mask)
+layout(location = 17) uniform float u_alpha_cutoff;
+
+vec3 svitDirectIrradiance(vec3 p, vec3 n);
+vec3 svitDisplay(vec3 radiance);
+vec3 svitDeltaFalseColour(vec3 delta, vec3 under);
+
+const float kPi = 3.14159265358979;
+
+// KHR_texture_transform: offset + R(rotation) * (scale * uv), rotation
+// counter-clockwise in UV space (runtime/src/scene/texture_sampling.cpp).
+vec2 transformUv(vec2 uv, vec4 scale_offset, float rotation) {
+  vec2 s = uv * scale_offset.xy;
+  float c = cos(rotation), n = sin(rotation);
+  return scale_offset.zw + vec2(c * s.x + n * s.y, -n * s.x + c * s.y);
+}
+
+void main() {
+  vec4 base = u_base_color;
+  if (u_base_texture_use.x != 0) {
+    vec2 uv = transformUv(u_base_texture_use.y == 1 ? v_uv1 : v_uv0, u_base_transform, u_base_rotation);
+    base *= texture(u_base_texture, uv);
+  }
+  if (u_material_flags.y != 0 && base.a < u_alpha_cutoff) discard;
+  bool front = gl_FrontFacing;
+  if (!front && u_material_flags.x == 0) {
+    o_colour = vec4(0.0, 0.0, 0.0, 1.0);  // single-sided: black from behind
+    return;
+  }
+  vec3 n = normalize(v_normal) * (front ? 1.0 : -1.0);
+  vec3 irradiance = texture(u_lightmap, v_uv_lightmap).rgb;
+  vec3 emission = u_emissive;
+  if (u_emissive_texture_use.x != 0) {
+    vec2 uv = transformUv(u_emissive_texture_use.y == 1 ? v_uv1 : v_uv0, u_emissive_transform, u_emissive_rotation);
+    emission *= texture(u_emissive_texture, uv).rgb;
+  }
+  vec3 delta = front ? v_delta_front : v_delta_back;
+  if (u_view == 2) {
+    o_colour = vec4(svitDeltaFalseColour(delta, svitDisplay(base.rgb * irradiance / kPi + emission)), 1.0);
+    return;
+  }
+  if (u_view == 1) irradiance += delta + svitDirectIrradiance(v_position, n);
+  // A delta may overshoot the baked value (a shadow deeper than the light).
+  irradiance = max(irradiance, vec3(0.0));
+  o_colour = vec4(svitDisplay(base.rgb * irradiance / kPi + emission), 1.0);
+}

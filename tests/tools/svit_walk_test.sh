@@ -1,0 +1,147 @@
+#!/usr/bin/env bash
+# svit-walk as users script it (DESIGN.md "Command-line contracts"): a
+# headless scripted walk of the Cornell level writes frames, stats and probe
+# irradiance; bad inputs exit 1 naming what is wrong, bad usage exits 2.
+# Needs a display (CTest label gl: scripts/test runs it under xvfb-run).
+# usage: svit_walk_test.sh SVIT_WALK SVIT_BAKE SOURCE_DIR SHARED_SCENES_DIR
+set -u
+walk="$1" bake="$2" src="$3" scenes="$4"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+level="$src/samples/levels/cornell/level.json"
+failures=0
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+ok() { echo "ok   $*"; }
+expect_exit() {  # NAME WANT -- command...
+  local name="$1" want="$2"; shift 3
+  "$@" >"$work/out.txt" 2>"$work/err.txt"
+  local rc=$?
+  if [[ $rc -eq $want ]]; then ok "$name"; else fail "$name: exit $rc, expected $want"; cat "$work/err.txt"; fi
+}
+expect_err() {  # NAME TEXT: the last command's stderr contains TEXT
+  grep -qF -- "$2" "$work/err.txt" && ok "$1" || { fail "$1: stderr lacks '$2'"; cat "$work/err.txt"; }
+}
+
+# A quick bake of the level (a few seconds; quality is not the point here).
+"$bake" "$level" -o "$work/cornell" --quality 0.1 --time 10 --texels-per-m 16 --quiet \
+  || { echo "FAIL bake"; exit 1; }
+
+# A script: the box moves (and leaves its path), the lamp dims, the view changes.
+cat >"$work/script.json" <<'JSON'
+{"fps": 30, "frames": 5,
+ "camera": [{"t_s": 0, "position": [0, 1, 3.4], "look_at": [0, 1, 0], "yfov_rad": 0.69},
+            {"t_s": 1, "position": [0.3, 1.1, 3.0], "look_at": [0, 0.9, 0]}],
+ "events": [{"frame": 1, "move": {"node": "tallBox", "translation": [0.2, 0, 0.1],
+                                 "rotation": [0, 0.2588190, 0, 0.9659258]}},
+            {"frame": 2, "baked_emitter": {"index": 0, "scale": 0.5}},
+            {"frame": 3, "view": "delta"}]}
+JSON
+printf '0 0 0 0 1 0\n# a comment\n0 1.98 0 0 -1 0\n-0.99 1 0 1 0 0\n0.99 1 0 -1 0 0\n' >"$work/points.txt"
+expect_exit walk 0 -- "$walk" "$level" --bake "$work/cornell" --headless --script "$work/script.json" \
+  --frames-out "$work/frames" --stats "$work/stats.json" --probe "$work/points.txt" --probe-out "$work/probe.txt" \
+  --width 160 --height 90
+grep -q "maps_ms" "$work/out.txt" && ok "prints the stage table" || fail "no stage table on stdout"
+
+python3 - "$work" <<'PY' && ok "frames, stats and probes" || fail "frames, stats and probes"
+import json, math, struct, sys, zlib
+
+def png_pixels(path):
+    """8-bit RGB/RGBA PNG -> (width, height, channels, rows of bytes); standard filters."""
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", path
+    pos, idat = 8, b""
+    while pos < len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        if kind == b"IHDR":
+            w, h, depth, colour = struct.unpack(">IIBB", body[:10])
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + length
+    assert depth == 8 and colour in (2, 6), (depth, colour)
+    ch = 3 if colour == 2 else 4
+    raw, stride, rows, prev = zlib.decompress(idat), w * ch, [], bytearray(w * ch)
+    for y in range(h):
+        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - ch] if i >= ch else 0
+            b, c = prev[i], prev[i - ch] if i >= ch else 0
+            p = a + b - c
+            pred = [0, a, b, (a + b) // 2, a if abs(p - a) <= abs(p - b) and abs(p - a) <= abs(p - c) else (b if abs(p - b) <= abs(p - c) else c)][f]
+            line[i] = (line[i] + pred) & 255
+        rows.append(line)
+        prev = line
+    return w, h, ch, rows
+
+work = sys.argv[1]
+for i in range(5):
+    w, h, ch, rows = png_pixels(f"{work}/frames/frame-{i:04d}.png")
+    assert (w, h) == (160, 90), (w, h)
+    values = [v for row in rows for v in row]
+    mean = sum(values) / len(values)
+    spread = math.sqrt(sum((v - mean) ** 2 for v in values) / len(values))
+    assert 5 < mean < 250 and spread > 10, f"frame {i}: mean {mean:.1f}, spread {spread:.1f}: blank"
+
+s = json.load(open(f"{work}/stats.json"))
+assert s["level"].endswith("level.json") and s["renderer"], s.keys()
+assert [f["frame"] for f in s["frames"]] == list(range(5)), s["frames"]
+stages = ("t_s", "maps_ms", "reduction_ms", "bounce_ms", "upload_ms", "runtime_ms", "shading_ms", "frame_ms")
+for f in s["frames"]:
+    for k in stages + ("emitters_refreshed", "samples", "faces"):
+        assert isinstance(f[k], (int, float)) and math.isfinite(f[k]) and f[k] >= 0, (f["frame"], k, f.get(k))
+assert abs(s["frames"][3]["t_s"] - 0.1) < 1e-6
+assert [f["view"] for f in s["frames"]] == ["runtime"] * 3 + ["delta"] * 2
+assert s["frames"][1]["emitters_refreshed"] > 0, "the box moved: emitters must be refreshed"
+for k in stages[1:]:
+    assert math.isfinite(s["summary"]["mean"][k]) and math.isfinite(s["summary"]["max"][k]), k
+
+lines = open(f"{work}/probe.txt").read().splitlines()
+assert len(lines) == 4, lines
+for line in lines:
+    rgb = [float(x) for x in line.split()]
+    assert len(rgb) == 3 and all(math.isfinite(v) and v >= 0 for v in rgb), line
+PY
+
+# Bad usage: exit 2 with the usage text.
+expect_exit no_arguments 2 -- "$walk"
+expect_exit no_bake_option 2 -- "$walk" "$level" --headless
+expect_exit unknown_option 2 -- "$walk" "$level" --bake "$work/cornell" --frobnicate
+expect_err unknown_option_message "unknown option '--frobnicate'"
+expect_exit bad_frames 2 -- "$walk" "$level" --bake "$work/cornell" --headless --frames 0
+expect_exit bad_view 2 -- "$walk" "$level" --bake "$work/cornell" --headless --view sideways
+expect_exit probe_without_out 2 -- "$walk" "$level" --bake "$work/cornell" --headless --probe "$work/points.txt"
+
+# Bad input: exit 1, the message names the file and element.
+expect_exit missing_bake 1 -- "$walk" "$level" --bake "$work/nothing" --headless --frames 1
+expect_err missing_bake_message "bake.svit"
+"$bake" "$scenes/cornell_box_original/CornellBox-Original.gltf" -o "$work/gltf_bake" --quality 0.05 --time 5 \
+  --texels-per-m 8 --quiet || fail "bake of the bare glTF"
+expect_exit other_level_bake 1 -- "$walk" "$level" --bake "$work/gltf_bake" --headless --frames 1
+expect_err other_level_bake_message "another level"
+bad_script() {  # NAME JSON EXPECTED-MESSAGE
+  printf '%s' "$2" >"$work/bad.json"
+  expect_exit "$1" 1 -- "$walk" "$level" --bake "$work/cornell" --headless --frames 3 --script "$work/bad.json"
+  expect_err "$1 message" "$3"
+}
+bad_script unknown_light '{"events": [{"frame": 0, "light": {"name": "lamp9", "enabled": false}}]}' \
+  "bad.json: events[0].light.name: no light 'lamp9'"
+bad_script unknown_node '{"events": [{"frame": 0, "move": {"node": "tallbox"}}]}' "events[0].move.node: no node 'tallbox'"
+bad_script static_node '{"events": [{"frame": 0, "move": {"node": "shortBox", "translation": [0, 0, 0]}}]}' \
+  "events[0].move.node: node 'shortBox' is static"
+bad_script unknown_field '{"events": [{"frame": 0, "view": "delta", "colour": 1}]}' "events[0].colour: unknown field"
+bad_script frame_out_of_range '{"events": [{"frame": 3, "view": "delta"}]}' "events[0].frame: 3 is past the last frame 2"
+bad_script bad_emitter '{"events": [{"frame": 0, "baked_emitter": {"index": 99999, "scale": 1}}]}' \
+  "events[0].baked_emitter.index: 99999 >= emitter count"
+bad_script bad_view '{"events": [{"frame": 0, "view": "sideways"}]}' "events[0].view"
+bad_script bad_camera '{"camera": [{"t_s": 0, "position": [0, 1], "look_at": [0, 0, 0]}]}' "camera[0].position"
+bad_script not_json '{"events": [' "not valid JSON"
+printf '0 0 0 0 1 0\n1 2 three 0 1 0\n' >"$work/bad_points.txt"
+expect_exit bad_points 1 -- "$walk" "$level" --bake "$work/cornell" --headless --frames 1 \
+  --probe "$work/bad_points.txt" --probe-out "$work/p.txt"
+expect_err bad_points_message "bad_points.txt:2:"
+
+if [[ $failures -ne 0 ]]; then
+  echo "$failures failure(s)"
+  exit 1
+fi
+echo "svit-walk: all checks passed"
