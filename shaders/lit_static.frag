@@ -20,6 +20,8 @@ layout(location = 0) out vec4 o_colour;  // display sRGB
 layout(binding = 0) uniform sampler2D u_base_texture;
 layout(binding = 1) uniform sampler2D u_emissive_texture;
 layout(binding = 2) uniform sampler2D u_lightmap;  // irradiance, lux
+layout(binding = 8) uniform sampler2D u_delta_map;  // runtime delta in lightmap space, lux (Runtime::shadingResources)
+layout(location = 19) uniform int u_use_delta_map;  // 0: none bound
 
 layout(location = 1) uniform int u_view;  // 0 baked only, 1 runtime, 2 patch delta (ShadingView)
 layout(location = 8) uniform vec4 u_base_color;       // linear factor, alpha
@@ -66,7 +68,7 @@ void main() {
     vec2 uv = transformUv(u_emissive_texture_use.y == 1 ? v_uv1 : v_uv0, u_emissive_transform, u_emissive_rotation);
     emission *= texture(u_emissive_texture, uv).rgb;
   }
-  vec3 delta = front ? v_delta_front : v_delta_back;
+  vec3 delta = u_use_delta_map != 0 ? texture(u_delta_map, v_uv_lightmap).rgb : (front ? v_delta_front : v_delta_back);
   if (u_view == 2) {
     o_colour = vec4(svitDeltaFalseColour(delta, svitDisplay(base.rgb * irradiance / kPi + emission)), 1.0);
     return;

@@ -83,15 +83,20 @@ inline std::vector<Probe> cornellProbes(const std::vector<Aabb>& keep_clear) {
   return probes;
 }
 
-inline double rmsRelative(const std::vector<Rgb>& a, const std::vector<Rgb>& b, double* worst = nullptr) {
-  double sum = 0;
-  if (worst) *worst = 0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    const double e = (double(luminance(a[i])) - luminance(b[i])) / std::max(1e-6, double(luminance(b[i])));
-    sum += e * e;
-    if (worst) *worst = std::max(*worst, std::abs(e));
+/// RMS difference of luminance over the points, relative to the mean
+/// reference luminance (so a deep shadow's small absolute error does not
+/// count as a large one); `worst` gets the largest |difference| / mean.
+inline double normalizedRms(const std::vector<Rgb>& got, const std::vector<Rgb>& reference, double* worst = nullptr) {
+  double sum = 0, mean = 0, largest = 0;
+  for (size_t i = 0; i < got.size(); ++i) {
+    const double d = double(luminance(got[i])) - luminance(reference[i]);
+    sum += d * d;
+    mean += luminance(reference[i]);
+    largest = std::max(largest, std::abs(d));
   }
-  return std::sqrt(sum / double(a.size()));
+  mean /= double(got.size());
+  if (worst) *worst = largest / mean;
+  return std::sqrt(sum / double(got.size())) / mean;
 }
 
 inline std::vector<Rgb> bakedAt(const test::BakedLevel& level, const std::vector<Probe>& probes) {

@@ -34,8 +34,8 @@ struct BakedLevel {
 };
 
 /// Bakes `level_path` (once per process, keyed by `key`) and loads it back.
-inline const BakedLevel& bakedLevel(const std::string& key, const std::string& level_path, double quality = 0.3,
-                                    double seconds = 30) {
+/// No time budget: a quality-bound bake is deterministic for its seed.
+inline const BakedLevel& bakedLevel(const std::string& key, const std::string& level_path, double quality = 0.3) {
   static std::map<std::string, BakedLevel> cache;
   auto it = cache.find(key);
   if (it != cache.end()) return it->second;
@@ -46,7 +46,6 @@ inline const BakedLevel& bakedLevel(const std::string& key, const std::string& l
   options.level_path = level_path;
   options.out_dir = dir;
   options.quality = quality;
-  options.time_budget_s = seconds;
   options.seed = 7;
   Expected<baker::BakeResult> result = baker::bakeLevel(options, nullptr, nullptr);
   SVIT_SETUP_CHECK(result.ok(), result.status().message());

@@ -26,9 +26,12 @@ namespace svit {
 
 /// Tuning of the runtime; defaults suit a game at 60 Hz on a real GPU.
 struct RuntimeSettings {
-  /// Static geometry in index maps: the bake's LOD proxies (true) or the
-  /// full static triangles (false; slower, for checks).
-  bool use_proxies = true;
+  /// Static geometry in index maps: the full static triangles cut into
+  /// runtime patches (false), or the bake's LOD proxies re-cut to patch size
+  /// (true: fewer triangles on detailed levels, but pieces of a proxy face
+  /// are assigned to patches by nearest centroid, which misplaces flux
+  /// between neighbouring patches on flat areas; see the benchmark).
+  bool use_proxies = false;
   /// Runtime patches over the static surfaces (the bake's patches cut to
   /// about this many): the resolution of dynamic shadows and deltas.
   int target_patches = 1024;
@@ -94,12 +97,17 @@ struct FrameStats {
 
 /// What the host binds to shade static geometry (shadingSources()).
 struct ShadingResources {
-  /// GL buffer (std430 vec4 per patch): displayed irradiance delta, lux, RGB
-  /// in xyz. 0 when the level has no runtime content.
+  /// GL buffer (std430 vec4 per patch, patchDeltas() order): displayed
+  /// irradiance delta, lux, RGB in xyz. 0 when the level has no runtime content.
   uint32_t patch_delta_buffer = 0;
   uint32_t patch_count = 0;
   /// Lightmap pages as GL_RGB32F textures (irradiance, lux), bake page order.
   std::vector<uint32_t> lightmap_textures;
+  /// Per page: the displayed delta (lux, RGB) in the same lightmap
+  /// coordinates at half resolution, interpolated across runtime patches;
+  /// shade with lightmap(uv) + delta(uv). Empty until the first update that
+  /// had runtime content.
+  std::vector<uint32_t> delta_textures;
 };
 
 /// The runtime's view of one dynamic object.

@@ -16,6 +16,17 @@ void grow(Aabb& box, const Vec3& p) {
 
 }  // namespace
 
+void binObjectTriangles(DynamicObject& object) {
+  object.shooter_bin.resize(object.albedo.size());
+  for (size_t t = 0; t < object.albedo.size(); ++t) {
+    const glm::vec3 a = toGlm(object.object_positions[t * 3]), b = toGlm(object.object_positions[t * 3 + 1]),
+                    c = toGlm(object.object_positions[t * 3 + 2]);
+    const glm::vec3 n = glm::cross(b - a, c - a), m = glm::abs(n);
+    const int axis = m.x >= m.y && m.x >= m.z ? 0 : (m.y >= m.z ? 1 : 2);
+    object.shooter_bin[t] = uint8_t(axis * 2 + (n[axis] < 0 ? 1 : 0));
+  }
+}
+
 void placeObject(DynamicObject& object) {
   const glm::mat4 world = toGlm(object.world_from_object);
   object.world_positions.resize(object.object_positions.size());

@@ -27,6 +27,7 @@ struct DynamicObject {
   std::vector<Vec3> object_positions;  ///< 3 per triangle, object space (unshared)
   std::vector<Rgb> albedo;             ///< per triangle
   std::vector<Rgb> emission;           ///< per triangle, cd/m2
+  std::vector<uint8_t> shooter_bin;    ///< per triangle: dominant axis of its object-space normal, 0..5
   bool double_sided = false;
   Mat4 world_from_object;
   bool visible = true;
@@ -35,6 +36,9 @@ struct DynamicObject {
   std::vector<Vec3> world_positions;  ///< 3 per triangle, kept current
   Aabb bounds;                        ///< of world_positions (empty when hidden)
 };
+
+/// Fills shooter_bin from object_positions.
+void binObjectTriangles(DynamicObject& object);
 
 /// Recomputes world_positions and bounds of `object` from its transform.
 void placeObject(DynamicObject& object);

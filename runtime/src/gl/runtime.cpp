@@ -127,6 +127,9 @@ Runtime::Runtime(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Runtime::~Runtime() {
   if (impl_ && (impl_->delta_buffer != 0 || !impl_->lightmap_textures.empty())) {
     if (impl_->delta_buffer != 0) glDeleteBuffers(1, &impl_->delta_buffer);
+    if (!impl_->delta_textures.empty()) {
+      glDeleteTextures(GLsizei(impl_->delta_textures.size()), impl_->delta_textures.data());
+    }
     if (!impl_->lightmap_textures.empty()) {
       glDeleteTextures(GLsizei(impl_->lightmap_textures.size()), impl_->lightmap_textures.data());
     }
@@ -223,10 +226,11 @@ Expected<std::unique_ptr<Runtime>> Runtime::create(const Scene& scene, const Bak
 
 uint32_t Runtime::Impl::addObjectInternal(rt::DynamicObject object) {
   object.first_receiver = uint32_t(receivers.size());
+  rt::binObjectTriangles(object);
   rt::placeObject(object);
   receivers.resize(receivers.size() + object.albedo.size());
   rt::updateObjectReceivers(object, receivers);
-  group_emitter.push_back(kInvalidId);
+  group_emitter.resize(group_emitter.size() + kObjectShooters, kInvalidId);
   delta_total.resize(receivers.size(), glm::dvec3(0.0));
   runtime_direct.resize(receivers.size(), glm::dvec3(0.0));
   display.resize(receivers.size(), Rgb{});
@@ -292,6 +296,7 @@ Status Runtime::deformObject(ObjectId id, std::span<const Vec3> positions) {
   }
   if (!o.bounds.empty()) impl_->moved_boxes.push_back(o.bounds);
   o.object_positions.assign(positions.begin(), positions.end());
+  rt::binObjectTriangles(o);
   rt::placeObject(o);
   rt::updateObjectReceivers(o, impl_->receivers);
   if (!o.bounds.empty()) impl_->moved_boxes.push_back(o.bounds);
@@ -449,7 +454,8 @@ Rgb Runtime::irradianceAt(const Vec3& point, const Vec3& normal, float max_dista
     const std::vector<glm::dvec3>& v = impl_->vertexDeltas();
     const uint32_t* corner = &impl_->patches.triangle_vertices[size_t(sub) * 3];
     const glm::dvec3 d = v[corner[0]] * double(1 - s1 - s2) + v[corner[1]] * double(s1) + v[corner[2]] * double(s2);
-    e = {float(e.r + d.x), float(e.g + d.y), float(e.b + d.z)};
+    // A delta never takes more light than there is (shading clamps the same way).
+    e = {std::max(0.0f, float(e.r + d.x)), std::max(0.0f, float(e.g + d.y)), std::max(0.0f, float(e.b + d.z))};
   }
   return e;
 }
@@ -508,6 +514,7 @@ ShadingResources Runtime::shadingResources() const {
     }
   }
   out.lightmap_textures = impl_->lightmap_textures;
+  out.delta_textures = impl_->delta_textures;
   return out;
 }
 

@@ -22,6 +22,10 @@ namespace svit {
 
 namespace rt = gl;
 
+/// Shooter groups per dynamic object: its triangles binned by the dominant
+/// axis of their object-space normal (+x, -x, +y, -y, +z, -z).
+inline constexpr uint32_t kObjectShooters = 6;
+
 enum class EmitterKind {
   kBakedLight,    ///< a static light of the bake (BakeData emitter index)
   kSun,           ///< the baked sun
@@ -34,13 +38,12 @@ enum class EmitterKind {
 /// One emitter and its cached form factors (thesis 5.10's cache).
 struct Emitter {
   EmitterKind kind = EmitterKind::kBakedLight;
-  uint32_t index = 0;          ///< bake emitter (lights, sun, sky), bake patch, object, light id
+  uint32_t index = 0;  ///< bake emitter (lights, sun, sky), shooter, object * kObjectShooters + bin, light id
   uint32_t bake_emitter = kInvalidId;  ///< BakeData::emitters index when the bake lists it
   bool needs_baseline = false; ///< baked emitters and bright patches: current minus baseline
   glm::dvec3 flux{0.0};        ///< lm: the flux its shares distribute (patches: baseline B x A)
   int sample_count = 1;
   std::vector<rt::PointSample> samples;
-  std::vector<double> density;  ///< objects: per-triangle exitance the samples were placed by
   rt::SparseShares current, baseline;
   bool has_current = false, has_baseline = false;
   bool stale = true;           ///< current out of date (something moved in its region)
@@ -114,6 +117,7 @@ struct Runtime::Impl {
   uint32_t delta_buffer = 0;
   uint32_t delta_buffer_receivers = 0;
   mutable std::vector<uint32_t> lightmap_textures;
+  std::vector<uint32_t> delta_textures;  ///< per page, GL_RGB32F at half size (delta_atlas.h)
   uint32_t gl_objects_created = 0;
 
   FrameStats update(double budget_ms);
@@ -125,7 +129,6 @@ struct Runtime::Impl {
   void uploadDisplay(FrameStats& stats);
   uint32_t addGroupEmitter(uint32_t group, bool bright, double wanted_flux, double max_flux);
   int32_t groupOf(uint32_t receiver) const;
-  std::vector<double> objectExitance(uint32_t object) const;
   uint32_t addObjectInternal(rt::DynamicObject object);
 };
 

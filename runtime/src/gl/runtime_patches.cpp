@@ -252,16 +252,26 @@ Expected<RuntimePatches> buildRuntimePatches(const Scene& scene, const BakeData&
 }
 
 MapTriangles proxyMapTriangles(const BakeData& bake, const RuntimePatches& patches, double max_area_m2) {
+  // Per bake patch: the centroids of its runtime patches' sub-triangles.
+  std::vector<std::vector<std::pair<glm::dvec3, uint32_t>>> candidates(patches.bake_members.size());
+  for (size_t s = 0; s < patches.triangles.triangleCount(); ++s) {
+    const uint32_t r = patches.triangles.front_receiver[s];
+    const glm::dvec3 c = (dvec(patches.triangles.positions[s * 3]) + dvec(patches.triangles.positions[s * 3 + 1]) +
+                          dvec(patches.triangles.positions[s * 3 + 2])) / 3.0;
+    candidates[patches.bake_patch[r]].push_back({c, r});
+  }
   MapTriangles out;
   const BakeProxyMesh& proxy = bake.proxy;
   const size_t faces = proxy.indices.size() / 3;
   for (size_t f = 0; f < faces; ++f) {
     const uint32_t group = proxy.face_patch[f];
-    if (group >= patches.bake_members.size() || patches.bake_members[group].empty()) continue;
+    if (group >= candidates.size() || candidates[group].empty()) continue;
     const glm::dvec3 a = dvec(proxy.positions[proxy.indices[f * 3]]), b = dvec(proxy.positions[proxy.indices[f * 3 + 1]]),
                      c = dvec(proxy.positions[proxy.indices[f * 3 + 2]]);
     const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
-    const int n = tessellation(area, max_area_m2);
+    // A quarter of a patch each, so assigning pieces by their nearest
+    // original sub-triangle follows the patch outlines closely.
+    const int n = tessellation(area, max_area_m2 / 4);
     for (int i = 0; i < n; ++i) {
       for (int j = 0; i + j < n; ++j) {
         for (int flipped = 0; flipped < 2; ++flipped) {
@@ -271,11 +281,10 @@ MapTriangles proxyMapTriangles(const BakeData& bake, const RuntimePatches& patch
           glm::dvec3 p[3];
           for (int k = 0; k < 3; ++k) p[k] = a + w[k][0] * (b - a) + w[k][1] * (c - a);
           const glm::dvec3 centroid = (p[0] + p[1] + p[2]) / 3.0;
-          // The nearest runtime patch of the bake patch this face stands for.
-          uint32_t best = patches.bake_members[group].front();
+          uint32_t best = candidates[group].front().second;
           double best_d = 1e300;
-          for (uint32_t r : patches.bake_members[group]) {
-            const double d = glm::length(centroid - dvec(patches.receivers[r].centroid));
+          for (const auto& [q, r] : candidates[group]) {
+            const double d = glm::dot(centroid - q, centroid - q);
             if (d < best_d) {
               best_d = d;
               best = r;

@@ -14,6 +14,7 @@
 #include <numeric>
 
 #include "glm_interop.h"
+#include "delta_atlas.h"
 #include "runtime_impl.h"
 
 namespace svit {
@@ -108,26 +109,12 @@ Status Runtime::Impl::ensureRenderer() {
   return Status();
 }
 
-std::vector<double> Runtime::Impl::objectExitance(uint32_t o) const {
-  const rt::DynamicObject& object = objects[o];
-  std::vector<double> exitance(object.albedo.size());
-  double total = 0;
-  for (size_t t = 0; t < exitance.size(); ++t) {
-    const uint32_t r = object.first_receiver + uint32_t(t);
-    exitance[t] = std::max(0.0, 3.14159265358979 * luminance(object.emission[t]) +
-                                    lum(delta_total[r] * dvec(object.albedo[t])));
-    total += exitance[t];
-  }
-  if (!(total > 0)) exitance.clear();
-  return exitance;
-}
-
 int32_t Runtime::Impl::groupOf(uint32_t receiver) const {
   if (receiver < static_receivers) return int32_t(patches.shooter[receiver]);
   for (size_t o = 0; o < objects.size(); ++o) {
     const rt::DynamicObject& object = objects[o];
     if (receiver >= object.first_receiver && receiver < object.first_receiver + object.albedo.size()) {
-      return int32_t(static_groups + o);
+      return int32_t(static_groups + o * kObjectShooters + object.shooter_bin[receiver - object.first_receiver]);
     }
   }
   return -1;
@@ -193,20 +180,24 @@ void Runtime::Impl::refreshSamples(Emitter& e) {
       break;
     }
     case EmitterKind::kDynamicObject: {
-      const rt::DynamicObject& object = objects[e.index];
+      // One shooter per facing of the object (kObjectShooters bins of its
+      // object-space normals): uniform samples over a flat-ish group need no
+      // knowledge of where the light falls, so the result never depends on
+      // the path the object took.
+      const uint32_t o = e.index / kObjectShooters, bin = e.index % kObjectShooters;
+      const rt::DynamicObject& object = objects[o];
       e.samples.clear();
       if (!object.visible || object.removed) break;
       rt::MapTriangles own;
       own.positions = object.world_positions;
-      std::vector<uint32_t> triangles(object.albedo.size());
-      std::iota(triangles.begin(), triangles.end(), 0u);
-      own.front_receiver.resize(triangles.size(), rt::kNoReceiver);
-      own.back_receiver.resize(triangles.size(), rt::kNoReceiver);
-      // Samples where the object's light leaves it (thesis 5.4): density by
-      // each triangle's exitance from the last solve (uniform at first).
-      e.density = objectExitance(e.index);
-      e.samples = rt::surfaceSamples(own, uint32_t(static_map.triangleCount()) + object_map_base[e.index], triangles,
-                                     e.density, e.sample_count, sample_offset_m, seed, stream, jitter);
+      std::vector<uint32_t> triangles;
+      for (uint32_t t = 0; t < object.albedo.size(); ++t) {
+        if (object.shooter_bin[t] == bin) triangles.push_back(t);
+      }
+      own.front_receiver.resize(object.albedo.size(), rt::kNoReceiver);
+      own.back_receiver.resize(object.albedo.size(), rt::kNoReceiver);
+      e.samples = rt::surfaceSamples(own, uint32_t(static_map.triangleCount()) + object_map_base[o], triangles, {},
+                                     e.sample_count, sample_offset_m, seed, stream, jitter);
       break;
     }
     case EmitterKind::kRuntimeLight: {
@@ -342,11 +333,12 @@ void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint3
         break;
       }
       case EmitterKind::kDynamicObject: {
-        const rt::DynamicObject& object = objects[e.index];
+        const rt::DynamicObject& object = objects[e.index / kObjectShooters];
         if (!e.has_current || !object.visible || object.removed) break;
         // Its own emission (Lambertian: exitance pi L); reflection is a bounce.
         glm::dvec3 emitted(0.0);
         for (size_t t = 0; t < object.emission.size(); ++t) {
+          if (object.shooter_bin[t] != e.index % kObjectShooters) continue;
           emitted += 3.14159265358979 * dvec(object.emission[t]) * double(receivers[object.first_receiver + t].area_m2);
         }
         if (emitted != glm::dvec3(0.0)) add(first, e.current, emitted);
@@ -413,6 +405,27 @@ void Runtime::Impl::uploadDisplay(FrameStats& stats) {
     ++gl_objects_created;
   }
   glNamedBufferSubData(delta_buffer, 0, GLsizeiptr(n * 4 * sizeof(float)), packed.data());
+  // The same deltas in lightmap space, interpolated as shading shows them.
+  std::vector<glm::dvec3> shown(static_receivers);
+  for (uint32_t r = 0; r < static_receivers; ++r) shown[r] = dvec(display[r]);
+  std::vector<std::pair<int, int>> sizes;
+  for (const LightmapImage& page : pages) sizes.push_back({page.width, page.height});
+  const std::vector<rt::DeltaPage> atlas = rt::rasteriseDeltas(patches, rt::vertexValues(patches, shown), sizes);
+  if (delta_textures.empty()) {
+    delta_textures.resize(atlas.size());
+    glCreateTextures(GL_TEXTURE_2D, GLsizei(atlas.size()), delta_textures.data());
+    for (size_t p = 0; p < atlas.size(); ++p) {
+      glTextureStorage2D(delta_textures[p], 1, GL_RGB32F, atlas[p].width, atlas[p].height);
+      glTextureParameteri(delta_textures[p], GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTextureParameteri(delta_textures[p], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTextureParameteri(delta_textures[p], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTextureParameteri(delta_textures[p], GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    gl_objects_created += uint32_t(atlas.size());
+  }
+  for (size_t p = 0; p < atlas.size(); ++p) {
+    glTextureSubImage2D(delta_textures[p], 0, 0, 0, atlas[p].width, atlas[p].height, GL_RGB, GL_FLOAT, atlas[p].rgb.data());
+  }
   stats.upload_ms += msSince(t0);
 }
 
@@ -457,8 +470,9 @@ FrameStats Runtime::Impl::update(double budget_ms) {
       for (size_t t = 0; t < object.emission.size(); ++t) {
         flux += 3.14159265358979 * luminance(object.emission[t]) * receivers[object.first_receiver + t].area_m2;
       }
-      if (flux > 0 && group_emitter[static_groups + o] == kInvalidId) {
-        addGroupEmitter(static_groups + uint32_t(o), false, flux, std::max(max_flux, flux));
+      for (uint32_t bin = 0; flux > 0 && bin < kObjectShooters; ++bin) {
+        const uint32_t g = static_groups + uint32_t(o) * kObjectShooters + bin;
+        if (group_emitter[g] == kInvalidId) addGroupEmitter(g, false, flux, std::max(max_flux, flux));
       }
     }
     dynamic_geometry_changed = false;
@@ -549,22 +563,6 @@ FrameStats Runtime::Impl::update(double budget_ms) {
     status = gatherShares(chosen, false, stats);
     wanted.clear();
     solve(stats, wanted);
-  }
-  // An object's lit side can change without it moving (a light switched):
-  // re-place its samples when its exitance shifted by more than a fifth.
-  for (Emitter& e : emitters) {
-    if (e.kind != EmitterKind::kDynamicObject || e.samples_stale) continue;
-    const std::vector<double> now = objectExitance(e.index);
-    double moved = 0, total = 0;
-    for (size_t t = 0; t < now.size(); ++t) {
-      const double before = e.density.empty() ? 1.0 : e.density[t];
-      moved += std::abs(now[t] - before);
-      total += now[t] + before;
-    }
-    if (total > 0 && moved > 0.2 * total) {
-      e.samples_stale = true;
-      e.stale = true;
-    }
   }
   pending_wanted = false;
   for (auto& [w, r] : wanted) {

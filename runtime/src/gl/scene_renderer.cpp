@@ -311,7 +311,9 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   // Runtime deltas (static: interpolated per vertex; dynamic: per patch).
   uint32_t delta_buffer = 0;
   if (s.runtime != nullptr && runtime_view) delta_buffer = s.runtime->shadingResources().patch_delta_buffer;
-  const bool static_deltas = runtime_view && s.refreshVertexDeltas(delta_buffer);
+  const std::vector<uint32_t> delta_maps =
+      runtime_view && s.runtime != nullptr ? s.runtime->shadingResources().delta_textures : std::vector<uint32_t>{};
+  const bool static_deltas = runtime_view && delta_maps.empty() && s.refreshVertexDeltas(delta_buffer);
 
   // Dynamic objects and the lights that shade per pixel.
   const bool casters_changed = s.dynamic_objects.update(s.scene, s.runtime);
@@ -367,6 +369,12 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
     }
     if (batch.page != bound_page) {
       glBindTextureUnit(b::kLightmapUnit, s.lightmaps.texture(batch.page));
+      // The runtime's deltas in lightmap space (runtime patches finer than
+      // the mesh's vertices can carry); the vertex path stays for hosts
+      // without them.
+      const bool delta_map = runtime_view && s.runtime != nullptr && batch.page < delta_maps.size();
+      glUniform1i(b::kUseDeltaMap, delta_map ? 1 : 0);
+      if (delta_map) glBindTextureUnit(b::kDeltaMapUnit, delta_maps[batch.page]);
       bound_page = batch.page;
     }
     glDrawArrays(GL_TRIANGLES, GLint(batch.first_vertex), GLsizei(batch.vertex_count));

@@ -19,6 +19,7 @@ inline constexpr uint32_t kLights = 4;             ///< GpuLight array
 inline constexpr uint32_t kBaseColorUnit = 0;
 inline constexpr uint32_t kEmissiveUnit = 1;
 inline constexpr uint32_t kLightmapUnit = 2;
+inline constexpr uint32_t kDeltaMapUnit = 8;  ///< Runtime::shadingResources().delta_textures[page]
 inline constexpr uint32_t kShadowCubeUnit = 3;     ///< samplerCubeArrayShadow
 inline constexpr uint32_t kShadowFaceUnit = 4;     ///< sampler2DArrayShadow
 inline constexpr uint32_t kProbeUnitR = 5;         ///< SH coefficients of red (Y00, Y1-1, Y10, Y11)
@@ -48,6 +49,7 @@ inline constexpr int kMaterialFlags = 16;    ///< ivec2: (double sided, alpha ma
 inline constexpr int kAlphaCutoff = 17;      ///< float
 // Static only.
 inline constexpr int kUseDeltas = 18;        ///< int: vertex deltas bound
+inline constexpr int kUseDeltaMap = 19;      ///< int: the runtime's delta map bound (lit_static.frag)
 // Dynamic only: probe grid.
 inline constexpr int kProbeOrigin = 19;      ///< vec3: centre of probe (0,0,0)
 inline constexpr int kProbeSpacing = 20;     ///< vec3
