@@ -8,7 +8,7 @@
 //     per-patch deltas;
 //  3. the runtime's error against a bake with the moved tall box static, as
 //     a function of frames and per-frame budget (Cornell).
-// usage: bench_runtime [--frames N] [--json OUT] [--sponza LEVEL]
+// usage: bench_runtime [--frames N] [--json OUT] [--sponza LEVEL | --no-sponza]
 // Bakes what it needs into /tmp first (a few minutes for Sponza).
 
 #include <GLFW/glfw3.h>
@@ -98,8 +98,9 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--frames") && i + 1 < argc) frames = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) json_path = argv[++i];
     else if (!std::strcmp(argv[i], "--sponza") && i + 1 < argc) sponza_level = argv[++i];
+    else if (!std::strcmp(argv[i], "--no-sponza")) sponza_level.clear();
     else {
-      std::fprintf(stderr, "usage: bench_runtime [--frames N] [--json OUT] [--sponza LEVEL]\n");
+      std::fprintf(stderr, "usage: bench_runtime [--frames N] [--json OUT] [--sponza LEVEL | --no-sponza]\n");
       return 2;
     }
   }
@@ -127,11 +128,12 @@ int main(int argc, char** argv) {
   };
   std::vector<LevelCase> levels = {{"cornell", cornellLevel(), {0, 1.0f, 0.3f}, 0.4f, 0.08f},
                                    {"sponza", sponza_level, {0, 5.0f, 0}, 4.0f, 0.4f}};
+  if (sponza_level.empty()) levels.pop_back();
   std::printf("\n1-2. frame time by stage (ms, mean of %d frames, every emitter current)\n", frames);
   std::printf("%-8s %-7s %4s | %8s %9s %7s %6s %8s | %7s %6s | %s\n", "level", "static", "objs", "maps", "reduction",
               "bounce", "upload", "total", "samples", "faces", "delta diff vs full");
   for (const LevelCase& lc : levels) {
-    const BakedLevel& level = bakedLevel(lc.name, lc.path, lc.name == "cornell" ? 0.3 : 0.1;
+    const BakedLevel& level = bakedLevel(lc.name, lc.path, lc.name == "cornell" ? 0.3 : 0.1);
     if (!level.bake.has_runtime_sections) {
       std::printf("%-8s: the bake has no runtime sections (the level has no dynamic content): skipped\n", lc.name.c_str());
       continue;

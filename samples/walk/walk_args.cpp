@@ -1,0 +1,119 @@
+#include "walk_args.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+#include "walk_script.h"
+
+namespace svit::walk {
+namespace {
+
+bool parseInt(const char* text, long min, long max, int& out) {
+  char* end = nullptr;
+  errno = 0;
+  const long v = std::strtol(text, &end, 10);
+  if (end == text || *end != '\0' || errno != 0 || v < min || v > max) return false;
+  out = int(v);
+  return true;
+}
+
+bool parseDouble(const char* text, double min, double max, double& out) {
+  char* end = nullptr;
+  const double v = std::strtod(text, &end);
+  if (end == text || *end != '\0' || !std::isfinite(v) || v < min || v > max) return false;
+  out = v;
+  return true;
+}
+
+}  // namespace
+
+void printUsage(FILE* out) {
+  std::fprintf(out,
+               "usage: svit-walk LEVEL --bake OUT [--headless] [--script S.json] [--frames N]\n"
+               "                 [--frames-out DIR] [--stats FILE] [--probe POINTS --probe-out FILE]\n"
+               "                 [--width W --height H] [--view baked|runtime|delta] [--budget-ms B] [--fps F]\n"
+               "  LEVEL            a .gltf/.glb or level .json\n"
+               "  --bake OUT       the bake directory (OUT/bake.svit) written by svit-bake for LEVEL\n"
+               "  --headless       no window: render N frames of simulated time (frame / fps)\n"
+               "  --script S.json  camera keys and per-frame events (samples/walk/README.md)\n"
+               "  --frames N       frames to render headless (default: the script's, else 90)\n"
+               "  --frames-out DIR write DIR/frame-0000.png ... (headless)\n"
+               "  --stats FILE     per-frame timings by stage as JSON\n"
+               "  --probe POINTS   lines 'x y z nx ny nz'; with --probe-out FILE, write the runtime's\n"
+               "                   irradiance 'r g b' (lux) per point after the last frame\n"
+               "  --width W --height H  frame size in pixels (default 640 x 360)\n"
+               "  --view V         baked, runtime (default) or delta\n"
+               "  --budget-ms B    runtime update budget per frame (0 = settle fully; default 0\n"
+               "                   headless, 8 in a window)\n"
+               "  --fps F          simulated frames per second (default: the script's, else 30)\n"
+               "exit: 0 ok, 1 bad input (level, bake, script, points), 2 bad usage\n");
+}
+
+ParsedArgs parseWalkArgs(int argc, const char* const* argv) {
+  ParsedArgs parsed;
+  WalkOptions& o = parsed.options;
+  auto fail = [&](const std::string& message) {
+    parsed.error = message;
+    return parsed;
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    // Options that take a value.
+    auto value = [&](const char*& out) {
+      if (i + 1 >= argc) return false;
+      out = argv[++i];
+      return true;
+    };
+    const char* v = nullptr;
+    if (arg == "--help" || arg == "-h") {
+      parsed.help = true;
+      return parsed;
+    } else if (arg == "--headless") {
+      o.headless = true;
+    } else if (arg == "--bake" || arg == "--script" || arg == "--frames-out" || arg == "--stats" ||
+               arg == "--probe" || arg == "--probe-out") {
+      if (!value(v) || *v == '\0') return fail(arg + " needs a path");
+      std::string& target = arg == "--bake"         ? o.bake_dir
+                            : arg == "--script"     ? o.script
+                            : arg == "--frames-out" ? o.frames_out
+                            : arg == "--stats"      ? o.stats
+                            : arg == "--probe"      ? o.probe
+                                                    : o.probe_out;
+      target = v;
+    } else if (arg == "--frames") {
+      int n = 0;
+      if (!value(v) || !parseInt(v, 1, 1000000, n)) return fail("--frames needs an integer in [1, 1000000]");
+      o.frames = n;
+    } else if (arg == "--width" || arg == "--height") {
+      int n = 0;
+      if (!value(v) || !parseInt(v, 16, 8192, n)) return fail(arg + " needs an integer in [16, 8192]");
+      (arg == "--width" ? o.width : o.height) = n;
+    } else if (arg == "--view") {
+      if (!value(v) || !parseView(v)) return fail("--view needs baked, runtime or delta");
+      o.view = parseView(v);
+    } else if (arg == "--budget-ms") {
+      double b = 0;
+      if (!value(v) || !parseDouble(v, 0, 1e6, b)) return fail("--budget-ms needs a number in [0, 1e6]");
+      o.budget_ms = b;
+    } else if (arg == "--fps") {
+      double f = 0;
+      if (!value(v) || !parseDouble(v, 1e-3, 1000, f)) return fail("--fps needs a number in (0, 1000]");
+      o.fps = float(f);
+    } else if (!arg.empty() && arg[0] == '-') {
+      return fail("unknown option '" + arg + "'");
+    } else if (o.level.empty()) {
+      o.level = arg;
+    } else {
+      return fail("unexpected argument '" + arg + "'");
+    }
+  }
+  if (o.level.empty()) return fail("no LEVEL given");
+  if (o.bake_dir.empty()) return fail("--bake OUT is required");
+  if (o.probe.empty() != o.probe_out.empty()) return fail("--probe and --probe-out go together");
+  if (!o.headless && (o.frames || !o.frames_out.empty())) return fail("--frames and --frames-out need --headless");
+  return parsed;
+}
+
+}  // namespace svit::walk

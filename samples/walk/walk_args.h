@@ -1,0 +1,39 @@
+#pragma once
+// svit-walk's command line (DESIGN.md "Command-line contracts").
+
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "svit/scene_renderer.h"
+
+namespace svit::walk {
+
+struct WalkOptions {
+  std::string level;       ///< LEVEL: .gltf/.glb or level .json
+  std::string bake_dir;    ///< --bake OUT: the directory holding bake.svit
+  bool headless = false;
+  std::string script;      ///< --script S.json, empty: none
+  std::optional<int> frames;  ///< --frames N (headless), else the script's or 90
+  std::string frames_out;  ///< --frames-out DIR (headless), empty: no PNGs
+  std::string stats;       ///< --stats FILE, empty: none
+  std::string probe;       ///< --probe POINTS
+  std::string probe_out;   ///< --probe-out FILE
+  int width = 640, height = 360;
+  std::optional<ShadingView> view;  ///< --view, default runtime
+  std::optional<double> budget_ms;  ///< --budget-ms; default 0 (settle) headless, 8 in a window
+  std::optional<float> fps;         ///< --fps; default the script's, else 30
+};
+
+/// What parsing found: options, a request for help, or a usage error.
+struct ParsedArgs {
+  WalkOptions options;
+  bool help = false;
+  std::string error;  ///< non-empty: bad usage (exit 2), says what is wrong
+};
+
+ParsedArgs parseWalkArgs(int argc, const char* const* argv);
+
+void printUsage(FILE* out);
+
+}  // namespace svit::walk

@@ -1,0 +1,38 @@
+#include "walk_headless.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "walk_camera.h"
+
+namespace svit::walk {
+
+Status runHeadless(WalkSession& session) {
+  using Clock = std::chrono::steady_clock;
+  for (int frame = 0; frame < session.frames; ++frame) {
+    const std::string where = "frame " + std::to_string(frame) + ": ";
+    const float t_s = float(frame) / session.fps;
+    const Clock::time_point start = Clock::now();
+    for (const WalkEvent& event : session.script.events) {
+      if (event.frame != frame) continue;
+      if (Status s = applyEvent(session, event); !s.ok()) return s;
+    }
+    Expected<FrameStats> lighting = stepLighting(session, t_s);
+    if (!lighting.ok()) return Status(lighting.status().code(), where + lighting.status().message());
+    const Camera camera = cameraAt(session.scene, session.overview, session.script.camera, t_s);
+    Expected<RenderStats> render = session.renderer->render(camera, session.view);
+    if (!render.ok()) return Status(render.status().code(), where + render.status().message());
+    const double frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    if (!session.options.frames_out.empty()) {
+      char name[32];
+      std::snprintf(name, sizeof name, "frame-%04d.png", frame);
+      const std::string png = (std::filesystem::path(session.options.frames_out) / name).string();
+      if (Status s = session.renderer->writePng(png); !s.ok()) return Status(s.code(), where + s.message());
+    }
+    session.stats.add({frame, double(t_s), *lighting, *render, frame_ms, session.view});
+  }
+  return Status();
+}
+
+}  // namespace svit::walk

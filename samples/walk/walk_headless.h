@@ -1,0 +1,16 @@
+#pragma once
+// The headless walkthrough: simulated time t = frame / fps, scripted events,
+// one update and one offscreen render per frame, PNGs and stats.
+
+#include "svit/status.h"
+#include "walk_session.h"
+
+namespace svit::walk {
+
+/// Runs session.frames frames. Per frame: the script's events for it, nodes
+/// placed at t, Runtime::update(budget), render from the script's or the
+/// level's camera, DIR/frame-NNNN.png with --frames-out, a stats record.
+/// Errors: a failed event, update, render or PNG write (names the frame).
+Status runHeadless(WalkSession& session);
+
+}  // namespace svit::walk

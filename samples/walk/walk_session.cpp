@@ -1,0 +1,138 @@
+#include "walk_session.h"
+
+#include <filesystem>
+
+#include "svit/gl_context.h"
+#include "svit/level.h"
+#include "walk_camera.h"
+
+namespace svit::walk {
+namespace {
+
+// The runtime scale of a baked light's bake emitter (kLight, same index).
+Status scaleBakedLight(WalkSession& session, int light) {
+  const float scale = session.baked_light_enabled[size_t(light)] ? session.baked_light_dimmer[size_t(light)] : 0.0f;
+  for (uint32_t e = 0; e < session.bake.emitters.size(); ++e) {
+    const BakeEmitter& emitter = session.bake.emitters[e];
+    if (emitter.kind != BakeEmitter::Kind::kLight || emitter.index != uint32_t(light)) continue;
+    if (Status s = session.runtime->setBakedEmitterScale(e, scale); !s.ok()) return s;
+  }
+  return Status();
+}
+
+}  // namespace
+
+Expected<std::unique_ptr<WalkSession>> openSession(const WalkOptions& options) {
+  auto session = std::make_unique<WalkSession>();
+  WalkSession& s = *session;
+  s.options = options;
+  Expected<Scene> scene = loadLevel(options.level);
+  if (!scene.ok()) return scene.status();
+  s.scene = std::move(scene).value();
+  const std::string bake_path = (std::filesystem::path(options.bake_dir) / "bake.svit").string();
+  Expected<BakeData> bake = readBakeFile(bake_path);
+  if (!bake.ok()) return bake.status();
+  s.bake = std::move(bake).value();
+  if (!options.script.empty()) {
+    Expected<WalkScript> script = readWalkScript(options.script, s.scene, s.bake);
+    if (!script.ok()) return script.status();
+    s.script = std::move(script).value();
+  }
+  s.fps = options.fps.value_or(s.script.fps.value_or(30.0f));
+  s.frames = options.frames.value_or(s.script.frames.value_or(90));
+  if (options.headless) {
+    if (Status st = checkEventFrames(s.script, options.script, s.frames); !st.ok()) return st;
+  }
+  s.budget_ms = options.budget_ms.value_or(options.headless ? 0.0 : 8.0);
+  s.view = options.view.value_or(ShadingView::kRuntime);
+  if (!options.probe.empty()) {
+    Expected<std::vector<ProbePoint>> points = readProbePoints(options.probe);
+    if (!points.ok()) return points.status();
+    s.probe_points = std::move(points).value();
+  }
+  s.baked_light_dimmer.assign(s.scene.lights.size(), 1.0f);
+  s.baked_light_enabled.assign(s.scene.lights.size(), true);
+  s.overview = levelOverview(s.scene);
+  s.motion = std::make_unique<LevelMotion>(s.scene);
+
+  Expected<std::unique_ptr<GlWindow>> window =
+      GlWindow::create(options.width, options.height, !options.headless, "svit-walk " + options.level);
+  if (!window.ok()) return window.status();
+  s.window = std::move(window).value();
+  Expected<GlContextInfo> gl = checkGlContext();
+  if (!gl.ok()) return gl.status();
+  s.gl_renderer = gl->renderer;
+  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(s.scene, s.bake, options.bake_dir);
+  if (!runtime.ok()) return runtime.status();
+  s.runtime = std::move(runtime).value();
+  SceneRendererSettings settings;
+  settings.width = options.width;
+  settings.height = options.height;
+  Expected<std::unique_ptr<SceneRenderer>> renderer =
+      SceneRenderer::create(s.scene, s.bake, options.bake_dir, s.runtime.get(), settings);
+  if (!renderer.ok()) return renderer.status();
+  s.renderer = std::move(renderer).value();
+  if (!options.frames_out.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(options.frames_out, ec);
+    if (ec) return Status(StatusCode::kIoError, options.frames_out + ": cannot create: " + ec.message());
+  }
+  return session;
+}
+
+Status applyEvent(WalkSession& session, const WalkEvent& event) {
+  const std::string where = session.options.script + ": " + event.field + ": ";
+  auto named = [&](const Status& s) { return s.ok() ? s : Status(s.code(), where + s.message()); };
+  switch (event.kind) {
+    case WalkEvent::Kind::kMove: {
+      Trs trs = session.motion->localTrs(event.node);
+      if (event.translation) trs.translation = *event.translation;
+      if (event.rotation) trs.rotation = *event.rotation;
+      if (event.scale) trs.scale = *event.scale;
+      session.motion->moveNode(event.node, trs);
+      return Status();
+    }
+    case WalkEvent::Kind::kLight: {
+      const LightId id = session.runtime->lightForSceneLight(event.light);
+      if (id == kInvalidId) {  // a baked light: scale its bake emitter
+        if (event.enabled) session.baked_light_enabled[size_t(event.light)] = *event.enabled;
+        if (event.dimmer) session.baked_light_dimmer[size_t(event.light)] = *event.dimmer;
+        return named(scaleBakedLight(session, event.light));
+      }
+      if (event.enabled) {
+        if (Status s = session.runtime->setLightEnabled(id, *event.enabled); !s.ok()) return named(s);
+      }
+      if (event.dimmer) return named(session.runtime->setLightDimmer(id, *event.dimmer));
+      return Status();
+    }
+    case WalkEvent::Kind::kBakedEmitter:
+      return named(session.runtime->setBakedEmitterScale(event.emitter, event.scale_factor));
+    case WalkEvent::Kind::kView:
+      session.view = event.view;
+      return Status();
+  }
+  return Status();
+}
+
+Expected<FrameStats> stepLighting(WalkSession& session, float t_s) {
+  session.motion->advance(t_s);
+  if (Status s = session.motion->applyTo(*session.runtime); !s.ok()) return s;
+  FrameStats stats = session.runtime->update(session.budget_ms);
+  if (!stats.error.empty()) return Status(StatusCode::kInternal, "runtime update: " + stats.error);
+  return stats;
+}
+
+Status writeOutputs(const WalkSession& session) {
+  if (!session.options.probe_out.empty()) {
+    std::vector<Rgb> values;
+    values.reserve(session.probe_points.size());
+    for (const ProbePoint& p : session.probe_points) values.push_back(session.runtime->irradianceAt(p.position, p.normal));
+    if (Status s = writeIrradiance(session.options.probe_out, values); !s.ok()) return s;
+  }
+  if (!session.options.stats.empty()) {
+    return session.stats.writeJson(session.options.stats, session.options.level, session.gl_renderer);
+  }
+  return Status();
+}
+
+}  // namespace svit::walk
