@@ -70,6 +70,10 @@ void main() {
     // Fixed PCF rotation: every pixel of the triangle gets the same estimate.
     vec3 baked_direct = svitDirectIrradianceRange(v_centroid, nf, 0, u_baked_light_end, 0.0);
     correction = v_patch_irradiance - baked_direct - probeIrradiance(v_centroid, nf);
+    // The runtime's own estimate for the triangle replaces the probes'
+    // variation across it: probes gathered with few rays are noisy, the
+    // triangle's index-map irradiance is not.
+    if (u_view == 1) indirect = probeIrradiance(v_centroid, nf);
   }
   vec3 direct = svitDirectIrradiance(v_position, n);
   if (u_view == 2) {
