@@ -30,8 +30,8 @@ enum class EmitterKind {
   kBakedLight,    ///< a static light of the bake (BakeData emitter index)
   kSun,           ///< the baked sun
   kSky,           ///< the baked sky
-  kStaticPatch,   ///< a bake patch (a group of runtime patches): re-shoots its baseline (bright) and deltas
-  kDynamicObject, ///< a dynamic object: emits and reflects
+  kStaticPatch,   ///< a shooter (runtime patches within one bake patch): re-shoots its baseline (bright) and deltas
+  kDynamicObject, ///< one facing of a dynamic object (kObjectShooters per object): emits and reflects
   kRuntimeLight,  ///< a light the game moves
 };
 
