@@ -1,10 +1,7 @@
 #include "svit/baker/probe.h"
 
-#include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -19,39 +16,6 @@ namespace {
 namespace fs = std::filesystem;
 
 }  // namespace
-
-Expected<std::vector<ProbePoint>> readProbePoints(const std::string& path) {
-  std::ifstream file(path);
-  if (!file) return Status(StatusCode::kNotFound, path + ": cannot open");
-  std::vector<ProbePoint> points;
-  std::string line;
-  for (size_t number = 1; std::getline(file, line); ++number) {
-    const size_t hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    std::istringstream in(line);
-    std::vector<std::string> tokens;
-    for (std::string token; in >> token;) tokens.push_back(token);
-    if (tokens.empty()) continue;
-    double v[6];
-    bool numbers = tokens.size() == 6;
-    for (size_t i = 0; numbers && i < 6; ++i) {
-      char* end = nullptr;
-      v[i] = std::strtod(tokens[i].c_str(), &end);
-      numbers = end != tokens[i].c_str() && *end == '\0';
-    }
-    if (!numbers) {
-      return Status(StatusCode::kInvalidInput, path + ":" + std::to_string(number) + ": expected 6 numbers 'x y z nx ny nz'");
-    }
-    for (double x : v) {
-      if (!std::isfinite(x)) return Status(StatusCode::kInvalidInput, path + ":" + std::to_string(number) + ": not finite");
-    }
-    if (v[3] == 0 && v[4] == 0 && v[5] == 0) {
-      return Status(StatusCode::kInvalidInput, path + ":" + std::to_string(number) + ": the normal is zero");
-    }
-    points.push_back({{float(v[0]), float(v[1]), float(v[2])}, {float(v[3]), float(v[4]), float(v[5])}});
-  }
-  return points;
-}
 
 Expected<std::vector<ProbeResult>> probeBake(const std::string& out_dir, const std::vector<ProbePoint>& points) {
   const std::string bake_path = (fs::path(out_dir) / "bake.svit").string();

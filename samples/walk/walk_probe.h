@@ -5,20 +5,16 @@
 #include <string>
 #include <vector>
 
+#include "svit/baked_surfaces.h"
 #include "svit/math_types.h"
 #include "svit/status.h"
 
 namespace svit::walk {
 
-struct ProbePoint {
-  Vec3 position;  ///< world, metres
-  Vec3 normal;    ///< unit (normalised on read), picks the surface side
-};
-
-/// Reads lines of six numbers; '#' starts a comment, blank lines are skipped.
-/// Errors name the file and line: `points.txt:3: expected 6 numbers 'x y z nx ny nz'`,
-/// non-finite values, a zero normal.
-Expected<std::vector<ProbePoint>> readProbePoints(const std::string& path);
+// Points are read with svit::readProbePoints (svit/baked_surfaces.h), the
+// reader svit-probe uses.
+using svit::ProbePoint;
+using svit::readProbePoints;
 
 /// Writes one 'r g b' line per value (NaN for a point off the static
 /// surfaces) via `path`.tmp and a rename. Errors name the path.

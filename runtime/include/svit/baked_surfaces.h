@@ -58,6 +58,17 @@ class BakedSurfaces {
   Aabb bounds_;
 };
 
+/// A point to look the bake up at, as svit-probe and svit-walk read them.
+struct ProbePoint {
+  Vec3 position;  ///< world, metres
+  Vec3 normal;    ///< the surface side asked about (need not be unit)
+};
+
+/// Reads "x y z nx ny nz" lines (blank lines and '#' comments skipped).
+/// Errors name the file and line: `points.txt:3: expected 6 numbers
+/// 'x y z nx ny nz'`, non-finite values, a zero normal.
+Expected<std::vector<ProbePoint>> readProbePoints(const std::string& path);
+
 /// Reads every lightmap page of a bake from `bake_dir`. Errors name the file.
 Expected<std::vector<LightmapImage>> readLightmapPages(const BakeData& bake, const std::string& bake_dir);
 

@@ -5,19 +5,15 @@
 #include <string>
 #include <vector>
 
+#include "svit/baked_surfaces.h"
 #include "svit/math_types.h"
 #include "svit/status.h"
 
 namespace svit::baker {
 
-struct ProbePoint {
-  Vec3 position;  ///< world, metres
-  Vec3 normal;    ///< the surface side asked about (need not be unit)
-};
-
-/// Reads "x y z nx ny nz" lines (blank lines and '#' comments skipped).
-/// Errors name the file and line.
-Expected<std::vector<ProbePoint>> readProbePoints(const std::string& path);
+// The points file format is shared with svit-walk (svit/baked_surfaces.h).
+using svit::ProbePoint;
+using svit::readProbePoints;
 
 struct ProbeResult {
   Rgb irradiance;        ///< lux, from the lightmap
