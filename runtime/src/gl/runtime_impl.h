@@ -128,7 +128,6 @@ struct Runtime::Impl {
   void solve(FrameStats& stats, std::vector<std::pair<double, uint32_t>>& wanted);
   void uploadDisplay(FrameStats& stats);
   uint32_t addGroupEmitter(uint32_t group, bool bright, double wanted_flux, double max_flux);
-  int32_t groupOf(uint32_t receiver) const;
   uint32_t addObjectInternal(rt::DynamicObject object);
 };
 

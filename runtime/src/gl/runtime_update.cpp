@@ -109,17 +109,6 @@ Status Runtime::Impl::ensureRenderer() {
   return Status();
 }
 
-int32_t Runtime::Impl::groupOf(uint32_t receiver) const {
-  if (receiver < static_receivers) return int32_t(patches.shooter[receiver]);
-  for (size_t o = 0; o < objects.size(); ++o) {
-    const rt::DynamicObject& object = objects[o];
-    if (receiver >= object.first_receiver && receiver < object.first_receiver + object.albedo.size()) {
-      return int32_t(static_groups + o * kObjectShooters + object.shooter_bin[receiver - object.first_receiver]);
-    }
-  }
-  return -1;
-}
-
 uint32_t Runtime::Impl::addGroupEmitter(uint32_t group, bool bright, double wanted_flux, double max_flux) {
   if (group_emitter[group] != kInvalidId) {
     emitters[group_emitter[group]].needs_baseline |= bright && group < static_groups;
@@ -357,7 +346,17 @@ void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint3
   }
   const auto t0 = Clock::now();
   std::vector<int32_t> group_of(n);
-  for (size_t r = 0; r < n; ++r) group_of[r] = groupOf(uint32_t(r));
+  // Which shooter each receiver reflects through: static patches by their
+  // shooter, object triangles by their object's facing (one pass per object,
+  // not a search per receiver).
+  for (uint32_t r = 0; r < static_receivers; ++r) group_of[r] = int32_t(patches.shooter[r]);
+  for (uint32_t r = static_receivers; r < n; ++r) group_of[r] = -1;
+  for (size_t o = 0; o < objects.size(); ++o) {
+    const rt::DynamicObject& object = objects[o];
+    for (size_t t = 0; t < object.albedo.size(); ++t) {
+      group_of[object.first_receiver + t] = int32_t(static_groups + o * kObjectShooters + object.shooter_bin[t]);
+    }
+  }
   std::vector<const rt::SparseShares*> shooters(group_emitter.size(), nullptr);
   for (size_t g = 0; g < group_emitter.size(); ++g) {
     const uint32_t id = group_emitter[g];
