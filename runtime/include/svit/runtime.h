@@ -57,6 +57,24 @@ struct RuntimeSettings {
   bool neighbour_ids = true;
   bool jitter_map_roll = true;  ///< rotate each sample's map frame (aliasing)
   uint64_t seed = 1;            ///< sample placement; same seed, same result
+
+  /// Importance caching (thesis 5.9-5.10), used while a view is set
+  /// (setView): an id pass from the camera counts the pixels of every
+  /// visible patch; each emitter's cached shares give its importance for
+  /// that view (light it puts on visible pixels, directly and through the
+  /// secondary emitters it lights); emitters whose maps are out of date
+  /// refresh most important first, the rest at intervals that double as
+  /// their importance halves. Off (or no view): brightest first.
+  bool importance_caching = true;
+  int view_pass_width = 128;     ///< id pass pixels across (height by aspect), 16..1024
+  int max_refresh_interval = 32; ///< frames an unimportant out-of-date emitter may wait, 1..1024
+  /// A budget in point samples (one map each) per update, 0 = none; unlike
+  /// milliseconds it gives the same schedule on every machine.
+  int max_samples_per_frame = 0;
+  /// Reference mode: every emitter with a dynamic object in its reach is
+  /// re-rendered every update, ignoring views and budgets (what caching is
+  /// measured against).
+  bool refresh_all = false;
 };
 
 /// A dynamic object the game adds at run time (the level's own dynamic nodes
@@ -73,6 +91,58 @@ struct DynamicMesh {
 using ObjectId = uint32_t;
 using LightId = uint32_t;
 inline constexpr uint32_t kInvalidId = 0xffffffffu;
+
+/// The camera the importance of emitters is judged for (Runtime::setView).
+struct RuntimeView {
+  Vec3 position{0, 0, 0};
+  Vec3 look_at{0, 0, -1};
+  Vec3 up{0, 1, 0};
+  float yfov_rad = 1.0471975512f;  ///< vertical field of view, (0, pi)
+  float aspect = 16.0f / 9.0f;     ///< width / height, > 0
+  float near_m = 0.05f;            ///< > 0
+};
+
+/// Why an emitter's maps were rendered in an update.
+enum class RefreshReason : uint32_t {
+  kImportant = 0,  ///< out of date and among the important ones (refreshes every frame)
+  kPromoted = 1,   ///< its importance rose since it went out of date (a door opened, the view turned)
+  kRoundRobin = 2, ///< out of date and unimportant: its interval ran out
+  kLightChanged = 3, ///< dimmed or switched without cached shares to scale
+  kBounce = 4,     ///< a new secondary emitter a bounce needed
+  kRefreshAll = 5, ///< RuntimeSettings::refresh_all
+  kNoView = 6,     ///< no view set (or caching off): brightest first
+};
+const char* refreshReasonName(RefreshReason reason);
+
+/// What kind of light an emitter is (EmitterState).
+enum class EmitterType : uint32_t {
+  kBakedLight = 0, ///< a static light of the bake
+  kSun = 1,
+  kSky = 2,
+  kStaticPatch = 3,   ///< a group of static patches: a lamp's emissive surface or a bright secondary emitter
+  kDynamicObject = 4, ///< one facing of a dynamic object (emissive, or reflecting a bounce)
+  kRuntimeLight = 5,
+};
+
+/// One emitter of the runtime and its cache (Runtime::emitterStates).
+struct EmitterState {
+  EmitterType type = EmitterType::kBakedLight;
+  uint32_t bake_emitter = kInvalidId;  ///< BakeData::emitters index, or kInvalidId
+  uint32_t light = kInvalidId;         ///< LightId of a runtime light, or kInvalidId
+  double importance = 0;    ///< for the current view: lux x pixels it accounts for (0 without a view)
+  uint32_t interval = 1;    ///< frames it may wait while out of date, by importance
+  bool out_of_date = false; ///< something moved in its reach since its last refresh
+  bool has_maps = false;    ///< cached shares exist
+  uint64_t refreshed_frame = 0;  ///< update() count of its last refresh, 0 = never
+  uint32_t samples = 0;
+};
+
+/// One emitter refreshed by an update, and why.
+struct EmitterRefresh {
+  uint32_t emitter = 0;  ///< emitterStates() index
+  RefreshReason reason = RefreshReason::kImportant;
+  double importance = 0;
+};
 
 /// What one update() did, by stage. Times are CPU wall clock including a
 /// GL finish per stage (so they are honest on any driver).
@@ -91,6 +161,9 @@ struct FrameStats {
   uint32_t bounce_rounds = 0;
   double unshot_share = 0;           ///< delta energy compensated as ambient / total |delta|
   uint32_t gl_objects_created = 0;   ///< buffers/textures allocated during this update
+  double view_ms = 0;                ///< camera id pass and importance (0 without a view)
+  uint32_t visible_patches = 0;      ///< patches the view pass saw
+  std::vector<EmitterRefresh> refreshes;  ///< which emitters refreshed and why, in order
   bool idle = false;                 ///< nothing to do: no dynamic content changed
   std::string error;                 ///< empty, or why the update could not finish (a GL failure)
 };
@@ -198,6 +271,15 @@ class Runtime {
   Expected<RuntimeLightInfo> lightInfo(LightId light) const;
 
   // ---- per frame ----
+  /// The camera the next updates rank emitters for (importance caching).
+  /// Errors: a non-finite value, position = look_at, up along the view,
+  /// field of view outside (0, pi), aspect or near <= 0.
+  Status setView(const RuntimeView& view);
+  /// Forgets the view: updates refresh brightest first again.
+  void clearView();
+  /// Every emitter the runtime keeps (index = EmitterRefresh::emitter) with
+  /// its importance for the last update's view.
+  std::vector<EmitterState> emitterStates() const;
   /// Brings the lighting up to date within about `budget_ms` of work
   /// (0 = no limit: settle fully). Emitters that did not fit stay pending
   /// and are refreshed by later calls. Returns what it did.

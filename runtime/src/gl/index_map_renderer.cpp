@@ -150,6 +150,9 @@ struct IndexMapRenderer::Impl {
   IndexMapSettings settings;
   GlProgram raster, reduce, fallback;
   GLuint vao = 0, fbo = 0, id_map = 0, depth_map = 0;
+  GLuint view_fbo = 0, view_ids = 0, view_depth = 0;  // countViewPixels' target, made on first use
+  int view_width = 0, view_height = 0;
+  std::vector<uint32_t> view_readback;  // scratch, 2 uints per pixel
   GLuint positions = 0, receivers = 0, accumulators = 0, samples = 0, layers = 0, small_flags = 0, counter = 0;
   size_t triangle_capacity = 0;     // of positions / receivers
   size_t accumulator_capacity = 0;  // uints
@@ -182,11 +185,12 @@ struct IndexMapRenderer::Impl {
     for (GLuint b : buffers) {
       if (b != 0) glDeleteBuffers(1, &b);
     }
-    const GLuint textures[] = {id_map, depth_map};
+    const GLuint textures[] = {id_map, depth_map, view_ids, view_depth};
     for (GLuint t : textures) {
       if (t != 0) glDeleteTextures(1, &t);
     }
     if (fbo != 0) glDeleteFramebuffers(1, &fbo);
+    if (view_fbo != 0) glDeleteFramebuffers(1, &view_fbo);
     if (vao != 0) glDeleteVertexArrays(1, &vao);
   }
 
@@ -685,6 +689,96 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
   if (Status s = checkGlError("IndexMapRenderer::gather"); !s.ok()) return s;
   if (stats_out) *stats_out = stats;
   return Status();
+}
+
+Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int height, std::vector<uint32_t>& pixels) {
+  Impl& m = *impl_;
+  if (!m.static_error.ok()) return m.static_error;
+  if (!m.dynamic_error.ok()) return m.dynamic_error;
+  if (width < 1 || height < 1 || width > 4096 || height > 4096) {
+    return Status(StatusCode::kInvalidInput, "index map view pass: " + std::to_string(width) + " x " +
+                                                 std::to_string(height) + " pixels is outside 1..4096");
+  }
+  const float values[] = {view.eye.x, view.eye.y, view.eye.z, view.right.x, view.right.y, view.right.z,
+                          view.up.x, view.up.y, view.up.z, view.forward.x, view.forward.y, view.forward.z,
+                          view.tan_half_x, view.tan_half_y, view.near_m};
+  for (float v : values) {
+    if (!std::isfinite(v)) return Status(StatusCode::kInvalidInput, "index map view pass: the view is not finite");
+  }
+  if (!(view.tan_half_x > 0 && view.tan_half_y > 0 && view.near_m > 0)) {
+    return Status(StatusCode::kInvalidInput, "index map view pass: field of view and near plane must be positive");
+  }
+  if (width != m.view_width || height != m.view_height) {
+    if (m.view_fbo != 0) glDeleteFramebuffers(1, &m.view_fbo);
+    const GLuint old[] = {m.view_ids, m.view_depth};
+    for (GLuint t : old) {
+      if (t != 0) glDeleteTextures(1, &t);
+    }
+    glCreateTextures(GL_TEXTURE_2D, 1, &m.view_ids);
+    glTextureStorage2D(m.view_ids, 1, GL_RG32UI, width, height);
+    glCreateTextures(GL_TEXTURE_2D, 1, &m.view_depth);
+    glTextureStorage2D(m.view_depth, 1, GL_DEPTH_COMPONENT32F, width, height);
+    glCreateFramebuffers(1, &m.view_fbo);
+    glNamedFramebufferTexture(m.view_fbo, GL_COLOR_ATTACHMENT0, m.view_ids, 0);
+    glNamedFramebufferTexture(m.view_fbo, GL_DEPTH_ATTACHMENT, m.view_depth, 0);
+    glNamedFramebufferDrawBuffer(m.view_fbo, GL_COLOR_ATTACHMENT0);
+    m.view_width = width;
+    m.view_height = height;
+    ++m.allocations;
+  }
+  const uint32_t triangles = m.triangleCount();
+  {
+    StateGuard guard;
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_RASTERIZER_DISCARD);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    glDisable(GL_STENCIL_TEST);
+    glDisable(GL_DEPTH_CLAMP);
+    glDisable(GL_SCISSOR_TEST);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);  // reversed depth, as the maps
+    glDepthMask(GL_TRUE);
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glFrontFace(GL_CCW);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.view_fbo);
+    glViewport(0, 0, width, height);
+    const GLuint clear_id[4] = {kNoReceiver, kNoTriangle, 0, 0};
+    const GLfloat clear_depth = 0.0f;
+    glClearBufferuiv(GL_COLOR, 0, clear_id);
+    glClearBufferfv(GL_DEPTH, 0, &clear_depth);
+    if (triangles > 0) {
+      const GLuint program = m.raster.id();
+      glUseProgram(program);
+      glBindVertexArray(m.vao);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kReceiversBinding, m.receivers);
+      // The maps' perspective face with the rows scaled by the field of
+      // view: clip x = right.d / tan_half_x, w = forward.d.
+      const Vec3 rows[3] = {view.right, view.up, view.forward};
+      const float scale[3] = {1.0f / view.tan_half_x, 1.0f / view.tan_half_y, 1.0f};
+      GLfloat view_from_world[9];
+      for (int r = 0; r < 3; ++r) {
+        const float row[3] = {rows[r].x, rows[r].y, rows[r].z};
+        for (int c = 0; c < 3; ++c) view_from_world[r * 3 + c] = row[c] * scale[r];
+      }
+      glProgramUniform3f(program, 0, view.eye.x, view.eye.y, view.eye.z);
+      glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, view_from_world);
+      glProgramUniform1i(program, 2, 0);
+      glProgramUniform1f(program, 3, view.near_m);
+      glDrawArrays(GL_TRIANGLES, 0, GLsizei(triangles) * 3);
+    }
+  }
+  const size_t count = size_t(width) * size_t(height);
+  m.view_readback.resize(2 * count);
+  glGetTextureImage(m.view_ids, 0, GL_RG_INTEGER, GL_UNSIGNED_INT, GLsizei(m.view_readback.size() * sizeof(uint32_t)),
+                    m.view_readback.data());
+  pixels.assign(m.receiver_count, 0u);
+  for (size_t i = 0; i < count; ++i) {
+    const uint32_t r = m.view_readback[2 * i];
+    if (r < m.receiver_count) ++pixels[r];
+  }
+  return checkGlError("IndexMapRenderer::countViewPixels");
 }
 
 }  // namespace svit::gl

@@ -92,6 +92,15 @@ struct GatherStats {
   double render_ms = 0, reduce_ms = 0, readback_ms = 0;  ///< CPU wall time incl. glFinish per stage
 };
 
+/// A camera for IndexMapRenderer::countViewPixels: perspective from `eye`
+/// along unit `forward`, with unit `right` and `up` and the tangents of the
+/// half fields of view.
+struct ViewFrame {
+  Vec3 eye, right, up, forward;
+  float tan_half_x = 1, tan_half_y = 1;
+  float near_m = 0.05f;
+};
+
 class IndexMapRenderer {
  public:
   /// Compiles the shaders and allocates the map array for
@@ -145,6 +154,15 @@ class IndexMapRenderer {
   /// leaves shader-storage bindings 0-6 and texture units 0-1 changed.
   Status gather(std::span<const PointSample> samples, uint32_t slot_count, std::vector<float>& shares,
                 GatherStats* stats = nullptr);
+
+  /// The visible patches of a view (thesis 5.9): renders receiver ids from
+  /// the camera into a width x height target (made on first use, remade
+  /// when the size changes) with the triangles set, and counts the pixels
+  /// of each receiver: pixels[r], resized to the receiver count. Pixels
+  /// showing no receiver (sky, black backs) count for none. Deterministic.
+  /// Errors: width or height outside [1, 4096], non-finite frame, a bad
+  /// triangle set. GL state: as gather().
+  Status countViewPixels(const ViewFrame& view, int width, int height, std::vector<uint32_t>& pixels);
 
   const IndexMapSettings& settings() const;
 

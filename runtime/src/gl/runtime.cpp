@@ -47,6 +47,11 @@ Status checkSettings(const RuntimeSettings& s) {
     return settingError("bounce_stop_share", s.bounce_stop_share, "[0, 1)");
   }
   if (!(s.temporal_blend > 0 && s.temporal_blend <= 1)) return settingError("temporal_blend", s.temporal_blend, "(0, 1]");
+  if (s.view_pass_width < 16 || s.view_pass_width > 1024) return settingError("view_pass_width", s.view_pass_width, "16..1024");
+  if (s.max_refresh_interval < 1 || s.max_refresh_interval > 1024) {
+    return settingError("max_refresh_interval", s.max_refresh_interval, "1..1024");
+  }
+  if (s.max_samples_per_frame < 0) return settingError("max_samples_per_frame", s.max_samples_per_frame, ">= 0");
   return Status();
 }
 
@@ -438,6 +443,63 @@ Expected<RuntimeLightInfo> Runtime::lightInfo(LightId id) const {
 }
 
 FrameStats Runtime::update(double budget_ms) { return impl_->update(budget_ms); }
+
+const char* refreshReasonName(RefreshReason reason) {
+  switch (reason) {
+    case RefreshReason::kImportant: return "important";
+    case RefreshReason::kPromoted: return "promoted";
+    case RefreshReason::kRoundRobin: return "round-robin";
+    case RefreshReason::kLightChanged: return "light-changed";
+    case RefreshReason::kBounce: return "bounce";
+    case RefreshReason::kRefreshAll: return "refresh-all";
+    case RefreshReason::kNoView: return "no-view";
+  }
+  return "unknown";
+}
+
+Status Runtime::setView(const RuntimeView& view) {
+  const float values[] = {view.position.x, view.position.y, view.position.z, view.look_at.x, view.look_at.y,
+                          view.look_at.z, view.up.x, view.up.y, view.up.z, view.yfov_rad, view.aspect, view.near_m};
+  for (float v : values) {
+    if (!std::isfinite(v)) return Status(StatusCode::kInvalidInput, "svit runtime: setView: the view is not finite");
+  }
+  const glm::vec3 forward = toGlm(view.look_at) - toGlm(view.position);
+  if (!(glm::length(forward) > 0)) return Status(StatusCode::kInvalidInput, "svit runtime: setView: position equals look_at");
+  if (!(glm::length(glm::cross(glm::normalize(forward), toGlm(view.up))) > 1e-6f)) {
+    return Status(StatusCode::kInvalidInput, "svit runtime: setView: up is zero or along the view direction");
+  }
+  if (!(view.yfov_rad > 0 && view.yfov_rad < 3.14159265f)) {
+    return Status(StatusCode::kInvalidInput, "svit runtime: setView: yfov_rad " + std::to_string(view.yfov_rad) + " is outside (0, pi)");
+  }
+  if (!(view.aspect > 0) || !(view.near_m > 0)) {
+    return Status(StatusCode::kInvalidInput, "svit runtime: setView: aspect and near_m must be positive");
+  }
+  impl_->view = view;
+  impl_->has_view = true;
+  return Status();
+}
+
+void Runtime::clearView() { impl_->has_view = false; }
+
+std::vector<EmitterState> Runtime::emitterStates() const {
+  const Impl& m = *impl_;
+  std::vector<EmitterState> states;
+  states.reserve(m.emitters.size());
+  for (const Emitter& e : m.emitters) {
+    EmitterState s;
+    s.type = EmitterType(uint32_t(e.kind));
+    s.bake_emitter = e.bake_emitter;
+    if (e.kind == EmitterKind::kRuntimeLight) s.light = e.index;
+    s.importance = e.importance;
+    s.interval = e.interval;
+    s.out_of_date = m.outOfDate(e) && m.needsMaps(e);
+    s.has_maps = e.has_current || e.has_baseline;
+    s.refreshed_frame = e.refreshed_frame;
+    s.samples = uint32_t(e.samples.empty() ? size_t(e.sample_count) : e.samples.size());
+    states.push_back(s);
+  }
+  return states;
+}
 
 Rgb Runtime::irradianceAt(const Vec3& point, const Vec3& normal, float max_distance_m) const {
   const float nan = std::numeric_limits<float>::quiet_NaN();

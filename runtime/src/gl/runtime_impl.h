@@ -13,6 +13,7 @@
 #include "emitter_samples.h"
 #include "index_map_renderer.h"
 #include "receivers.h"
+#include "refresh_scheduler.h"
 #include "runtime_patches.h"
 #include "svit/baked_surfaces.h"
 #include "svit/lightmap_image.h"
@@ -26,7 +27,10 @@ namespace rt = gl;
 /// axis of their object-space normal (+x, -x, +y, -y, +z, -z).
 inline constexpr uint32_t kObjectShooters = 6;
 
-enum class EmitterKind {
+inline double lum(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+inline glm::dvec3 dvec(const Rgb& c) { return {c.r, c.g, c.b}; }
+
+enum class EmitterKind {  // same order as svit::EmitterType
   kBakedLight,    ///< a static light of the bake (BakeData emitter index)
   kSun,           ///< the baked sun
   kSky,           ///< the baked sky
@@ -49,7 +53,21 @@ struct Emitter {
   bool stale = true;           ///< current out of date (something moved in its region)
   bool samples_stale = true;   ///< the emitter itself moved
   Aabb region;                 ///< samples and everything its shares light
+  bool region_known = false;   ///< from its maps or the bake's factors; unknown = anything may matter
+  Aabb source_box;             ///< where its light leaves from (samples, lamp, shooter patches)
+  bool touched = false;        ///< a dynamic object in its reach (Impl::updateReach, once per update)
   uint64_t refreshed_frame = 0;
+  /// Baked emitters: the bake's baseline factors spread over the runtime
+  /// patches by area, for importance and reach before the first map.
+  rt::SparseShares bake_shares;
+  bool bounce_requested = false;  ///< made because a bounce had delta to shoot through it
+  // Importance caching (emitter_importance.h, refresh_scheduler.h).
+  double importance = 0;        ///< for the last view
+  uint32_t interval = 1;        ///< frames it may wait while out of date
+  bool waiting = false;         ///< out of date and not yet refreshed
+  uint64_t waiting_since = 0;   ///< frame it went out of date
+  uint32_t queued_interval = 1; ///< its interval then
+  double settled_importance = 0; ///< its importance in the last view it was up to date in
 };
 
 struct RuntimeLightState {
@@ -111,6 +129,10 @@ struct Runtime::Impl {
   bool pending_wanted = false;  ///< the last bounce wanted shares it did not have
   uint64_t frame = 0;
   double ms_per_sample = 0.5;  ///< running estimate for the budget
+  bool has_view = false;       ///< setView() called (and not cleared)
+  RuntimeView view;
+  std::vector<uint32_t> view_pixels;  ///< per receiver, from the last view pass
+  double top_importance = 0;          ///< the most important emitter's, last view
 
   // GL (created only when the level has runtime content).
   std::unique_ptr<rt::IndexMapRenderer> renderer;
@@ -122,6 +144,16 @@ struct Runtime::Impl {
 
   FrameStats update(double budget_ms);
   Status ensureRenderer();
+  void initBakeShares(Emitter& e) const;
+  std::vector<int32_t> receiverGroups() const;
+  double emitterScale(const Emitter& e) const;
+  bool reaches(const Emitter& e, const Aabb& box) const;
+  bool reachesAnyObject(const Emitter& e) const;
+  void updateReach();
+  bool needsMaps(const Emitter& e) const;
+  bool outOfDate(const Emitter& e) const;
+  void rankForView(FrameStats& stats);
+  std::vector<rt::RefreshCandidate> refreshCandidates();
   void invalidateMoved();
   void refreshSamples(Emitter& e);
   Status gatherShares(std::vector<uint32_t> emitter_ids, bool baseline, FrameStats& stats);

@@ -14,33 +14,20 @@
 #include <numeric>
 
 #include "glm_interop.h"
+#include "aabb_ops.h"
 #include "delta_atlas.h"
 #include "runtime_impl.h"
 
 namespace svit {
 namespace {
 
+using rt::grow;
+using rt::overlaps;
+
 using Clock = std::chrono::steady_clock;
 
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-double lum(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
-glm::dvec3 dvec(const Rgb& c) { return {c.r, c.g, c.b}; }
-
-bool overlaps(const Aabb& a, const Aabb& b) {
-  return !a.empty() && !b.empty() && a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y &&
-         b.min.y <= a.max.y && a.min.z <= b.max.z && b.min.z <= a.max.z;
-}
-
-void grow(Aabb& box, const Vec3& p) {
-  box.min = {std::min(box.min.x, p.x), std::min(box.min.y, p.y), std::min(box.min.z, p.z)};
-  box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y), std::max(box.max.z, p.z)};
-}
-void grow(Aabb& box, const Aabb& other) {
-  if (other.empty()) return;
-  grow(box, other.min);
-  grow(box, other.max);
-}
 
 int sampleCount(double flux, double max_flux, const RuntimeSettings& s) {
   if (!(max_flux > 0)) return s.min_samples_per_emitter;
@@ -88,6 +75,8 @@ Status Runtime::Impl::ensureRenderer() {
     e.index = i;
     e.bake_emitter = i;
     e.needs_baseline = true;
+    e.flux = dvec(be.flux);  // until its samples give the exact lobe's flux
+    initBakeShares(e);
     emitters.push_back(std::move(e));
   }
   double covered = 0;
@@ -104,6 +93,7 @@ Status Runtime::Impl::ensureRenderer() {
       if (patches.shooter_bake_patch[g] != be.index) continue;
       const uint32_t id = addGroupEmitter(g, true, group_flux[g], max_flux);
       emitters[id].bake_emitter = i;
+      initBakeShares(emitters[id]);
     }
   }
   return Status();
@@ -121,6 +111,7 @@ uint32_t Runtime::Impl::addGroupEmitter(uint32_t group, bool bright, double want
   if (e.kind == EmitterKind::kStaticPatch) {
     for (uint32_t r : patches.shooter_members[group]) e.flux += patches.baseline[r] * double(receivers[r].area_m2);
   }
+  if (e.kind == EmitterKind::kDynamicObject) e.flux = glm::dvec3(wanted_flux);
   e.sample_count = sampleCount(wanted_flux, max_flux, settings);
   emitters.push_back(std::move(e));
   group_emitter[group] = uint32_t(emitters.size() - 1);
@@ -203,7 +194,7 @@ void Runtime::Impl::invalidateMoved() {
   for (Emitter& e : emitters) {
     if (e.stale) continue;
     for (const Aabb& box : moved_boxes) {
-      if (overlaps(e.region, box)) {
+      if (reaches(e, box)) {
         e.stale = true;
         break;
       }
@@ -250,8 +241,9 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
       Emitter& e = emitters[ids[i]];
       rt::SparseShares sparse;
       const float* row = shares.data() + (i - begin) * receiver_count;
-      Aabb region;
+      Aabb region, source;
       for (const rt::PointSample& s : e.samples) {
+        if (s.lobe != rt::Lobe::kParallel) grow(source, s.position);
         if (s.lobe != rt::Lobe::kParallel) grow(region, s.position);
       }
       for (uint32_t r = 0; r < receiver_count; ++r) {
@@ -268,6 +260,8 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
         // Parallel light crosses the whole window: any change anywhere matters.
         region = Aabb{{-3e38f, -3e38f, -3e38f}, {3e38f, 3e38f, 3e38f}};
       }
+      grow(e.source_box, source);
+      e.region_known = true;
       if (baseline) {
         e.baseline = std::move(sparse);
         e.has_baseline = true;
@@ -345,18 +339,7 @@ void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint3
     }
   }
   const auto t0 = Clock::now();
-  std::vector<int32_t> group_of(n);
-  // Which shooter each receiver reflects through: static patches by their
-  // shooter, object triangles by their object's facing (one pass per object,
-  // not a search per receiver).
-  for (uint32_t r = 0; r < static_receivers; ++r) group_of[r] = int32_t(patches.shooter[r]);
-  for (uint32_t r = static_receivers; r < n; ++r) group_of[r] = -1;
-  for (size_t o = 0; o < objects.size(); ++o) {
-    const rt::DynamicObject& object = objects[o];
-    for (size_t t = 0; t < object.albedo.size(); ++t) {
-      group_of[object.first_receiver + t] = int32_t(static_groups + o * kObjectShooters + object.shooter_bin[t]);
-    }
-  }
+  const std::vector<int32_t> group_of = receiverGroups();
   std::vector<const rt::SparseShares*> shooters(group_emitter.size(), nullptr);
   for (size_t g = 0; g < group_emitter.size(); ++g) {
     const uint32_t id = group_emitter[g];
@@ -458,10 +441,10 @@ FrameStats Runtime::Impl::update(double budget_ms) {
   FrameStats stats;
   ++frame;
   gl_objects_created = 0;
-  const bool anything_stale = std::any_of(emitters.begin(), emitters.end(), [](const Emitter& e) {
-    return e.stale || (e.needs_baseline && !e.has_baseline);
+  const bool anything_due = std::any_of(emitters.begin(), emitters.end(), [&](const Emitter& e) {
+    return settings.refresh_all ? needsMaps(e) : (outOfDate(e) && needsMaps(e)) || (e.stale && e.needs_baseline);
   });
-  if (!have_content || (!dynamic_geometry_changed && !lighting_changed && !anything_stale && !pending_wanted)) {
+  if (!have_content || (!dynamic_geometry_changed && !lighting_changed && !anything_due && !pending_wanted)) {
     stats.idle = true;
     stats.total_ms = msSince(start);
     return stats;
@@ -511,68 +494,85 @@ FrameStats Runtime::Impl::update(double budget_ms) {
     lights[i].emitter = uint32_t(emitters.size() - 1);
   }
   invalidateMoved();
+  updateReach();
   lighting_changed = false;
-
-  const double budget = budget_ms > 0 ? budget_ms : std::numeric_limits<double>::infinity();
-  // Takes emitters (best first) while their estimated cost fits what is left;
-  // the first always goes, so every frame makes progress.
-  auto takeWithinBudget = [&](std::vector<uint32_t>& candidates) {
-    std::vector<uint32_t> chosen;
-    double cost = 0;
-    const double left = budget - msSince(start);
-    for (uint32_t id : candidates) {
-      const double c = ms_per_sample * double(std::max<size_t>(emitters[id].samples.empty() ? size_t(emitters[id].sample_count)
-                                                                                          : emitters[id].samples.size(), 1));
-      if (!chosen.empty() && cost + c > left) break;
-      chosen.push_back(id);
-      cost += c;
-    }
-    return chosen;
-  };
-  auto byFlux = [&](uint32_t a, uint32_t b) {
-    const double fa = lum(emitters[a].flux), fb = lum(emitters[b].flux);
-    return fa > fb || (fa == fb && a < b);
-  };
-  Status status;
-  // Baselines first: the static level's shares, computed once per emitter.
-  std::vector<uint32_t> need;
-  for (uint32_t i = 0; i < emitters.size(); ++i) {
-    if (emitters[i].needs_baseline && !emitters[i].has_baseline) {
-      if (emitters[i].samples.empty()) refreshSamples(emitters[i]);
-      need.push_back(i);
+  if (settings.refresh_all) {
+    for (Emitter& e : emitters) {
+      if (needsMaps(e)) e.stale = true;
     }
   }
-  std::sort(need.begin(), need.end(), byFlux);
-  std::vector<uint32_t> chosen = takeWithinBudget(need);
-  status = gatherShares(chosen, true, stats);
-  for (uint32_t id : chosen) {
+  // A baked emitter with nothing dynamic in its reach and its baked scale
+  // adds exactly nothing: it settles to its baseline without a map.
+  for (Emitter& e : emitters) {
+    if (!e.needs_baseline || !e.stale || needsMaps(e)) continue;
+    e.has_current = e.has_baseline;
+    e.current = e.has_baseline ? e.baseline : rt::SparseShares{};
+    e.stale = false;
+    e.waiting = false;
+  }
+
+  // Which emitters refresh: by importance for the view (thesis 5.10), or
+  // brightest first without one.
+  const bool by_view = has_view && settings.importance_caching && !settings.refresh_all;
+  if (by_view) {
+    rankForView(stats);
+  } else {
+    top_importance = 0;
+    for (Emitter& e : emitters) {
+      e.importance = std::max(0.0, lum(e.flux)) * std::max(1.0, emitterScale(e));
+      e.interval = 1;
+    }
+  }
+  const std::vector<rt::RefreshCandidate> candidates = refreshCandidates();
+  double budget = std::numeric_limits<double>::infinity();
+  if (!settings.refresh_all) {
+    if (budget_ms > 0) budget = std::max(0.0, budget_ms - msSince(start)) / ms_per_sample;
+    if (settings.max_samples_per_frame > 0) budget = std::min(budget, double(settings.max_samples_per_frame));
+  }
+  const std::vector<rt::RefreshDecision> decisions = rt::scheduleRefreshes(
+      candidates, frame, by_view ? top_importance : 0.0, by_view ? uint32_t(settings.max_refresh_interval) : 1u, budget);
+  Status status;
+  // Baselines first (the static level's shares, once per emitter); an
+  // emitter nothing dynamic reaches then needs no second map.
+  std::vector<uint32_t> baseline_ids, current_ids;
+  for (const rt::RefreshDecision& d : decisions) {
+    Emitter& e = emitters[d.emitter];
+    if (e.needs_baseline && !e.has_baseline) baseline_ids.push_back(d.emitter);
+    RefreshReason reason = d.reason;
+    if (!by_view && reason != RefreshReason::kLightChanged) reason = RefreshReason::kNoView;
+    if (settings.refresh_all) reason = RefreshReason::kRefreshAll;
+    stats.refreshes.push_back({d.emitter, reason, d.importance});
+  }
+  status = gatherShares(baseline_ids, true, stats);
+  for (uint32_t id : baseline_ids) {
     Emitter& e = emitters[id];
-    bool touched = false;
-    for (const rt::DynamicObject& object : objects) touched |= overlaps(e.region, object.bounds);
-    if (!touched) {
-      // Nothing dynamic in its reach: current = baseline, no second map.
+    e.touched = reachesAnyObject(e);  // its reach is known now
+    if (!e.touched) {
       e.current = e.baseline;
       e.has_current = true;
       e.stale = false;
+      e.refreshed_frame = frame;
+      ++stats.emitters_refreshed;
     } else {
       e.stale = true;
     }
   }
-  // Then emitters whose maps are out of date, brightest first.
-  need.clear();
-  for (uint32_t i = 0; i < emitters.size(); ++i) {
-    const Emitter& e = emitters[i];
-    if ((e.stale || !e.has_current) && (!e.needs_baseline || e.has_baseline)) need.push_back(i);
+  for (const rt::RefreshDecision& d : decisions) {
+    Emitter& e = emitters[d.emitter];
+    if (e.stale || !e.has_current) current_ids.push_back(d.emitter);
   }
-  std::sort(need.begin(), need.end(), byFlux);
-  chosen = takeWithinBudget(need);
-  if (status.ok()) status = gatherShares(chosen, false, stats);
+  if (status.ok()) status = gatherShares(current_ids, false, stats);
+  for (const rt::RefreshDecision& d : decisions) {
+    Emitter& e = emitters[d.emitter];
+    if (!outOfDate(e)) e.waiting = false;
+    e.region_known = e.region_known || e.has_current;
+  }
   // Bounce; receivers whose reflected delta had no shares to go through get
   // emitters (fewer samples as energy falls), budget permitting, and the
   // bounce is solved again with them.
   std::vector<std::pair<double, uint32_t>> wanted;
   solve(stats, wanted);
-  for (int pass = 0; status.ok() && pass < 2 && !wanted.empty() && msSince(start) < budget; ++pass) {
+  for (int pass = 0; status.ok() && pass < 2 && !wanted.empty() && msSince(start) < (budget_ms > 0 ? budget_ms : 1e300); ++pass) {
     double total = 0, covered = 0;
     for (auto& [w, r] : wanted) total += w;
     std::vector<uint32_t> fresh;
@@ -580,11 +580,30 @@ FrameStats Runtime::Impl::update(double budget_ms) {
       if (covered >= (1.0 - settings.bounce_stop_share) * total) break;
       covered += w;
       const uint32_t id = addGroupEmitter(r, false, w, wanted.front().first);
+      emitters[id].bounce_requested = true;
       if (!emitters[id].has_current) fresh.push_back(id);
     }
-    chosen = takeWithinBudget(fresh);
+    // Within what is left of the budget, most wanted first (the order of `wanted`).
+    std::vector<rt::RefreshCandidate> bounce_candidates;
+    for (uint32_t id : fresh) {
+      rt::RefreshCandidate c;
+      c.emitter = id;
+      c.importance = double(fresh.size() - bounce_candidates.size());
+      c.cost = double(std::max(emitters[id].sample_count, 1));
+      bounce_candidates.push_back(c);
+    }
+    double left = budget;
+    for (const EmitterRefresh& r : stats.refreshes) left -= double(std::max<size_t>(emitters[r.emitter].samples.size(), 1));
+    const std::vector<rt::RefreshDecision> chosen =
+        rt::scheduleRefreshes(bounce_candidates, frame, 0.0, 1, stats.refreshes.empty() ? budget : left);
     if (chosen.empty()) break;
-    status = gatherShares(chosen, false, stats);
+    std::vector<uint32_t> ids;
+    for (const rt::RefreshDecision& d : chosen) {
+      ids.push_back(d.emitter);
+      stats.refreshes.push_back({d.emitter, RefreshReason::kBounce, emitters[d.emitter].importance});
+    }
+    status = gatherShares(ids, false, stats);
+    for (uint32_t id : ids) emitters[id].region_known = true;
     wanted.clear();
     solve(stats, wanted);
   }
@@ -594,7 +613,7 @@ FrameStats Runtime::Impl::update(double budget_ms) {
   }
   if (!status.ok()) stats.error = status.message();
   for (const Emitter& e : emitters) {
-    if (e.stale || !e.has_current) ++stats.emitters_pending;
+    if (outOfDate(e) && needsMaps(e)) ++stats.emitters_pending;
   }
   uploadDisplay(stats);
   stats.gl_objects_created = gl_objects_created;

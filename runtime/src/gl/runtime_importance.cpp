@@ -1,0 +1,241 @@
+// Importance caching in the runtime (thesis 5.9-5.10): what each emitter
+// needs (maps at all? out of date?), its importance for the view set with
+// Runtime::setView, and the candidates the refresh scheduler picks from.
+// An emitter with no dynamic object in its reach and its baked scale needs
+// no map at all: its delta against the bake is exactly zero.
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "aabb_ops.h"
+#include "emitter_importance.h"
+#include "glm_interop.h"
+#include "runtime_impl.h"
+
+namespace svit {
+
+void Runtime::Impl::initBakeShares(Emitter& e) const {
+  if (e.bake_emitter == kInvalidId) return;
+  const BakeEmitter& be = bake.emitters[e.bake_emitter];
+  // Each bake patch's factor spread over its runtime patches by area.
+  std::vector<std::pair<uint32_t, float>> entries;
+  for (size_t i = 0; i < be.patches.size(); ++i) {
+    const uint32_t p = be.patches[i];
+    if (p >= patches.bake_members.size()) continue;
+    double area = 0;
+    for (uint32_t r : patches.bake_members[p]) area += receivers[r].area_m2;
+    if (!(area > 0)) continue;
+    for (uint32_t r : patches.bake_members[p]) {
+      const float share = float(double(be.factors[i]) * receivers[r].area_m2 / area);
+      if (share > 0) entries.push_back({r, share});
+    }
+  }
+  std::sort(entries.begin(), entries.end());
+  e.bake_shares = {};
+  for (auto& [r, share] : entries) {
+    if (!e.bake_shares.receivers.empty() && e.bake_shares.receivers.back() == r) {
+      e.bake_shares.shares.back() += share;
+    } else {
+      e.bake_shares.receivers.push_back(r);
+      e.bake_shares.shares.push_back(share);
+    }
+  }
+  // Reach: what the bake saw it light, and the light itself. The sun and
+  // the sky reach everything.
+  if (be.kind == BakeEmitter::Kind::kSun || be.kind == BakeEmitter::Kind::kSky) {
+    e.region = Aabb{{-3e38f, -3e38f, -3e38f}, {3e38f, 3e38f, 3e38f}};
+    e.region_known = true;
+    return;
+  }
+  if (be.kind == BakeEmitter::Kind::kLight) rt::grow(e.source_box, scene.lights[be.index].position);
+  if (e.kind == EmitterKind::kStaticPatch) {
+    for (uint32_t r : patches.shooter_members[e.index]) rt::grow(e.source_box, patches.bounds[r]);
+  }
+  e.region = e.source_box;
+  for (uint32_t r : e.bake_shares.receivers) rt::grow(e.region, patches.bounds[r]);
+  e.region_known = true;
+}
+
+std::vector<int32_t> Runtime::Impl::receiverGroups() const {
+  // Static patches reflect through their shooter, object triangles through
+  // their object's facing (one pass per object, not a search per receiver).
+  const size_t n = receivers.size();
+  std::vector<int32_t> group_of(n, -1);
+  for (uint32_t r = 0; r < static_receivers; ++r) group_of[r] = int32_t(patches.shooter[r]);
+  for (size_t o = 0; o < objects.size(); ++o) {
+    const rt::DynamicObject& object = objects[o];
+    for (size_t t = 0; t < object.albedo.size(); ++t) {
+      group_of[object.first_receiver + t] = int32_t(static_groups + o * kObjectShooters + object.shooter_bin[t]);
+    }
+  }
+  return group_of;
+}
+
+double Runtime::Impl::emitterScale(const Emitter& e) const {
+  return e.bake_emitter == kInvalidId ? 1.0 : double(bake_emitter_scale[e.bake_emitter]);
+}
+
+bool Runtime::Impl::reaches(const Emitter& e, const Aabb& box) const {
+  if (!e.region_known) return true;
+  if (!rt::overlaps(e.region, box)) return false;
+  if (e.region.max.x > 1e38f || rt::overlaps(e.source_box, box)) return true;  // parallel light, or at the source
+  // Light to a patch travels inside the box of the source and the patch: an
+  // object outside every such box can neither shadow what the emitter lights
+  // nor catch its light (in a closed level, a lit object stands in front of
+  // some patch the emitter lit without it). Finer than the one region box,
+  // which spans two rooms' worth of corners when light passes a doorway.
+  auto any = [&](const rt::SparseShares& shares) {
+    for (uint32_t r : shares.receivers) {
+      Aabb hull = e.source_box;
+      if (r < static_receivers) {
+        rt::grow(hull, patches.bounds[r]);
+      } else {
+        rt::grow(hull, receivers[r].centroid);
+      }
+      if (rt::overlaps(hull, box)) return true;
+    }
+    return false;
+  };
+  if (e.has_current && any(e.current)) return true;
+  if (e.has_baseline) return any(e.baseline);
+  return any(e.bake_shares);
+}
+
+bool Runtime::Impl::reachesAnyObject(const Emitter& e) const {
+  for (const rt::DynamicObject& object : objects) {
+    if (object.visible && !object.removed && reaches(e, object.bounds)) return true;
+  }
+  return false;
+}
+
+void Runtime::Impl::updateReach() {
+  for (Emitter& e : emitters) e.touched = reachesAnyObject(e);
+}
+
+bool Runtime::Impl::needsMaps(const Emitter& e) const {
+  switch (e.kind) {
+    case EmitterKind::kBakedLight:
+    case EmitterKind::kSun:
+    case EmitterKind::kSky:
+      return emitterScale(e) != 1.0 || e.touched;
+    case EmitterKind::kStaticPatch:
+      return e.bounce_requested || emitterScale(e) != 1.0 || (e.needs_baseline && e.touched);
+    case EmitterKind::kDynamicObject: {
+      const rt::DynamicObject& object = objects[e.index / kObjectShooters];
+      return object.visible && !object.removed;
+    }
+    case EmitterKind::kRuntimeLight:
+      return !lights[e.index].removed && lights[e.index].enabled;
+  }
+  return false;
+}
+
+bool Runtime::Impl::outOfDate(const Emitter& e) const {
+  return e.stale || !e.has_current || (e.needs_baseline && !e.has_baseline);
+}
+
+void Runtime::Impl::rankForView(FrameStats& stats) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const glm::vec3 eye = toGlm(view.position);
+  const glm::vec3 forward = glm::normalize(toGlm(view.look_at) - eye);
+  const glm::vec3 right = glm::normalize(glm::cross(forward, toGlm(view.up)));
+  const glm::vec3 up = glm::cross(right, forward);
+  rt::ViewFrame frame_view;
+  frame_view.eye = view.position;
+  frame_view.right = fromGlm(right);
+  frame_view.up = fromGlm(up);
+  frame_view.forward = fromGlm(forward);
+  frame_view.tan_half_y = std::tan(0.5f * view.yfov_rad);
+  frame_view.tan_half_x = frame_view.tan_half_y * view.aspect;
+  frame_view.near_m = view.near_m;
+  const int width = settings.view_pass_width;
+  const int height = std::clamp(int(std::lround(double(width) / double(view.aspect))), 1, 4096);
+  renderer->setReceiverCount(uint32_t(receivers.size()));
+  if (Status s = renderer->countViewPixels(frame_view, width, height, view_pixels); !s.ok()) {
+    stats.error = s.message();
+    view_pixels.assign(receivers.size(), 0u);
+  }
+  rt::ViewWeights weights;
+  const size_t n = receivers.size();
+  weights.weight.resize(n);
+  weights.reflectance.resize(n);
+  for (size_t r = 0; r < n; ++r) {
+    const double rho = lum(dvec(receivers[r].albedo));
+    weights.reflectance[r] = rho;
+    const double area = receivers[r].area_m2;
+    weights.weight[r] = area > 0 && r < view_pixels.size() ? double(view_pixels[r]) * rho / area : 0.0;
+    if (r < view_pixels.size() && view_pixels[r] > 0) ++stats.visible_patches;
+  }
+  weights.group_of = receiverGroups();
+  weights.group_shares.assign(group_emitter.size(), nullptr);
+  for (size_t g = 0; g < group_emitter.size(); ++g) {
+    const uint32_t id = group_emitter[g];
+    if (id != kInvalidId && emitters[id].has_current) weights.group_shares[g] = &emitters[id].current;
+  }
+  std::vector<rt::ImportanceQuery> queries(emitters.size());
+  for (size_t i = 0; i < emitters.size(); ++i) {
+    const Emitter& e = emitters[i];
+    rt::ImportanceQuery& q = queries[i];
+    q.flux = std::max(0.0, lum(e.flux)) * std::max(1.0, emitterScale(e));
+    if (e.kind == EmitterKind::kRuntimeLight) {
+      const RuntimeLightState& light = lights[e.index];
+      q.flux = std::max(0.0, lum(dvec(light.light.color)) * double(light.light.intensity) * double(light.dimmer) *
+                                 rt::lightLobeSolidAngle(light.light));
+    }
+    // An out-of-date cache counts what it lit and what the static level
+    // lets it light (a door that opened, an object that left).
+    if (e.has_current) q.shares.push_back(&e.current);
+    if (outOfDate(e) || !e.has_current) {
+      if (e.has_baseline) {
+        q.shares.push_back(&e.baseline);
+      } else if (!e.bake_shares.receivers.empty()) {
+        q.shares.push_back(&e.bake_shares);
+      }
+    }
+    if (e.kind == EmitterKind::kStaticPatch) q.own_group = int32_t(e.index);
+  }
+  const std::vector<double> importance = rt::emitterImportance(weights, queries);
+  top_importance = 0;
+  for (double v : importance) top_importance = std::max(top_importance, v);
+  const uint32_t max_interval = uint32_t(settings.max_refresh_interval);
+  for (size_t i = 0; i < emitters.size(); ++i) {
+    Emitter& e = emitters[i];
+    e.importance = importance[i];
+    e.interval = rt::refreshInterval(importance[i], top_importance, max_interval);
+    if (!outOfDate(e)) e.settled_importance = importance[i];
+  }
+  stats.view_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<rt::RefreshCandidate> Runtime::Impl::refreshCandidates() {
+  std::vector<rt::RefreshCandidate> candidates;
+  for (uint32_t i = 0; i < emitters.size(); ++i) {
+    Emitter& e = emitters[i];
+    if (!needsMaps(e)) continue;
+    if (!settings.refresh_all && !outOfDate(e)) continue;
+    if (!e.waiting) {
+      e.waiting = true;
+      e.waiting_since = frame;
+      e.queued_interval = e.interval;
+    }
+    rt::RefreshCandidate c;
+    c.emitter = i;
+    c.importance = e.importance;
+    const size_t samples = e.samples.empty() ? size_t(e.sample_count) : e.samples.size();
+    c.cost = double(std::max<size_t>(samples, 1)) * (e.needs_baseline && !e.has_baseline ? 2.0 : 1.0);
+    c.waiting_since = e.waiting_since;
+    c.queued_interval = e.queued_interval;
+    c.settled_importance = e.settled_importance;
+    // Switched or dimmed with nothing cached to scale, or new light: shows
+    // in the very next frame whatever its importance.
+    c.urgent = (emitterScale(e) != 1.0 && e.needs_baseline && !e.has_baseline) ||
+               ((e.kind == EmitterKind::kRuntimeLight || e.kind == EmitterKind::kDynamicObject) && !e.has_current);
+    candidates.push_back(c);
+  }
+  return candidates;
+}
+
+}  // namespace svit
