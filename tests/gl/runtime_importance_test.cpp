@@ -177,15 +177,6 @@ RefreshLog slideTablesAndLog(const test::BakedLevel& level, std::unique_ptr<Runt
     const FrameStats stats = runtime->update(0);
     EXPECT_TRUE(stats.error.empty()) << stats.error;
     for (const EmitterRefresh& r : stats.refreshes) log.emplace_back(frame, r.emitter, r.reason);
-    if (std::getenv("SVIT_DEBUG_SCHEDULE")) {
-      std::printf("frame %d: %zu refreshes, %u samples, pending %u:", frame, stats.refreshes.size(), stats.samples_rendered, stats.emitters_pending);
-      for (const EmitterRefresh& r : stats.refreshes) std::printf(" %u(%s)", r.emitter, refreshReasonName(r.reason));
-      std::printf("\n");
-      const std::vector<EmitterState> states = runtime->emitterStates();
-      for (size_t i = 0; i < states.size(); ++i) {
-        if (states[i].out_of_date) std::printf("   waiting %zu type %u imp %.3g interval %u samples %u\n", i, unsigned(states[i].type), states[i].importance, states[i].interval, states[i].samples);
-      }
-    }
   }
   return log;
 }

@@ -1,0 +1,298 @@
+// Importance caching benchmark (issue 7), headless under xvfb-run on
+// whatever GL is there (Mesa llvmpipe on the CI machines). On a generated
+// house (samples/levels/house/make_house.py, baked by importance_bench.sh):
+//  1. a walk through four rooms while every table in the house slides, two
+//     runtimes side by side in this process: refresh-all (every emitter a
+//     moving table can reach re-rendered every frame) and importance
+//     caching with a per-frame sample budget; per-frame cost of each and
+//     the caching runtime's irradiance error against refresh-all at probe
+//     points in the camera's room;
+//  2. a door next to the camera's room opens: frames until the next room's
+//     lamps have refreshed;
+//  3. a lamp of the camera's room switched off: the irradiance under it the
+//     very next frame against the settled value.
+// usage: bench_importance LEVEL.json BAKE_DIR [--budget SAMPLES] [--stop-frames N] [--json OUT]
+
+#include <GLFW/glfw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "svit/bake_file.h"
+#include "svit/gl_context.h"
+#include "svit/level.h"
+#include "svit/runtime.h"
+
+namespace {
+
+using namespace svit;
+
+constexpr float kPitch = 4.2f;  // room + wall, make_house.py
+constexpr float kRoom = 4.0f;
+
+#define BENCH_CHECK(cond, message)                                                      \
+  do {                                                                                  \
+    if (!(cond)) {                                                                      \
+      std::fprintf(stderr, "bench_importance: %s\n", std::string(message).c_str());    \
+      std::exit(1);                                                                     \
+    }                                                                                   \
+  } while (0)
+
+int nodeIndex(const Scene& scene, const std::string& name) {
+  for (size_t i = 0; i < scene.nodes.size(); ++i) {
+    if (scene.nodes[i].name == name) return int(i);
+  }
+  return -1;
+}
+
+struct Room {
+  int i = 0, j = 0;
+  float x0() const { return float(i) * kPitch; }
+  float z0() const { return float(j) * kPitch; }
+};
+
+/// Floor (3 x 3) and wall (two per wall, clear of the doorway in the middle) probes of a room.
+std::vector<std::pair<Vec3, Vec3>> roomProbes(const Room& room) {
+  std::vector<std::pair<Vec3, Vec3>> probes;
+  for (float a : {1.0f, 2.0f, 3.0f}) {
+    for (float b : {1.0f, 2.0f, 3.0f}) probes.push_back({{room.x0() + a, 0.0f, room.z0() + b}, {0, 1, 0}});
+  }
+  for (float a : {0.8f, 3.2f}) {
+    probes.push_back({{room.x0() + a, 1.5f, room.z0()}, {0, 0, 1}});
+    probes.push_back({{room.x0() + a, 1.5f, room.z0() + kRoom}, {0, 0, -1}});
+    probes.push_back({{room.x0(), 1.5f, room.z0() + a}, {1, 0, 0}});
+    probes.push_back({{room.x0() + kRoom, 1.5f, room.z0() + a}, {-1, 0, 0}});
+  }
+  return probes;
+}
+
+/// Standing in `room` looking at the doorway towards `next`.
+RuntimeView viewTowards(const Room& room, const Room& next) {
+  RuntimeView view;
+  view.position = {room.x0() + 2.0f, 1.6f, room.z0() + 2.0f};
+  view.look_at = {0.5f * (room.x0() + next.x0()) + 2.0f, 1.3f, 0.5f * (room.z0() + next.z0()) + 2.0f};
+  view.yfov_rad = 1.2f;
+  view.aspect = 16.0f / 9.0f;
+  return view;
+}
+
+Mat4 slid(const Mat4& placed, float dx) {
+  Mat4 out = placed;
+  out.m[12] += dx;
+  return out;
+}
+
+Mat4 yRotated(const Mat4& placed, float angle) {
+  Mat4 out = placed;
+  const float c = std::cos(angle), s = std::sin(angle);
+  out.m = {c, 0, -s, 0, 0, 1, 0, 0, s, 0, c, 0, placed.m[12], placed.m[13], placed.m[14], 1};
+  return out;
+}
+
+std::unique_ptr<Runtime> makeRuntime(const Scene& scene, const BakeData& bake, const std::string& dir, int rooms,
+                                     bool refresh_all, int budget) {
+  RuntimeSettings settings;
+  // Equal resolution per room whatever the house's size.
+  settings.target_patches = 128 * rooms;
+  settings.target_shooters = 16 * rooms;
+  settings.map_resolution = 64;
+  settings.max_samples_per_emitter = 4;
+  settings.refresh_all = refresh_all;
+  settings.max_samples_per_frame = refresh_all ? 0 : budget;
+  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(scene, bake, dir, settings);
+  BENCH_CHECK(runtime.ok(), runtime.status().message());
+  return std::move(runtime).value();
+}
+
+double lum(const Rgb& c) { return luminance(c); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: bench_importance LEVEL.json BAKE_DIR [--budget SAMPLES] [--stop-frames N] [--json OUT]\n");
+    return 2;
+  }
+  const std::string level_path = argv[1], bake_dir = argv[2];
+  int budget = 48, stop_frames = 6;
+  std::string json_path;
+  for (int i = 3; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--budget") && i + 1 < argc) {
+      budget = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--stop-frames") && i + 1 < argc) {
+      stop_frames = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) {
+      json_path = argv[++i];
+    } else {
+      std::fprintf(stderr, "bench_importance: unknown argument %s\n", argv[i]);
+      return 2;
+    }
+  }
+  Expected<Scene> loaded = loadLevel(level_path);
+  BENCH_CHECK(loaded.ok(), loaded.status().message());
+  const Scene scene = std::move(loaded).value();
+  Expected<BakeData> read = readBakeFile(bake_dir + "/bake.svit");
+  BENCH_CHECK(read.ok(), read.status().message());
+  const BakeData bake = std::move(read).value();
+  int rooms = 0;
+  std::vector<std::string> tables;
+  for (const Node& node : scene.nodes) {
+    if (node.name.rfind("table_", 0) == 0) tables.push_back(node.name);
+  }
+  rooms = int(tables.size());
+  BENCH_CHECK(rooms >= 4, "the level has fewer than 4 rooms (tables)");
+
+  BENCH_CHECK(glfwInit() == GLFW_TRUE, "no display (run under xvfb-run -a)");
+  glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  GLFWwindow* window = glfwCreateWindow(64, 64, "bench_importance", nullptr, nullptr);
+  BENCH_CHECK(window != nullptr, "no OpenGL 4.5 core context");
+  glfwMakeContextCurrent(window);
+  const std::string renderer = checkGlContext()->renderer;
+  std::printf("bench_importance: %s, %d rooms, %zu lamps, budget %d samples/frame, GL: %s\n", level_path.c_str(), rooms,
+              scene.lights.size(), budget, renderer.c_str());
+
+  // ---- 1. the walk: refresh-all against caching, side by side ----
+  std::unique_ptr<Runtime> all = makeRuntime(scene, bake, bake_dir, rooms, true, budget);
+  std::unique_ptr<Runtime> cached = makeRuntime(scene, bake, bake_dir, rooms, false, budget);
+  std::vector<std::pair<ObjectId, Mat4>> table_ids;
+  for (const std::string& name : tables) {
+    const ObjectId id = all->objectForNode(nodeIndex(scene, name));
+    BENCH_CHECK(id != kInvalidId && cached->objectForNode(nodeIndex(scene, name)) == id, "table " + name);
+    table_ids.push_back({id, all->objectInfo(id)->world_from_object});
+  }
+  // Both start settled on the level as placed.
+  const FrameStats first_all = all->update(0);
+  for (int f = 0; f < 400 && cached->update(0).emitters_pending > 0; ++f) {
+  }
+  const std::vector<Room> walk = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  double time_all = 0, time_cached = 0, error_sum = 0, samples_all = 0, samples_cached = 0;
+  int frames = 0;
+  nlohmann::json frame_log = nlohmann::json::array();
+  for (size_t stop = 0; stop < walk.size(); ++stop) {
+    const Room room = walk[stop], next = walk[(stop + 1) % walk.size()];
+    BENCH_CHECK(cached->setView(viewTowards(room, next)).ok(), "setView");
+    for (int f = 0; f < stop_frames; ++f, ++frames) {
+      const float dx = 0.3f * std::sin(0.7f * float(frames + 1));
+      for (auto& [id, placed] : table_ids) {
+        BENCH_CHECK(all->setObjectTransform(id, slid(placed, dx)).ok(), "move");
+        BENCH_CHECK(cached->setObjectTransform(id, slid(placed, dx)).ok(), "move");
+      }
+      const FrameStats a = all->update(0);
+      const FrameStats c = cached->update(0);
+      BENCH_CHECK(a.error.empty() && c.error.empty(), a.error + c.error);
+      double diff = 0, ref = 0;
+      for (const auto& [p, n] : roomProbes(room)) {
+        const double ea = lum(all->irradianceAt(p, n)), ec = lum(cached->irradianceAt(p, n));
+        if (!std::isfinite(ea) || !std::isfinite(ec)) continue;
+        diff += std::abs(ec - ea);
+        ref += ea;
+      }
+      const double error = ref > 0 ? diff / ref : 0;
+      time_all += a.total_ms;
+      time_cached += c.total_ms;
+      samples_all += a.samples_rendered;
+      samples_cached += c.samples_rendered;
+      error_sum += error;
+      std::map<std::string, int> reasons;
+      for (const EmitterRefresh& r : c.refreshes) ++reasons[refreshReasonName(r.reason)];
+      frame_log.push_back({{"frame", frames}, {"room", {room.i, room.j}}, {"all_ms", a.total_ms}, {"cached_ms", c.total_ms},
+                           {"all_samples", a.samples_rendered}, {"cached_samples", c.samples_rendered},
+                           {"cached_view_ms", c.view_ms}, {"error", error}, {"reasons", reasons}});
+      std::printf("frame %2d room %d,%d: refresh-all %8.1f ms (%5u samples), caching %7.1f ms (%4u samples, view %.1f ms), "
+                  "error %.2f%%\n",
+                  frames, room.i, room.j, a.total_ms, a.samples_rendered, c.total_ms, c.samples_rendered, c.view_ms,
+                  100 * error);
+      std::fflush(stdout);
+    }
+  }
+  const double mean_all = time_all / frames, mean_cached = time_cached / frames, mean_error = error_sum / frames;
+  std::printf("walk: %d frames; per frame refresh-all %.1f ms (%.0f samples), caching %.1f ms (%.0f samples): "
+              "ratio %.3f; error in the camera's room vs refresh-all %.2f%% (mean)\n",
+              frames, mean_all, samples_all / frames, mean_cached, samples_cached / frames, mean_cached / mean_all,
+              100 * mean_error);
+  (void)first_all;
+  all.reset();
+
+  // ---- 2. a door next to the camera's room opens ----
+  // door_z1_0 joins rooms (0, 0) and (0, 1); closed is a quarter turn.
+  std::unique_ptr<Runtime> runtime = makeRuntime(scene, bake, bake_dir, rooms, false, budget);
+  BENCH_CHECK(runtime->setView(viewTowards({0, 0}, {0, 1})).ok(), "setView");
+  const ObjectId door = runtime->objectForNode(nodeIndex(scene, "door_z1_0"));
+  BENCH_CHECK(door != kInvalidId, "door_z1_0");
+  const Mat4 open = runtime->objectInfo(door)->world_from_object;
+  BENCH_CHECK(runtime->setObjectTransform(door, yRotated(open, 1.5707963f)).ok(), "close");
+  for (int f = 0; f < 400 && runtime->update(0).emitters_pending > 0; ++f) {
+  }
+  std::set<uint32_t> next_lamps;
+  const std::vector<EmitterState> states = runtime->emitterStates();
+  for (uint32_t e = 0; e < states.size(); ++e) {
+    if (states[e].type != EmitterType::kBakedLight) continue;
+    const Light& light = scene.lights[bake.emitters[states[e].bake_emitter].index];
+    if (light.position.x < kPitch && light.position.z > kPitch && light.position.z < 2 * kPitch) next_lamps.insert(e);
+  }
+  BENCH_CHECK(next_lamps.size() == 2, "room (0, 1) should have two lamps");
+  BENCH_CHECK(runtime->setObjectTransform(door, open).ok(), "open");
+  int door_frames = 0;
+  std::set<uint32_t> refreshed;
+  while (door_frames < 32) {
+    ++door_frames;
+    for (const EmitterRefresh& r : runtime->update(0).refreshes) {
+      if (next_lamps.count(r.emitter)) refreshed.insert(r.emitter);
+    }
+    if (refreshed.size() == next_lamps.size()) break;
+  }
+  std::printf("door: the next room's two lamps refreshed within %d frame(s) of the door opening\n", door_frames);
+
+  // ---- 3. a lamp of the camera's room switched off ----
+  uint32_t lamp_emitter = kInvalidId;
+  Vec3 lamp_position{};
+  for (uint32_t i = 0; i < bake.emitters.size(); ++i) {
+    if (bake.emitters[i].kind != BakeEmitter::Kind::kLight) continue;
+    const Light& light = scene.lights[bake.emitters[i].index];
+    if (light.position.x < kPitch && light.position.z < kPitch) {
+      lamp_emitter = i;
+      lamp_position = light.position;
+      break;
+    }
+  }
+  BENCH_CHECK(lamp_emitter != kInvalidId, "no lamp in room (0, 0)");
+  for (int f = 0; f < 400 && runtime->update(0).emitters_pending > 0; ++f) {
+  }
+  const Vec3 under{lamp_position.x, 0.0f, lamp_position.z}, up{0, 1, 0};
+  const double lit = lum(runtime->irradianceAt(under, up));
+  BENCH_CHECK(runtime->setBakedEmitterScale(lamp_emitter, 0.0f).ok(), "switch off");
+  runtime->update(0);
+  const double next_frame = lum(runtime->irradianceAt(under, up));
+  for (int f = 0; f < 400 && runtime->update(0).emitters_pending > 0; ++f) {
+  }
+  const double settled = lum(runtime->irradianceAt(under, up));
+  std::printf("lamp off: floor under it %.2f lux lit, %.2f the next frame, %.2f settled (next frame off by %.2f%% of lit)\n",
+              lit, next_frame, settled, 100 * std::abs(next_frame - settled) / lit);
+
+  if (!json_path.empty()) {
+    nlohmann::json out = {{"level", level_path}, {"rooms", rooms}, {"lamps", scene.lights.size()}, {"gl", renderer},
+                          {"budget_samples", budget}, {"frames", frames}, {"refresh_all_ms", mean_all},
+                          {"caching_ms", mean_cached}, {"cost_ratio", mean_cached / mean_all},
+                          {"refresh_all_samples", samples_all / frames}, {"caching_samples", samples_cached / frames},
+                          {"mean_error", mean_error}, {"door_frames", door_frames}, {"lamp_off_lit", lit},
+                          {"lamp_off_next_frame", next_frame}, {"lamp_off_settled", settled}, {"walk", frame_log}};
+    std::ofstream(json_path) << out.dump(1) << "\n";
+  }
+  runtime.reset();
+  cached.reset();
+  glfwDestroyWindow(window);
+  glfwTerminate();
+  return 0;
+}

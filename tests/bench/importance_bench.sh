@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Importance caching benchmark (issue 7): generates the house at 2 x 2 and
+# 8 x 8 rooms (samples/levels/house/make_house.py), bakes each, and runs
+# bench_importance on both under Xvfb, writing OUT/house-RxR.json.
+# usage: tests/bench/importance_bench.sh [BUILD_DIR] [OUT_DIR] [BUDGET_SAMPLES]
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+build="${1:-$root/build/bench}"
+out="${2:-$root/out/bench-importance}"
+budget="${3:-48}"
+mkdir -p "$out"
+for n in 2 8; do
+  dir="$out/house-${n}x${n}"
+  mkdir -p "$dir"
+  python3 "$root/samples/levels/house/make_house.py" --rooms-x "$n" --rooms-z "$n" --out "$dir"
+  if [[ ! -f "$dir/bake/bake.svit" ]]; then
+    "$build/baker/svit-bake" "$dir/level.json" -o "$dir/bake" --quality 0.2 --quiet
+  fi
+  xvfb-run -a -s "-screen 0 640x480x24" "$build/tests/bench/bench_importance" "$dir/level.json" "$dir/bake" \
+    --budget "$budget" --json "$out/house-${n}x${n}.json"
+done

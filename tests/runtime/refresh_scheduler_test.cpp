@@ -1,0 +1,136 @@
+// The refresh schedule and emitter importance of importance caching
+// (runtime/src/gl/refresh_scheduler.h, emitter_importance.h): pure CPU.
+
+#include <gtest/gtest.h>
+
+#include "emitter_importance.h"
+#include "refresh_scheduler.h"
+
+namespace svit::gl {
+namespace {
+
+RefreshCandidate candidate(uint32_t emitter, double importance, double cost = 1, uint64_t waiting_since = 1) {
+  RefreshCandidate c;
+  c.emitter = emitter;
+  c.importance = importance;
+  c.cost = cost;
+  c.waiting_since = waiting_since;
+  c.queued_interval = 1;
+  return c;
+}
+
+TEST(RefreshInterval, DoublesPerFourfoldDropAndCaps) {
+  EXPECT_EQ(refreshInterval(100, 100, 32), 1u);
+  EXPECT_EQ(refreshInterval(26, 100, 32), 1u);
+  EXPECT_EQ(refreshInterval(25, 100, 32), 2u);
+  EXPECT_EQ(refreshInterval(100.0 / 16, 100, 32), 4u);
+  EXPECT_EQ(refreshInterval(100.0 / 64, 100, 32), 8u);
+  EXPECT_EQ(refreshInterval(1e-9, 100, 32), 32u);
+  EXPECT_EQ(refreshInterval(0, 100, 32), 32u);
+  EXPECT_EQ(refreshInterval(5, 0, 32), 32u);
+  EXPECT_EQ(refreshInterval(1e-300, 1e300, 8), 8u);
+}
+
+TEST(ScheduleRefreshes, ImportantEveryFrameTheRestAtTheirInterval) {
+  // Emitter 0 is the view's most important, 1 is 16x less (interval 4).
+  std::vector<int> refreshed(2, 0);
+  uint64_t waiting_since[2] = {1, 1};
+  for (uint64_t frame = 1; frame <= 16; ++frame) {
+    std::vector<RefreshCandidate> c = {candidate(0, 100, 1, waiting_since[0]), candidate(1, 100.0 / 16, 1, waiting_since[1])};
+    for (const RefreshDecision& d : scheduleRefreshes(c, frame, 100, 32, 1e9)) {
+      ++refreshed[d.emitter];
+      waiting_since[d.emitter] = frame + 1;  // out of date again next frame
+      EXPECT_EQ(d.reason, d.emitter == 0 ? RefreshReason::kImportant : RefreshReason::kRoundRobin);
+    }
+  }
+  EXPECT_EQ(refreshed[0], 16);
+  EXPECT_EQ(refreshed[1], 4);
+}
+
+TEST(ScheduleRefreshes, ARisenImportancePromotesAtOnce) {
+  RefreshCandidate low = candidate(3, 1.0, 1, 10);
+  low.queued_interval = refreshInterval(1.0, 1000, 32);
+  EXPECT_TRUE(scheduleRefreshes({candidate(0, 1000), low}, 10, 1000, 32, 1e9).size() == 1);
+  // The door opens: it now lights visible patches (importance 40 >= 2 x 1).
+  low.importance = 40;
+  low.settled_importance = 1;
+  const std::vector<RefreshDecision> chosen = scheduleRefreshes({candidate(0, 1000), low}, 10, 1000, 32, 1e9);
+  ASSERT_EQ(chosen.size(), 2u);
+  EXPECT_EQ(chosen[1].emitter, 3u);
+  EXPECT_EQ(chosen[1].reason, RefreshReason::kPromoted);
+}
+
+TEST(ScheduleRefreshes, UrgentAlwaysGoesFirstWhateverTheBudget) {
+  RefreshCandidate urgent = candidate(7, 0.0, 5);
+  urgent.urgent = true;
+  const std::vector<RefreshDecision> chosen = scheduleRefreshes({candidate(0, 1000, 1), urgent}, 1, 1000, 32, 1);
+  ASSERT_GE(chosen.size(), 1u);
+  EXPECT_EQ(chosen[0].emitter, 7u);
+  EXPECT_EQ(chosen[0].reason, RefreshReason::kLightChanged);
+}
+
+TEST(ScheduleRefreshes, ASmallBudgetStillServesTheLongestWaiting) {
+  // Ten important emitters would fill the budget of 8; two overdue
+  // unimportant ones still get the quarter kept for them.
+  std::vector<RefreshCandidate> c;
+  for (uint32_t i = 0; i < 10; ++i) c.push_back(candidate(i, 1000 - i, 1, 20));
+  c.push_back(candidate(100, 1, 1, 2));
+  c.push_back(candidate(101, 1, 1, 5));
+  const std::vector<RefreshDecision> chosen = scheduleRefreshes(c, 20, 1000, 8, 8);
+  ASSERT_EQ(chosen.size(), 8u);
+  EXPECT_EQ(chosen[0].emitter, 0u);
+  EXPECT_EQ(chosen[6].emitter, 100u);  // longest waiting first
+  EXPECT_EQ(chosen[7].emitter, 101u);
+  EXPECT_EQ(chosen[6].reason, RefreshReason::kRoundRobin);
+}
+
+TEST(ScheduleRefreshes, TheFirstAlwaysGoesAndTheScheduleIsDeterministic) {
+  std::vector<RefreshCandidate> c = {candidate(4, 10, 50), candidate(2, 10, 1), candidate(9, 10, 1)};
+  const std::vector<RefreshDecision> a = scheduleRefreshes(c, 3, 10, 32, 2);
+  const std::vector<RefreshDecision> b = scheduleRefreshes(c, 3, 10, 32, 2);
+  ASSERT_EQ(a.size(), 1u);  // ties by id: 2 first, then 4 does not fit
+  EXPECT_EQ(a[0].emitter, 2u);
+  ASSERT_EQ(b.size(), a.size());
+  EXPECT_EQ(b[0].emitter, a[0].emitter);
+}
+
+// Two rooms: receivers 0-1 in the viewed room, 2-3 in the other. Group 0
+// (receivers 0-1) and group 1 (2-3) shoot.
+ViewWeights twoRooms() {
+  ViewWeights v;
+  v.weight = {10, 10, 0, 0};
+  v.reflectance = {0.5, 0.5, 0.5, 0.5};
+  v.group_of = {0, 0, 1, 1};
+  v.group_shares = {nullptr, nullptr};
+  return v;
+}
+
+TEST(EmitterImportance, DirectLightOnVisiblePixels) {
+  SparseShares here{{0, 1}, {0.25f, 0.25f}}, there{{2, 3}, {0.5f, 0.5f}};
+  const std::vector<double> imp = emitterImportance(twoRooms(), {{100, {&here}, -1}, {100, {&there}, -1}});
+  // 100 lm x (0.25 + 0.25) x 10 = 500, plus its light reflected by group 0,
+  // whose V is borrowed from the emitter itself: 100 x 0.5 x 0.5 x 5 = 125.
+  EXPECT_NEAR(imp[0], 625, 1e-9);
+  EXPECT_NEAR(imp[1], 0, 1e-12);
+}
+
+TEST(EmitterImportance, ThroughASecondaryEmitterThatLightsTheView) {
+  // The other room's lamp lights only receivers 2-3; their group 1 shoots
+  // half its flux onto receiver 0 (a doorway).
+  SparseShares lamp{{2, 3}, {0.5f, 0.5f}}, wall{{0}, {0.5f}};
+  ViewWeights v = twoRooms();
+  v.group_shares = {nullptr, &wall};
+  const std::vector<double> imp = emitterImportance(v, {{100, {&lamp}, -1}});
+  // V_1 = 0.5 x 10 = 5 per lm; reflected 100 x 1 x 0.5 = 50 lm -> 250.
+  EXPECT_NEAR(imp[0], 250, 1e-9);
+}
+
+TEST(EmitterImportance, AnOutOfDateCacheCountsItsLargerShareSet) {
+  SparseShares door_shut{{2}, {0.5f}}, door_open{{0, 2}, {0.3f, 0.2f}};
+  const std::vector<double> imp = emitterImportance(twoRooms(), {{10, {&door_shut, &door_open}, -1}});
+  // At least what the open door's set puts on visible pixels directly: 10 lm x 0.3 x 10.
+  EXPECT_GE(imp[0], 30.0 - 1e-9);
+}
+
+}  // namespace
+}  // namespace svit::gl
