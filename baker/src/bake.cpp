@@ -331,7 +331,9 @@ Expected<BakeResult> bakeLevel(const BakeOptions& options, const std::function<b
                        {"subdivisions", stats.subdivisions},
                        {"est_rel_error", solver_error},
                        {"compensation", stats.compensation},
-                       {"captured_fraction", stats.captured_fraction}};
+                       {"captured_fraction", stats.captured_fraction},
+                       {"back_absorbed_rays", stats.back_absorbed},
+                       {"inside_origin_rays", stats.inside_origin_rays}};
   json["lightmap"] = {{"pages", pages.images.size()},
                       {"page_width", texels->page_width},
                       {"page_height", texels->page_height},

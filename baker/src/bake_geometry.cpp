@@ -2,12 +2,40 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
 
 #include <glm/glm.hpp>
 
 #include "glm_interop.h"
 
 namespace svit::baker {
+namespace {
+
+std::string vecText(const glm::dvec3& p) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%g, %g, %g)", p.x, p.y, p.z);
+  return text;
+}
+
+// "file: node 'Name' mesh 'Mesh' triangle 3" for messages.
+std::string triangleLabel(const Scene& scene, const Instance& instance, const Mesh& mesh, size_t t) {
+  std::string label = scene.source_path + ": ";
+  if (instance.node >= 0 && size_t(instance.node) < scene.nodes.size()) {
+    label += "node '" + scene.nodes[size_t(instance.node)].name + "' ";
+  }
+  label += "mesh '" + mesh.name + "'";
+  if (t < mesh.triangle_source.size()) {
+    label += " primitive " + std::to_string(mesh.triangle_source[t].primitive) + " triangle " +
+             std::to_string(mesh.triangle_source[t].triangle);
+  } else {
+    label += " triangle " + std::to_string(t);
+  }
+  return label;
+}
+
+}  // namespace
 
 Expected<BakeGeometry> flattenStaticGeometry(const Scene& scene, size_t* skipped_degenerate) {
   BakeGeometry geometry;
@@ -21,6 +49,13 @@ Expected<BakeGeometry> flattenStaticGeometry(const Scene& scene, size_t* skipped
       glm::dvec3 p[3];
       for (int k = 0; k < 3; ++k) {
         p[k] = glm::dvec3(transformPoint(world, toGlm(mesh.positions[mesh.indices[t * 3 + size_t(k)]])));
+        // Finite data under a finite transform can still overflow float
+        // (a 3e38 m corner scaled by 2): an error, not a degenerate triangle.
+        if (!std::isfinite(p[k].x) || !std::isfinite(p[k].y) || !std::isfinite(p[k].z)) {
+          return Status(StatusCode::kInvalidInput, triangleLabel(scene, instance, mesh, t) + ": corner " +
+                                                       std::to_string(k) + " is " + vecText(p[k]) +
+                                                       " in world space, not a finite float");
+        }
       }
       // A mirroring transform (negative determinant) keeps glTF's rule that
       // the front face is counter-clockwise in world space, so the normal is
@@ -31,7 +66,11 @@ Expected<BakeGeometry> flattenStaticGeometry(const Scene& scene, size_t* skipped
       // for instances that squash a triangle flat.
       const double longest2 = std::max({glm::dot(p[1] - p[0], p[1] - p[0]), glm::dot(p[2] - p[1], p[2] - p[1]),
                                         glm::dot(p[0] - p[2], p[0] - p[2])});
-      if (!(2.0 * area > 1e-7 * longest2) || !std::isfinite(area)) {
+      if (!(area <= double(std::numeric_limits<float>::max()))) {
+        return Status(StatusCode::kInvalidInput, triangleLabel(scene, instance, mesh, t) + ": world-space area " +
+                                                     std::to_string(area) + " m2 is beyond float range");
+      }
+      if (!(2.0 * area > 1e-7 * longest2)) {
         ++skipped;
         continue;
       }

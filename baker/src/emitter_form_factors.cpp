@@ -112,7 +112,7 @@ Ray patchRay(const BakeGeometry& geometry, const Source& s, Rng& rng) {
   const glm::dvec3 p = (1.0 - b.x - b.y) * dvec(geometry.corner(t, 0)) + b.x * dvec(geometry.corner(t, 1)) +
                        b.y * dvec(geometry.corner(t, 2));
   Ray ray;
-  ray.origin = offsetRayOrigin(vec3(p), vec3(n));
+  ray.origin = offsetRayOrigin(vec3(p), vec3(n), cornerMagnitude(geometry, t));
   ray.direction = vec3(cosineHemisphere(n, rng.uniformDouble(), rng.uniformDouble()));
   return ray;
 }

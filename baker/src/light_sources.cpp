@@ -109,8 +109,22 @@ Expected<std::vector<LightSource>> makeLightSources(const Scene& scene, const Ba
   // 1% margin so grazing rays still cover the silhouette.
   const double radius = std::max(0.5 * glm::length(hi - lo) * 1.01, 1e-6);
   const double disk_area_m2 = kPi * radius * radius;
+  auto finite3 = [](const auto& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  auto finiteRgb = [](const Rgb& c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); };
   for (const Light& light : scene.lights) {
     if (light.dynamic) continue;  // runtime lights are the runtime's
+    // Scenes built in code skip the loader's checks: NaN here would turn
+    // into rays that silently miss.
+    const char* bad = !finite3(light.position)      ? "position"
+                      : !finite3(light.direction)     ? "direction"
+                      : !finiteRgb(light.color)       ? "colour"
+                      : !std::isfinite(light.intensity) ? "intensity"
+                      : !std::isfinite(light.inner_cone_rad) || !std::isfinite(light.outer_cone_rad) ? "cone angle"
+                                                      : nullptr;
+    if (bad) {
+      return Status(StatusCode::kInvalidInput,
+                    scene.source_path + ": light '" + light.name + "': " + bad + " is not finite (as a float)");
+    }
     LightSource s;
     s.name = light.name;
     s.colour = normalisedColour(dvec(light.color));
@@ -143,6 +157,15 @@ Expected<std::vector<LightSource>> makeLightSources(const Scene& scene, const Ba
       return Status(StatusCode::kInvalidInput, scene.source_path + ": light '" + light.name + "': flux is not finite");
     }
     if (s.flux_y > 0) sources.push_back(s);
+  }
+  if (scene.sun.enabled && (!finite3(scene.sun.direction_to_sun) || !finiteRgb(scene.sun.color) ||
+                            !std::isfinite(scene.sun.illuminance_lux) || !std::isfinite(scene.sun.angular_radius_rad))) {
+    return Status(StatusCode::kInvalidInput, scene.source_path + ": sun: direction, colour, illuminance or radius is not finite");
+  }
+  if (scene.sky.model != SkyModel::kNone &&
+      (!finiteRgb(scene.sky.zenith_luminance) || !finiteRgb(scene.sky.horizon_luminance) ||
+       !finiteRgb(scene.sky.ground_luminance))) {
+    return Status(StatusCode::kInvalidInput, scene.source_path + ": sky: a luminance is not finite");
   }
   if (scene.sun.enabled && scene.sun.illuminance_lux > 0) {
     LightSource s;

@@ -113,7 +113,7 @@ Expected<std::vector<TexelIrradiance>> lightTexels(const Scene& scene, const Bak
       const TexelSample& sample = texels.samples[j];
       Rng rng(hashIds(settings.seed, 0x7e3e1, j));
       const glm::dvec3 p = dvec(sample.position), n = dvec(sample.normal);
-      const Vec3 origin = offsetRayOrigin(sample.position, sample.normal);
+      const Vec3 origin = offsetRayOrigin(sample.position, sample.normal, cornerMagnitude(geometry, sample.triangle));
       const glm::dvec3 o = dvec(origin);
       rays.clear();
       contributions.clear();
@@ -225,7 +225,7 @@ Expected<std::vector<TexelIrradiance>> lightTexels(const Scene& scene, const Bak
           if (cos_r <= 0 || cos_e <= 0) continue;
           const double area = geometry.areas_m2[emitter.triangle];
           const glm::dvec3 e = emitter.luminance * (cos_r * cos_e / d2 * area / (probability * double(count)));
-          const Vec3 target = offsetRayOrigin(vec3(q), vec3(ne));
+          const Vec3 target = offsetRayOrigin(vec3(q), vec3(ne), cornerMagnitude(geometry, emitter.triangle));
           shadowTo(dvec(target), e);
         }
       }

@@ -197,10 +197,10 @@ void probeDirections(const Vec3& n, Vec3 out[kProbes]) {
   out[8] = n;
 }
 
-void appendProbes(const Vec3& p, const Vec3& n, float length_m, std::vector<Ray>* rays) {
+void appendProbes(const Vec3& p, const Vec3& n, float magnitude_m, float length_m, std::vector<Ray>* rays) {
   Vec3 dirs[kProbes];
   probeDirections(n, dirs);
-  const Vec3 origin = offsetRayOrigin(p, n);
+  const Vec3 origin = offsetRayOrigin(p, n, magnitude_m);
   for (const Vec3& d : dirs) {
     Ray ray;
     ray.origin = origin;
@@ -322,7 +322,9 @@ std::vector<TexelSample> rasterizeBand(const BandInput& in, size_t band) {
     };
     std::vector<Ray> rays;
     rays.reserve(pending.size() * kProbes);
-    for (const TexelSample& s : pending) appendProbes(s.position, s.normal, probeLength(s.triangle), &rays);
+    for (const TexelSample& s : pending) {
+      appendProbes(s.position, s.normal, cornerMagnitude(geometry, s.triangle), probeLength(s.triangle), &rays);
+    }
     std::vector<RayHit> hits(rays.size());
     in.caster->intersect(rays, hits);
 
@@ -379,12 +381,13 @@ std::vector<TexelSample> rasterizeBand(const BandInput& in, size_t band) {
     candidate_rays.reserve(candidates.size() * kCandidateRays);
     for (const Candidate& c : candidates) {
       const TexelSample& s = pending[c.pending];
-      appendProbes(c.position, s.normal, probeLength(s.triangle), &candidate_rays);
+      const float magnitude = cornerMagnitude(geometry, s.triangle);
+      appendProbes(c.position, s.normal, magnitude, probeLength(s.triangle), &candidate_rays);
       // Both ends offset alike, so the path runs parallel to a flat surface
       // instead of diving into it at the far end.
       Ray path;
-      path.origin = offsetRayOrigin(s.position, s.normal);
-      const Vec3 to = offsetRayOrigin(c.position, s.normal);
+      path.origin = offsetRayOrigin(s.position, s.normal, magnitude);
+      const Vec3 to = offsetRayOrigin(c.position, s.normal, magnitude);
       path.direction = {to.x - path.origin.x, to.y - path.origin.y, to.z - path.origin.z};
       path.t_far = 1.0f;
       candidate_rays.push_back(path);

@@ -444,21 +444,14 @@ TEST(RayCaster, OffsetOriginAvoidsSelfIntersection) {
       ray.origin = p;
       raw_rays.push_back(ray);
 
-      ray.origin = offsetRayOrigin(p, normal);
+      ray.origin = offsetRayOrigin(p, normal, cornerMagnitude(geometry, triangle));
       const Vec3 moved{ray.origin.x - p.x, ray.origin.y - p.y, ray.origin.z - p.z};
       // It moves towards the front side...
       ASSERT_GT(dot(moved, normal), 0.0) << "ray " << i;
-      // ...by at most 256 ULPs per coordinate (2^-15 ~ 3.1e-5 relative),
-      // inside 1e-4 * |p|. Below |p| ~ 0.15 m the paper's fixed 2^-16 m
-      // (used where |coordinate| < 1/32 m) is larger than that, so there the
-      // bound is 2^-16 m itself.
-      // The slack is the rounding of p + offset there: ulp(1/32 m) = 2^-28 m
-      // per coordinate.
-      const double bound = std::max(1e-4 * length(p), 1.0 / 65536.0 + std::sqrt(3.0) * 0x1p-28);
-      ASSERT_LE(length(moved), bound) << "ray " << i;
-      if (distance_m >= 1.0) {
-        ASSERT_LE(length(moved), 1e-4 * length(p)) << "ray " << i;
-      }
+      // ...by 16 ULPs of the triangle's largest corner coordinate (at most
+      // 2^-19 of it, which is at most 1.35 / 0.65 * |p| here), plus the
+      // rounding of p + offset (half a ULP per coordinate): inside 1e-5 * |p|.
+      ASSERT_LE(length(moved), 1e-5 * length(p)) << "ray " << i;
       offset_rays.push_back(ray);
     }
     int offset_self_hits = 0, raw_self_hits = 0;

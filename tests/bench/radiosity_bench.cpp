@@ -46,7 +46,7 @@ double rawRaysPerSecond(const BakeGeometry& g, const RayCaster& caster, size_t c
                  float(c0.z + b.x * (c1.z - c0.z) + b.y * (c2.z - c0.z))};
     const glm::dvec3 n(g.normals[t].x, g.normals[t].y, g.normals[t].z);
     const glm::dvec3 d = cosineHemisphere(n, rng.uniformDouble(), rng.uniformDouble());
-    ray.origin = offsetRayOrigin(p, g.normals[t]);
+    ray.origin = offsetRayOrigin(p, g.normals[t], cornerMagnitude(g, t));
     ray.direction = {float(d.x), float(d.y), float(d.z)};
   }
   std::vector<RayHit> hits(count);

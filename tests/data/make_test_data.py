@@ -331,6 +331,129 @@ def nan_light_intensity():
     return bad
 
 
+def patched(doc, placeholder, literal):
+    """The document's text with the number `placeholder` (written by
+    json.dumps as in the text) replaced by `literal`, e.g. 1e300: a finite
+    double that no float can hold (see nan_light_intensity)."""
+    text = dumps(doc)
+    bad = text.replace(placeholder, literal, 1)
+    assert bad != text, placeholder
+    return bad
+
+
+QUAD_UVS = [(0.0, 1.0), (1.0, 1.0), (1.0, 0.0), (0.0, 0.0)]
+
+
+def quad_with_uvs(uv0, uv1):
+    """The quad with TEXCOORD_0 and TEXCOORD_1 (accessors 2 and 3, indices 4)."""
+    g = Gltf()
+    index_view = g.index_view(QUAD_INDICES)
+    position_view = g.vec3_view(QUAD_POSITIONS)
+    normal_view = g.vec3_view(QUAD_NORMALS)
+    uv0_view = g.vec2_view(uv0)
+    uv1_view = g.vec2_view(uv1)
+    attributes = {
+        "POSITION": g.position_accessor(position_view, QUAD_POSITIONS),
+        "NORMAL": g.accessor(normal_view, FLOAT, 4, "VEC3"),
+        "TEXCOORD_0": g.accessor(uv0_view, FLOAT, 4, "VEC2"),
+        "TEXCOORD_1": g.accessor(uv1_view, FLOAT, 4, "VEC2"),
+    }
+    indices = g.accessor(index_view, UNSIGNED_SHORT, 6, "SCALAR")
+    g.mesh("Quad", [{"attributes": attributes, "indices": indices, "material": 0, "mode": TRIANGLES}])
+    g.node({"name": "Quad", "mesh": 0})
+    return g
+
+
+def nan_texcoord():
+    # TEXCOORD_0 of vertex 3 has u = NaN in the binary data.
+    uvs = list(QUAD_UVS)
+    uvs[3] = (float("nan"), 0.0)
+    return quad_with_uvs(uvs, QUAD_UVS).finish()
+
+
+def inf_texcoord1():
+    # TEXCOORD_1 (authored lightmap UVs) of vertex 0 has v = -Inf.
+    uvs = list(QUAD_UVS)
+    uvs[0] = (0.0, float("-inf"))
+    return quad_with_uvs(QUAD_UVS, uvs).finish()
+
+
+def emissive_quad(factor, strength):
+    g = quad()
+    g.doc["materials"][0] = {
+        "name": "Glow",
+        "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0], "metallicFactor": 0.0},
+        "emissiveFactor": factor,
+        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": strength}},
+    }
+    g.doc["extensionsUsed"] = ["KHR_materials_emissive_strength"]
+    return g.finish()
+
+
+def overflow_emissive_factor():
+    # emissiveFactor[0] = 1e300: a finite double, +Inf as a float.
+    return patched(emissive_quad([12345.0, 1.0, 1.0], 1.0), "12345.0", "1e300")
+
+
+def overflow_emissive_strength():
+    # KHR_materials_emissive_strength 1e300 times emissiveFactor 1: each
+    # finite as a double, the luminance (a float) +Inf.
+    return patched(emissive_quad([1.0, 1.0, 1.0], 12345.0), "12345.0", "1e300")
+
+
+def overflow_base_color():
+    g = quad()
+    g.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = [0.5, 12345.0, 0.5, 1.0]
+    return patched(g.finish(), "12345.0", "1e300")
+
+
+def overflow_node(key, value, placeholder="12345.0"):
+    g = quad()
+    g.doc["nodes"][0][key] = value
+    return patched(g.finish(), placeholder, "1e300")
+
+
+def overflow_translation():
+    # Node 'Quad' translation x = 1e300 (+Inf as a float).
+    return overflow_node("translation", [12345.0, 0.0, 0.0])
+
+
+def overflow_scale():
+    return overflow_node("scale", [1.0, 12345.0, 1.0])
+
+
+def overflow_matrix():
+    # A column-major matrix whose translation x (element 12) is 1e300.
+    return overflow_node("matrix", [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0,
+                                    0.0, 0.0, 1.0, 0.0, 12345.0, 0.0, 0.0, 1.0])
+
+
+def overflow_world_position():
+    # Every number is a finite float and the transform is finite and
+    # regular: the quad scaled by 3e38 in POSITION (x and z), node 'Quad'
+    # scale [2, 1, 1], so its corners land at x = +-6e38 > FLT_MAX: +-Inf in
+    # world space, from a finite transform and finite data. (A node scale of
+    # 1e38 is no good: the loader takes a column of length > 1.8e19 for a
+    # singular transform, since its length squared overflows.)
+    positions = [(x * 3e38, y, z * 3e38) for (x, y, z) in QUAD_POSITIONS]
+    g = quad(positions=positions)
+    g.doc["nodes"][0]["scale"] = [2.0, 1.0, 1.0]
+    return g.finish()
+
+
+def overflow_light_color():
+    g = quad()
+    add_lights(g, [{"name": "Lamp", "type": "point", "color": [12345.0, 1.0, 1.0], "intensity": 10.0}])
+    return patched(g.finish(), "12345.0", "1e300")
+
+
+def overflow_spot_angle():
+    g = quad()
+    add_lights(g, [{"name": "Spot", "type": "spot", "color": [1.0, 1.0, 1.0], "intensity": 100.0,
+                    "spot": {"innerConeAngle": 0.1, "outerConeAngle": 12345.0}}])
+    return patched(g.finish(), "12345.0", "1e300")
+
+
 def nonnumeric_light_intensity():
     # The other way to spell NaN in JSON: "intensity": "NaN", a string.
     # tinygltf's parsed Light keeps the default 1.0 for it without a word, so
@@ -494,6 +617,35 @@ def missing_gltf_level():
     return {"gltf": "no_such_scene.gltf"}
 
 
+def level_text(level, placeholder, literal="1e39"):
+    """level.json text with one number replaced by `literal`: 1e39 is a
+    finite double beyond FLT_MAX (3.4e38), +Inf as the float it is stored in."""
+    text = dumps(level)
+    bad = text.replace(placeholder, literal, 1)
+    assert bad != text, placeholder
+    return bad
+
+
+def overflow_sun_level():
+    return level_text({"gltf": "good_quad.gltf", "sun": {
+        "direction_to_sun": [0.0, 1.0, 0.0], "illuminance_lux": 12345}}, "12345")
+
+
+def overflow_light_position_level():
+    return level_text({"gltf": "good_quad.gltf", "lights": [
+        {"name": "lamp", "type": "point", "position": [0, 12345, 0], "intensity_cd": 120}]}, "12345")
+
+
+def overflow_sky_level():
+    return level_text({"gltf": "good_quad.gltf", "sky": {
+        "model": "uniform", "zenith_luminance": [4000, 12345, 7000]}}, "12345")
+
+
+def overflow_camera_level():
+    return level_text({"gltf": "good_quad.gltf", "camera_paths": [
+        {"name": "main", "keys": [{"t_s": 0, "position": [0, 1, 3.5], "look_at": [0, 1, 12345]}]}]}, "12345")
+
+
 CASES = [
     ("good_quad.gltf", good_quad),
     ("good_emissive_quad.gltf", good_emissive_quad),
@@ -526,6 +678,22 @@ CASES = [
     ("negative_level_light.level.json", negative_level_light),
     ("unknown_field.level.json", unknown_field_level),
     ("missing_gltf.level.json", missing_gltf_level),
+    # NaN/Inf everywhere (tests/stability/stability_input_test.cpp).
+    ("nan_texcoord.gltf", nan_texcoord),
+    ("inf_texcoord1.gltf", inf_texcoord1),
+    ("overflow_emissive_factor.gltf", overflow_emissive_factor),
+    ("overflow_emissive_strength.gltf", overflow_emissive_strength),
+    ("overflow_base_color.gltf", overflow_base_color),
+    ("overflow_translation.gltf", overflow_translation),
+    ("overflow_scale.gltf", overflow_scale),
+    ("overflow_matrix.gltf", overflow_matrix),
+    ("overflow_world_position.gltf", overflow_world_position),
+    ("overflow_light_color.gltf", overflow_light_color),
+    ("overflow_spot_angle.gltf", overflow_spot_angle),
+    ("overflow_sun.level.json", overflow_sun_level),
+    ("overflow_light_position.level.json", overflow_light_position_level),
+    ("overflow_sky.level.json", overflow_sky_level),
+    ("overflow_camera.level.json", overflow_camera_level),
 ]
 
 # Files the cases refer to that must NOT exist next to them.

@@ -30,7 +30,9 @@ struct BakeGeometry {
 
 /// Flattens the static instances of `scene`. A triangle whose world-space
 /// area is zero (an instance scaled flat along it) is skipped and counted in
-/// `skipped_degenerate`. Error when nothing static remains.
+/// `skipped_degenerate`. Errors, naming node, mesh and triangle: a corner
+/// or area beyond float range in world space (finite data under a finite
+/// transform can overflow); nothing static remains.
 Expected<BakeGeometry> flattenStaticGeometry(const Scene& scene, size_t* skipped_degenerate = nullptr);
 
 }  // namespace svit::baker

@@ -30,8 +30,11 @@ struct RadiositySettings {
   double subdiv = 1.0;
   /// MIN_PERIMETER in metres; 0 = 2% of the scene's bounding-box diagonal.
   double min_perimeter_m = 0.0;
-  /// An element keeps the hits of a batch only when it has at least this
-  /// many; fewer propagate up to its parent (sparse hits spread over clusters).
+  /// Sparse hits spread over clusters: a node hands a batch's hits in its
+  /// subtree down to its children only when the larger child expects at
+  /// least this many of them (by area); otherwise they are deposited at the
+  /// node and spread over its leaves by area. Decided from the node's count
+  /// alone, so spreading is unbiased for uniform light.
   uint32_t min_hits_per_element = 8;
   /// Rays of the first pass for the emitted flux; each later pass has
   /// `pass_growth` times more. Small, so a coarse answer exists at once.
@@ -81,6 +84,9 @@ struct SolverStats {
   uint64_t rays = 0;
   uint64_t hits = 0;
   uint64_t back_absorbed = 0;   ///< hits on the black back of single-sided surfaces
+  /// Reflected rays that started inside a solid (a back face ahead and along
+  /// the origin's normal): their flux was shot again from the visible part.
+  uint64_t inside_origin_rays = 0;
   uint64_t batches = 0;
   uint32_t passes_completed = 0;
   size_t nodes = 0;

@@ -49,11 +49,21 @@ Expected<std::unique_ptr<RayCaster>> makeEmbreeCaster(const BakeGeometry& geomet
 /// O(triangles) per ray, Moeller-Trumbore in double: the oracle for tests.
 std::unique_ptr<RayCaster> makeBruteForceCaster(const BakeGeometry& geometry);
 
-/// Moves a ray origin on a surface off it along the geometric normal `n`
-/// (towards the side the ray leaves from) by an amount that grows with |p|:
-/// float32 positions carry absolute error ~|p| * 2^-23, so a fixed epsilon
-/// self-intersects far from the origin and leaks near it. Follows the
-/// integer-ULP offset of Waechter & Binder, Ray Tracing Gems ch. 6.
-Vec3 offsetRayOrigin(const Vec3& p, const Vec3& n);
+/// Moves a ray origin `p` on a surface off it along the surface's unit
+/// geometric normal `n` (towards the side the ray leaves from) by 16 units in
+/// the last place (ULPs) of `magnitude_m`, the largest absolute coordinate of
+/// the surface's corners (cornerMagnitude() of its triangle; |p| when larger).
+/// Float32 corners and points carry absolute error ~magnitude * 2^-23, and so
+/// does Embree's test against them, so a fixed epsilon self-intersects far
+/// from the origin and leaks in small scenes; this offset is a fixed fraction
+/// (2^-19 to 2^-20) of the magnitude, so a level scaled by a power of two gets
+/// exactly scaled offsets, and a 4 m room 10 km out moves its origins by
+/// 1.6 cm, not the 0.25 m of a per-coordinate 256-ULP offset.
+/// Non-finite input is returned unchanged. Thread-safe.
+Vec3 offsetRayOrigin(const Vec3& p, const Vec3& n, float magnitude_m);
+
+/// The largest absolute corner coordinate of triangle `t` (metres): the
+/// magnitude offsetRayOrigin() wants for points on that triangle.
+float cornerMagnitude(const BakeGeometry& geometry, size_t t);
 
 }  // namespace svit::baker
