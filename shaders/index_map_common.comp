@@ -20,6 +20,8 @@ struct SampleGpu {
   vec4 lobe_params;    // x cos_inner, y cos_outer
   uvec4 info;          // x lobe, y layout, z slot, w own triangle
   uvec4 faces;         // x rendered face mask, y half-face mask, z first layer
+  vec4 reach_lo;       // xyz: the box its light can matter in (PointSample::reach); everywhere when unset
+  vec4 reach_hi;
 };
 layout(std430, binding = 1) readonly buffer Samples { SampleGpu samples[]; };
 
@@ -43,6 +45,10 @@ uint sampleOwnTriangle(uint b) { return samples[b].info.w; }
 uint sampleFaceMask(uint b) { return samples[b].faces.x; }
 uint sampleHalfMask(uint b) { return samples[b].faces.y; }
 uint sampleFirstLayer(uint b) { return samples[b].faces.z; }
+// Whether a box [lo, hi] may meet the sample's reach (the maps drew nothing outside it).
+bool sampleMayReach(uint b, vec3 lo, vec3 hi) {
+  return all(lessThanEqual(samples[b].reach_lo.xyz, hi)) && all(lessThanEqual(lo, samples[b].reach_hi.xyz));
+}
 
 const vec3 kFaceForward[6] = vec3[6](vec3(1, 0, 0), vec3(-1, 0, 0), vec3(0, 1, 0), vec3(0, -1, 0),
                                      vec3(0, 0, 1), vec3(0, 0, -1));

@@ -47,6 +47,7 @@ uint sampleOwnTriangle(uint b);
 uint sampleFaceMask(uint b);
 uint sampleHalfMask(uint b);
 uint sampleFirstLayer(uint b);
+bool sampleMayReach(uint b, vec3 lo, vec3 hi);
 
 layout(binding = 0) uniform usampler2DArray u_id_map;    // (receiver, triangle)
 layout(binding = 1) uniform sampler2DArray u_depth_map;  // reversed depth, 0 = nothing
@@ -56,6 +57,10 @@ layout(std430, binding = 0) readonly buffer Receivers { uvec2 receivers[]; };  /
 layout(std430, binding = 4) writeonly buffer SmallFlags { uint small_flags[]; };
 layout(std430, binding = 5) readonly buffer Positions { float positions[]; };  // 9 per triangle
 layout(std430, binding = 6) buffer Counter { uint credited_count; };
+// The runs of triangles (first, count; at most 256 each) any sample of the
+// batch may have drawn: only those are visited, so a big level costs what
+// the samples' reach holds, not all of it.
+layout(std430, binding = 7) readonly buffer Runs { uvec2 runs[]; };
 
 layout(location = 0) uniform int u_resolution;
 layout(location = 1) uniform uint u_receiver_count;
@@ -64,6 +69,7 @@ layout(location = 4) uniform float u_small_texels;  // "small": projection below
 layout(location = 5) uniform int u_edge_taps;
 layout(location = 6) uniform int u_neighbour_ids;
 layout(location = 7) uniform uint u_sample_count;  // samples in the batch
+layout(location = 8) uniform uint u_run_count;
 
 // One sample's frame, read once per (triangle, sample).
 struct Sample {
@@ -238,16 +244,30 @@ void creditTriangle(uint t, uint b, vec3 v0, vec3 v1, vec3 v2, vec3 n2, uvec2 si
 }
 
 void main() {
-  // One invocation per triangle and run of kSamplesPerInvocation samples:
-  // the corners are read once per run, and llvmpipe pays per work group
-  // (~8 us), while small scenes still spread over the threads. Triangles
-  // run over x and, past 65535 groups, z; sample runs over y.
-  uint t = (gl_WorkGroupID.z * gl_NumWorkGroups.x + gl_WorkGroupID.x) * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
-  if (t >= u_triangle_count) return;
+  // One invocation per triangle of a run (four work groups of 64 per run of
+  // up to 256) and run of kSamplesPerInvocation samples: the corners are
+  // read once per run, and llvmpipe pays per work group (~8 us), while
+  // small scenes still spread over the threads. Runs go over x and, past
+  // 65535 groups, z; sample runs over y.
+  uint group = gl_WorkGroupID.z * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  uint run = group / 4u;
+  if (run >= u_run_count) return;
+  uint offset = (group % 4u) * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
+  if (offset >= runs[run].y) return;
+  uint t = runs[run].x + offset;
   vec3 v0 = corner(t, 0), v1 = corner(t, 1), v2 = corner(t, 2);
   vec3 n2 = cross(v1 - v0, v2 - v0);  // front normal x twice the area
   uvec2 sides = receivers[t];
   uint first = gl_WorkGroupID.y * kSamplesPerInvocation;
   uint end = min(u_sample_count, first + kSamplesPerInvocation);
-  for (uint b = first; b < end; ++b) creditTriangle(t, b, v0, v1, v2, n2, sides);
+  vec3 lo = min(v0, min(v1, v2)), hi = max(v0, max(v1, v2));
+  for (uint b = first; b < end; ++b) {
+    // Outside the sample's reach the map drew nothing to test against; the
+    // flag still says "not small" so its texels (if any) are reduced.
+    if (sampleMayReach(b, lo, hi)) {
+      creditTriangle(t, b, v0, v1, v2, n2, sides);
+    } else {
+      small_flags[b * u_triangle_count + t] = 0u;
+    }
+  }
 }

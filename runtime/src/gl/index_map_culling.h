@@ -45,9 +45,11 @@ Frustum faceFrustum(const glm::dvec3& eye, const glm::dvec3& right, const glm::d
                     double near_m, bool half_face, bool parallel, double half_extent_m, double far_m);
 
 /// Vertex ranges (first vertex, vertex count) of the chunks that may meet
-/// `frustum`, merged where adjacent, with triangle `skip` left out (any
-/// value past the end skips nothing). Clears and fills `firsts`/`counts`.
+/// `frustum` and the box [reach_lo, reach_hi] (lo > hi on an axis: no box),
+/// merged where adjacent, with triangle `skip` left out (any value past the
+/// end skips nothing). Clears and fills `firsts`/`counts`.
 void visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& frustum, uint32_t skip,
-                   std::vector<int32_t>& firsts, std::vector<int32_t>& counts);
+                   const glm::dvec3& reach_lo, const glm::dvec3& reach_hi, std::vector<int32_t>& firsts,
+                   std::vector<int32_t>& counts);
 
 }  // namespace svit::gl

@@ -22,6 +22,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -48,7 +49,7 @@ constexpr double kNearPerCoordinate = 1e-6;
 constexpr uint32_t kNoTriangle = 0xffffffffu;
 // Shader storage and texture bindings (shaders/index_map_*.{frag,comp}).
 constexpr GLuint kReceiversBinding = 0, kSamplesBinding = 1, kLayersBinding = 2, kAccumulatorBinding = 3,
-                 kSmallFlagsBinding = 4, kPositionsBinding = 5, kCounterBinding = 6;
+                 kSmallFlagsBinding = 4, kPositionsBinding = 5, kCounterBinding = 6, kRunsBinding = 7;
 constexpr GLuint kIdMapUnit = 0, kDepthMapUnit = 1;
 constexpr int kReduceRun = 16;         // texels per reduce invocation (index_map_reduce.comp kRun)
 constexpr int kLocalSize = 64;         // local_size_x of both compute shaders
@@ -66,8 +67,10 @@ struct SampleGpu {
   float lobe_params[4];
   uint32_t info[4];   // lobe, layout, slot, own triangle
   uint32_t faces[4];  // face mask, half-face mask, first layer
+  float reach_lo[4];  // PointSample::reach, or the whole float range
+  float reach_hi[4];
 };
-static_assert(sizeof(SampleGpu) == 128, "SampleGpu must match std430 in index_map_common.comp");
+static_assert(sizeof(SampleGpu) == 160, "SampleGpu must match std430 in index_map_common.comp");
 
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
@@ -142,6 +145,7 @@ struct PreparedSample {
   SampleGpu gpu;
   MapLayout layout;
   glm::dmat3 world_from_cube;
+  glm::dvec3 reach_lo{1}, reach_hi{0};  // lo > hi: no box
 };
 
 }  // namespace
@@ -154,6 +158,9 @@ struct IndexMapRenderer::Impl {
   int view_width = 0, view_height = 0;
   std::vector<uint32_t> view_readback;  // scratch, 2 uints per pixel
   GLuint positions = 0, receivers = 0, accumulators = 0, samples = 0, layers = 0, small_flags = 0, counter = 0;
+  GLuint runs = 0;  // the fallback's triangle runs (uvec2 each), grow-only
+  size_t runs_capacity = 0;
+  std::vector<uint32_t> batch_runs;  // scratch: (first, count) of the chunks the batch may draw
   size_t triangle_capacity = 0;     // of positions / receivers
   size_t accumulator_capacity = 0;  // uints
   size_t small_flags_capacity = 0;   // uints
@@ -181,7 +188,7 @@ struct IndexMapRenderer::Impl {
   mutable std::vector<CoverageEntry> coverage_cache;
 
   ~Impl() {
-    const GLuint buffers[] = {positions, receivers, accumulators, samples, layers, small_flags, counter};
+    const GLuint buffers[] = {positions, receivers, accumulators, samples, layers, small_flags, counter, runs};
     for (GLuint b : buffers) {
       if (b != 0) glDeleteBuffers(1, &b);
     }
@@ -373,7 +380,7 @@ Expected<std::unique_ptr<IndexMapRenderer>> IndexMapRenderer::create(const Index
     std::snprintf(code, sizeof code, "0x%04x", unsigned(fbo_status));
     return Status(StatusCode::kUnsupported, std::string("index map framebuffer (RG32UI + DEPTH32F array) is incomplete: ") + code);
   }
-  GLuint* buffers[] = {&m.positions, &m.receivers, &m.accumulators, &m.samples, &m.layers, &m.small_flags, &m.counter};
+  GLuint* buffers[] = {&m.positions, &m.receivers, &m.accumulators, &m.samples, &m.layers, &m.small_flags, &m.counter, &m.runs};
   for (GLuint* b : buffers) glCreateBuffers(1, b);
   glNamedBufferData(m.samples, GLsizeiptr(sizeof(SampleGpu) * size_t(settings.max_batch_samples)), nullptr,
                     GL_DYNAMIC_DRAW);
@@ -439,6 +446,16 @@ PreparedSample IndexMapRenderer::Impl::prepare(const PointSample& s, uint32_t ba
                                                double diagonal) const {
   PreparedSample out{};
   out.layout = chooseLayout(s);
+  const float inf = std::numeric_limits<float>::infinity();
+  const Vec3 lo = s.reach.empty() ? Vec3{-inf, -inf, -inf} : s.reach.min;
+  const Vec3 hi = s.reach.empty() ? Vec3{inf, inf, inf} : s.reach.max;
+  if (!s.reach.empty()) {
+    out.reach_lo = glm::dvec3(lo.x, lo.y, lo.z);
+    out.reach_hi = glm::dvec3(hi.x, hi.y, hi.z);
+  }
+  const float lo4[4] = {lo.x, lo.y, lo.z, 0}, hi4[4] = {hi.x, hi.y, hi.z, 0};
+  std::copy(lo4, lo4 + 4, out.gpu.reach_lo);
+  std::copy(hi4, hi4 + 4, out.gpu.reach_hi);
   out.world_from_cube = worldFromCube(out.layout, mapFrame(s.axis, s.roll_rad));
   const glm::dvec3 p(s.position.x, s.position.y, s.position.z);
   const double coordinate = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), 1.0});
@@ -533,7 +550,7 @@ void IndexMapRenderer::Impl::render(std::span<const PreparedSample> batch, Gathe
       glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, view_from_world);  // row-major rows
       // Only the runs that may meet the face, and never the sample's own
       // triangle (the ranges split around it).
-      visibleRanges(chunks, frustum, s.gpu.info[3], draw_firsts, draw_counts);
+      visibleRanges(chunks, frustum, s.gpu.info[3], s.reach_lo, s.reach_hi, draw_firsts, draw_counts);
       if (!draw_firsts.empty()) {
         glMultiDrawArrays(GL_TRIANGLES, draw_firsts.data(), draw_counts.data(), GLsizei(draw_firsts.size()));
       }
@@ -558,6 +575,30 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
   glBindTextureUnit(kDepthMapUnit, depth_map);
   const bool fallback_on = settings.small_polygon_fallback;
   if (fallback_on) {
+    // The chunks any sample of the batch may have drawn (a superset of the
+    // drawn ones: reach only, no frustum).
+    batch_runs.clear();
+    for (const TriangleChunk& c : chunks) {
+      bool any = false;
+      for (const PreparedSample& s : batch) {
+        any = s.reach_lo.x > s.reach_hi.x ||
+              !(c.hi.x < s.reach_lo.x || c.lo.x > s.reach_hi.x || c.hi.y < s.reach_lo.y || c.lo.y > s.reach_hi.y ||
+                c.hi.z < s.reach_lo.z || c.lo.z > s.reach_hi.z);
+        if (any) break;
+      }
+      if (any) {
+        batch_runs.push_back(c.first);
+        batch_runs.push_back(c.count);
+      }
+    }
+    if (batch_runs.size() > runs_capacity) {
+      runs_capacity = std::max(batch_runs.size(), runs_capacity + runs_capacity / 2);
+      growBuffer(runs, runs_capacity * sizeof(uint32_t));
+    }
+    if (!batch_runs.empty()) {
+      glNamedBufferSubData(runs, 0, GLsizeiptr(batch_runs.size() * sizeof(uint32_t)), batch_runs.data());
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRunsBinding, runs);
     const GLuint p = fallback.id();
     glUseProgram(p);
     glProgramUniform1i(p, 0, res);
@@ -567,11 +608,14 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
     glProgramUniform1i(p, 5, settings.edge_taps ? 1 : 0);
     glProgramUniform1i(p, 6, settings.neighbour_ids ? 1 : 0);
     glProgramUniform1ui(p, 7, GLuint(batch.size()));
-    // Triangles over x (<= 65535 groups) and z; runs of samples over y.
-    const GLuint groups = (count + kLocalSize - 1) / kLocalSize;
+    glProgramUniform1ui(p, 8, GLuint(batch_runs.size() / 2));
+    // Runs over x (four groups of 64 per run of <= 256; <= 65535 groups)
+    // and z; runs of samples over y.
+    static_assert(kChunkTriangles == 4 * kLocalSize, "index_map_fallback.comp maps four groups to a run");
+    const GLuint groups = GLuint(batch_runs.size() / 2) * 4;
     const GLuint x = std::min(groups, kMaxGroups);
-    const GLuint runs = GLuint(batch.size() + kFallbackSamplesPerInvocation - 1) / kFallbackSamplesPerInvocation;
-    glDispatchCompute(x, runs, (groups + x - 1) / x);
+    const GLuint sample_runs = GLuint(batch.size() + kFallbackSamplesPerInvocation - 1) / kFallbackSamplesPerInvocation;
+    if (groups > 0) glDispatchCompute(x, sample_runs, (groups + x - 1) / x);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   }
   const GLuint p = reduce.id();
@@ -580,8 +624,8 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
   glProgramUniform1ui(p, 1, receiver_count);
   glProgramUniform1ui(p, 2, count);
   glProgramUniform1i(p, 3, fallback_on ? 1 : 0);
-  const GLuint runs = GLuint(res) * GLuint((res + kReduceRun - 1) / kReduceRun);
-  glDispatchCompute((runs + kLocalSize - 1) / kLocalSize, GLuint(batch_layers.size()), 1);
+  const GLuint texel_runs = GLuint(res) * GLuint((res + kReduceRun - 1) / kReduceRun);
+  glDispatchCompute((texel_runs + kLocalSize - 1) / kLocalSize, GLuint(batch_layers.size()), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
@@ -766,7 +810,21 @@ Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int h
       glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, view_from_world);
       glProgramUniform1i(program, 2, 0);
       glProgramUniform1f(program, 3, view.near_m);
-      glDrawArrays(GL_TRIANGLES, 0, GLsizei(triangles) * 3);
+      // Only the runs that may meet the view's frustum: |right.d| <= tx
+      // forward.d, |up.d| <= ty forward.d, forward.d >= near.
+      Frustum frustum;
+      frustum.eye = glm::dvec3(view.eye.x, view.eye.y, view.eye.z);
+      const glm::dvec3 r(view.right.x, view.right.y, view.right.z), u(view.up.x, view.up.y, view.up.z),
+          f(view.forward.x, view.forward.y, view.forward.z);
+      const double tx = view.tan_half_x, ty = view.tan_half_y;
+      frustum.normal = {f * tx - r, f * tx + r, f * ty - u, f * ty + u, f, f};
+      frustum.offset = {0, 0, 0, 0, double(view.near_m), double(view.near_m)};
+      frustum.count = 5;
+      const glm::dvec3 no_box_lo(1.0), no_box_hi(0.0);
+      visibleRanges(m.chunks, frustum, 0xffffffffu, no_box_lo, no_box_hi, m.draw_firsts, m.draw_counts);
+      if (!m.draw_firsts.empty()) {
+        glMultiDrawArrays(GL_TRIANGLES, m.draw_firsts.data(), m.draw_counts.data(), GLsizei(m.draw_firsts.size()));
+      }
     }
   }
   const size_t count = size_t(width) * size_t(height);

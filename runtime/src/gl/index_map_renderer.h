@@ -65,6 +65,11 @@ struct PointSample {
   /// Triangle the sample sits on (its own surface), never counted as a
   /// receiver of its own light; kNoReceiver-like 0xffffffff when none.
   uint32_t own_triangle = 0xffffffffu;
+  /// Where its light can matter (an emitter's known reach): triangles in
+  /// runs wholly outside the box are not drawn. Sound when every ray from
+  /// the sample meets a drawn surface first inside the box (the first
+  /// surfaces it lights, in a closed level); empty (the default): draw all.
+  Aabb reach;
 };
 
 /// Switches for the artifact handling of thesis 5.2 (all on by default; the
@@ -151,7 +156,7 @@ class IndexMapRenderer {
   /// positive half_extent_m; a bad triangle set (see the setters).
   /// GL state: restores framebuffers, viewport, scissor, depth, clip
   /// control, front face, program, VAO and the capabilities it touches;
-  /// leaves shader-storage bindings 0-6 and texture units 0-1 changed.
+  /// leaves shader-storage bindings 0-7 and texture units 0-1 changed.
   Status gather(std::span<const PointSample> samples, uint32_t slot_count, std::vector<float>& shares,
                 GatherStats* stats = nullptr);
 

@@ -56,6 +56,7 @@ struct Emitter {
   bool region_known = false;   ///< from its maps or the bake's factors; unknown = anything may matter
   Aabb source_box;             ///< where its light leaves from (samples, lamp, shooter patches)
   bool touched = false;        ///< a dynamic object in its reach (Impl::updateReach, once per update)
+  bool reach_dirty = true;     ///< touched needs recomputing: invalidated, or its reach changed
   uint64_t refreshed_frame = 0;
   /// Baked emitters: the bake's baseline factors spread over the runtime
   /// patches by area, for importance and reach before the first map.

@@ -112,7 +112,13 @@ bool Runtime::Impl::reachesAnyObject(const Emitter& e) const {
 }
 
 void Runtime::Impl::updateReach() {
-  for (Emitter& e : emitters) e.touched = reachesAnyObject(e);
+  // An emitter no moved, added or removed object's box reached (it would
+  // have been invalidated) keeps its answer: O(changed), not O(level).
+  for (Emitter& e : emitters) {
+    if (!e.reach_dirty && !e.stale && e.region_known) continue;
+    e.touched = reachesAnyObject(e);
+    e.reach_dirty = false;
+  }
 }
 
 bool Runtime::Impl::needsMaps(const Emitter& e) const {

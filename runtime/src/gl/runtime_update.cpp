@@ -220,8 +220,12 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
     for (size_t i = begin; i < end; ++i) {
       Emitter& e = emitters[ids[i]];
       if (e.samples_stale || e.samples.empty()) refreshSamples(e);
+      // With its baseline mapped, the emitter's region bounds everything it
+      // lights and everything that can shadow it: the maps skip the rest.
+      const bool bounded = !baseline && e.has_baseline && e.region.max.x < 1e38f;
       for (rt::PointSample s : e.samples) {
         s.slot = uint32_t(i - begin);
+        if (bounded) s.reach = e.region;
         samples.push_back(s);
       }
     }
@@ -262,6 +266,7 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
       }
       grow(e.source_box, source);
       e.region_known = true;
+      e.reach_dirty = true;
       if (baseline) {
         e.baseline = std::move(sparse);
         e.has_baseline = true;
