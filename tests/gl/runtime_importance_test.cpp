@@ -107,14 +107,18 @@ std::unique_ptr<Runtime> makeRuntime(const test::BakedLevel& level, const Runtim
   return runtime.ok() ? std::move(runtime).value() : nullptr;
 }
 
-/// Updates until nothing is out of date (bounded).
-void settle(Runtime& runtime) {
-  for (int frame = 0; frame < 400; ++frame) {
+/// Updates without a sample budget until nothing is out of date (bounded),
+/// then sets `budget` (samples per frame).
+void settle(Runtime& runtime, int budget = cachingSettings().max_samples_per_frame) {
+  ASSERT_TRUE(runtime.setSampleBudget(0).ok());
+  bool settled = false;
+  for (int frame = 0; frame < 16 && !settled; ++frame) {
     const FrameStats stats = runtime.update(0);
     ASSERT_TRUE(stats.error.empty()) << stats.error;
-    if (stats.idle || stats.emitters_pending == 0) return;
+    settled = stats.idle || stats.emitters_pending == 0;
   }
-  FAIL() << "the runtime did not settle in 400 frames";
+  ASSERT_TRUE(runtime.setSampleBudget(budget).ok());
+  ASSERT_TRUE(settled) << "the runtime did not settle in 16 updates";
 }
 
 Mat4 withYRotation(const Mat4& placed, float angle_rad) {
@@ -169,7 +173,7 @@ RefreshLog slideTablesAndLog(const test::BakedLevel& level, std::unique_ptr<Runt
   runtime = makeRuntime(level, settings);
   if (!runtime) return {};
   EXPECT_TRUE(runtime->setView(viewInRoom00()).ok());
-  settle(*runtime);
+  settle(*runtime, 0);
   const std::map<ObjectId, Mat4> start = tables(*runtime, level.scene);
   RefreshLog log;
   for (int frame = 1; frame <= 16; ++frame) {

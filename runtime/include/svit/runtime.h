@@ -277,6 +277,10 @@ class Runtime {
   Status setView(const RuntimeView& view);
   /// Forgets the view: updates refresh brightest first again.
   void clearView();
+  /// Changes RuntimeSettings::max_samples_per_frame (0 = none) from the next
+  /// update on: a quality setting, or none while loading so the first
+  /// update settles everything. Error: negative.
+  Status setSampleBudget(int max_samples_per_frame);
   /// Every emitter the runtime keeps (index = EmitterRefresh::emitter) with
   /// its importance for the last update's view.
   std::vector<EmitterState> emitterStates() const;

@@ -481,6 +481,12 @@ Status Runtime::setView(const RuntimeView& view) {
 
 void Runtime::clearView() { impl_->has_view = false; }
 
+Status Runtime::setSampleBudget(int max_samples_per_frame) {
+  if (max_samples_per_frame < 0) return settingError("max_samples_per_frame", max_samples_per_frame, ">= 0");
+  impl_->settings.max_samples_per_frame = max_samples_per_frame;
+  return Status();
+}
+
 std::vector<EmitterState> Runtime::emitterStates() const {
   const Impl& m = *impl_;
   std::vector<EmitterState> states;
