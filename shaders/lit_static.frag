@@ -1,6 +1,7 @@
 #version 450 core
 // Static geometry: radiance = albedo x (lightmap irradiance + interpolated
-// runtime delta + runtime lights' direct irradiance) / pi + emission.
+// runtime delta + runtime lights' direct irradiance) / pi + emission, the
+// emission scaled as its bake emitter is (a lamp dimmed or off).
 // Albedo = base colour factor x base colour texture (sRGB-decoded by the
 // texture format). Single-sided surfaces are black from behind; the
 // lightmap holds irradiance in lux (DESIGN.md "Units"). Link with
@@ -34,6 +35,7 @@ layout(location = 14) uniform vec4 u_emissive_transform;
 layout(location = 15) uniform float u_emissive_rotation;
 layout(location = 16) uniform ivec2 u_material_flags;  // (double sided, alpha mask)
 layout(location = 17) uniform float u_alpha_cutoff;
+layout(location = 24) uniform float u_emission_scale;  // the lamp's dimmer (SceneRenderer::setBakedEmitterScale)
 
 vec3 svitDirectIrradiance(vec3 p, vec3 n);
 vec3 svitDisplay(vec3 radiance);
@@ -63,7 +65,7 @@ void main() {
   }
   vec3 n = normalize(v_normal) * (front ? 1.0 : -1.0);
   vec3 irradiance = texture(u_lightmap, v_uv_lightmap).rgb;
-  vec3 emission = u_emissive;
+  vec3 emission = u_emissive * u_emission_scale;
   if (u_emissive_texture_use.x != 0) {
     vec2 uv = transformUv(u_emissive_texture_use.y == 1 ? v_uv1 : v_uv0, u_emissive_transform, u_emissive_rotation);
     emission *= texture(u_emissive_texture, uv).rgb;

@@ -65,13 +65,19 @@ Expected<BakeProxyMesh> buildProxy(const BakeGeometry& geometry, const PatchSet&
 
 /// Probes per grid axis at most.
 inline constexpr uint32_t kMaxProbesPerAxis = 64;
-/// Rays gathered per probe (8 x 8 strata of the uniform sphere).
-inline constexpr uint32_t kProbeRays = 64;
+/// Rays gathered per probe over the sphere (16 x 16 jittered strata).
+inline constexpr uint32_t kProbeRays = 256;
+/// Points sampled per probe on the emissive surfaces (levels that have any).
+inline constexpr uint32_t kProbeEmitterSamples = 64;
 
 /// Cell-centred probe grid over the static bounds, `spacing_m` apart (per
 /// axis widened so no axis has more than kMaxProbesPerAxis probes). Each
 /// probe projects the radiance it sees (hit: the solver's interpolated
-/// radiosity / pi of the side hit; miss: the sky) onto L1 SH. Storage per
+/// radiosity / pi of the side hit; miss: the sky) onto L1 SH, from
+/// kProbeRays sphere directions and, for emission, also kProbeEmitterSamples
+/// points on emissive triangles (chosen by luminance x area), the two
+/// combined by multiple importance sampling (balance heuristic), so a small
+/// bright lamp is not left to the few sphere rays that happen to hit it. Storage per
 /// probe: coefficients Y00, Y1-1, Y10, Y11 (basis 0.282095 and 0.488603 *
 /// (y, z, x)), each as r, g, b: radiance SH, so irradiance about unit normal
 /// n is E(n) = pi * c0 * Y00 + 2pi/3 * sum_m c1m * Y1m(n). A probe whose

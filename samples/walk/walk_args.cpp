@@ -34,6 +34,7 @@ void printUsage(FILE* out) {
                "usage: svit-walk LEVEL --bake OUT [--headless] [--script S.json] [--frames N]\n"
                "                 [--frames-out DIR] [--stats FILE] [--probe POINTS --probe-out FILE]\n"
                "                 [--width W --height H] [--view baked|runtime|delta] [--budget-ms B] [--fps F]\n"
+               "                 [--overlay]\n"
                "  LEVEL            a .gltf/.glb or level .json\n"
                "  --bake OUT       the bake directory (OUT/bake.svit) written by svit-bake for LEVEL\n"
                "  --headless       no window: render N frames of simulated time (frame / fps)\n"
@@ -48,6 +49,8 @@ void printUsage(FILE* out) {
                "  --budget-ms B    runtime update budget per frame (0 = settle fully; default 0\n"
                "                   headless, 8 in a window)\n"
                "  --fps F          simulated frames per second (default: the script's, else 30)\n"
+               "  --overlay        headless: draw the statistics overlay on the frames (a window\n"
+               "                   shows it from the start; F1 toggles it)\n"
                "exit: 0 ok, 1 bad input (level, bake, script, points), 2 bad usage\n");
 }
 
@@ -72,6 +75,8 @@ ParsedArgs parseWalkArgs(int argc, const char* const* argv) {
       return parsed;
     } else if (arg == "--headless") {
       o.headless = true;
+    } else if (arg == "--overlay") {
+      o.overlay = true;
     } else if (arg == "--bake" || arg == "--script" || arg == "--frames-out" || arg == "--stats" ||
                arg == "--probe" || arg == "--probe-out") {
       if (!value(v) || *v == '\0') return fail(arg + " needs a path");

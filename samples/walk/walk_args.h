@@ -23,6 +23,7 @@ struct WalkOptions {
   std::optional<ShadingView> view;  ///< --view, default runtime
   std::optional<double> budget_ms;  ///< --budget-ms; default 0 (settle) headless, 8 in a window
   std::optional<float> fps;         ///< --fps; default the script's, else 30
+  bool overlay = false;             ///< --overlay: statistics drawn on the headless PNG frames
 };
 
 /// What parsing found: options, a request for help, or a usage error.

@@ -18,19 +18,26 @@ Status runHeadless(WalkSession& session) {
       if (event.frame != frame) continue;
       if (Status s = applyEvent(session, event); !s.ok()) return s;
     }
-    Expected<FrameStats> lighting = stepLighting(session, t_s);
-    if (!lighting.ok()) return Status(lighting.status().code(), where + lighting.status().message());
     const Camera camera = cameraAt(session.scene, session.overview, session.script.camera, t_s);
+    const float aspect = float(session.renderer->width()) / float(session.renderer->height());
+    Expected<FrameStats> lighting = stepLighting(session, t_s, camera, aspect);
+    if (!lighting.ok()) return Status(lighting.status().code(), where + lighting.status().message());
     Expected<RenderStats> render = session.renderer->render(camera, session.view);
     if (!render.ok()) return Status(render.status().code(), where + render.status().message());
     const double frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    const FrameRecord record{frame, double(t_s), *lighting, *render, frame_ms, session.view};
+    if (session.overlay) {  // --overlay: drawn after the frame's timing ends, so not counted
+      const Status s = session.overlay->draw(statsRows(record, ""), session.renderer->offscreenFramebuffer(),
+                                             session.renderer->width(), session.renderer->height());
+      if (!s.ok()) return Status(s.code(), where + s.message());
+    }
     if (!session.options.frames_out.empty()) {
       char name[32];
       std::snprintf(name, sizeof name, "frame-%04d.png", frame);
       const std::string png = (std::filesystem::path(session.options.frames_out) / name).string();
       if (Status s = session.renderer->writePng(png); !s.ok()) return Status(s.code(), where + s.message());
     }
-    session.stats.add({frame, double(t_s), *lighting, *render, frame_ms, session.view});
+    session.stats.add(record);
   }
   return Status();
 }

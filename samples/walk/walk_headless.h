@@ -9,7 +9,8 @@ namespace svit::walk {
 
 /// Runs session.frames frames. Per frame: the script's events for it, nodes
 /// placed at t, Runtime::update(budget), render from the script's or the
-/// level's camera, DIR/frame-NNNN.png with --frames-out, a stats record.
+/// level's camera, the statistics overlay with --overlay, DIR/frame-NNNN.png
+/// with --frames-out, a stats record.
 /// Errors: a failed event, update, render or PNG write (names the frame).
 Status runHeadless(WalkSession& session);
 

@@ -15,12 +15,17 @@ Status scaleBakedLight(WalkSession& session, int light) {
   for (uint32_t e = 0; e < session.bake.emitters.size(); ++e) {
     const BakeEmitter& emitter = session.bake.emitters[e];
     if (emitter.kind != BakeEmitter::Kind::kLight || emitter.index != uint32_t(light)) continue;
-    if (Status s = session.runtime->setBakedEmitterScale(e, scale); !s.ok()) return s;
+    if (Status s = scaleBakeEmitter(session, e, scale); !s.ok()) return s;
   }
   return Status();
 }
 
 }  // namespace
+
+Status scaleBakeEmitter(WalkSession& session, uint32_t emitter, float scale) {
+  if (Status s = session.runtime->setBakedEmitterScale(emitter, scale); !s.ok()) return s;
+  return session.renderer->setBakedEmitterScale(emitter, scale);
+}
 
 Expected<std::unique_ptr<WalkSession>> openSession(const WalkOptions& options) {
   auto session = std::make_unique<WalkSession>();
@@ -72,6 +77,11 @@ Expected<std::unique_ptr<WalkSession>> openSession(const WalkOptions& options) {
       SceneRenderer::create(s.scene, s.bake, options.bake_dir, s.runtime.get(), settings);
   if (!renderer.ok()) return renderer.status();
   s.renderer = std::move(renderer).value();
+  if (!options.headless || options.overlay) {
+    Expected<std::unique_ptr<StatsOverlay>> overlay = StatsOverlay::create();
+    if (!overlay.ok()) return overlay.status();
+    s.overlay = std::move(overlay).value();
+  }
   if (!options.frames_out.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(options.frames_out, ec);
@@ -106,7 +116,7 @@ Status applyEvent(WalkSession& session, const WalkEvent& event) {
       return Status();
     }
     case WalkEvent::Kind::kBakedEmitter:
-      return named(session.runtime->setBakedEmitterScale(event.emitter, event.scale_factor));
+      return named(scaleBakeEmitter(session, event.emitter, event.scale_factor));
     case WalkEvent::Kind::kView:
       session.view = event.view;
       return Status();
@@ -114,9 +124,18 @@ Status applyEvent(WalkSession& session, const WalkEvent& event) {
   return Status();
 }
 
-Expected<FrameStats> stepLighting(WalkSession& session, float t_s) {
+Expected<FrameStats> stepLighting(WalkSession& session, float t_s, const Camera& camera, float aspect) {
   session.motion->advance(t_s);
   if (Status s = session.motion->applyTo(*session.runtime); !s.ok()) return s;
+  // The view the runtime ranks emitters for (importance caching).
+  RuntimeView view;
+  view.position = camera.position;
+  view.look_at = camera.look_at;
+  view.up = camera.up;
+  view.yfov_rad = camera.yfov_rad;
+  view.aspect = aspect;
+  view.near_m = camera.near_m;
+  if (Status s = session.runtime->setView(view); !s.ok()) return s;
   FrameStats stats = session.runtime->update(session.budget_ms);
   if (!stats.error.empty()) return Status(StatusCode::kInternal, "runtime update: " + stats.error);
   return stats;

@@ -15,6 +15,7 @@
 #include "walk_args.h"
 #include "walk_gl_window.h"
 #include "walk_motion.h"
+#include "walk_overlay.h"
 #include "walk_probe.h"
 #include "walk_script.h"
 #include "walk_stats.h"
@@ -38,6 +39,7 @@ struct WalkSession {
   std::unique_ptr<Runtime> runtime;
   std::unique_ptr<SceneRenderer> renderer;
   std::unique_ptr<LevelMotion> motion;
+  std::unique_ptr<StatsOverlay> overlay;  ///< made for a window and for --overlay
   // Baked lights switched by script events (Scene::lights index -> state);
   // the runtime scales their bake emitter by dimmer, or 0 when off.
   std::vector<float> baked_light_dimmer;
@@ -55,9 +57,15 @@ Expected<std::unique_ptr<WalkSession>> openSession(const WalkOptions& options);
 /// baked emitters) or the session (view). Errors: what the runtime refused.
 Status applyEvent(WalkSession& session, const WalkEvent& event);
 
-/// One frame's work after events: places nodes at `t_s`, tells the runtime,
-/// updates it within the budget. Errors: the runtime's (FrameStats::error).
-Expected<FrameStats> stepLighting(WalkSession& session, float t_s);
+/// Scales bake emitter `emitter` to `scale` in the runtime (the light it
+/// casts) and the renderer (what is drawn of it: a lamp's glowing surface).
+/// Errors: the runtime's (index out of range, bad scale).
+Status scaleBakeEmitter(WalkSession& session, uint32_t emitter, float scale);
+
+/// One frame's work after events: places nodes at `t_s`, tells the runtime
+/// and the view it ranks emitters for (`camera` at `aspect`), updates it
+/// within the budget. Errors: the runtime's (FrameStats::error).
+Expected<FrameStats> stepLighting(WalkSession& session, float t_s, const Camera& camera, float aspect);
 
 /// After the run: the runtime's irradiance at the probe points (--probe-out)
 /// and the stats JSON (--stats). Errors name the file.

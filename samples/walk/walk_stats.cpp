@@ -34,6 +34,33 @@ nlohmann::json finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : 
 
 }  // namespace
 
+// Emitters pending is a state, not work done: the last frame's stands.
+FrameRecord WalkStats::meanSince(size_t first) const {
+  if (first >= frames_.size()) return FrameRecord{};
+  FrameRecord mean = frames_.back();
+  const double n = double(frames_.size() - first);
+  double sums[10] = {};
+  for (size_t i = first; i < frames_.size(); ++i) {
+    const FrameRecord& r = frames_[i];
+    const double values[10] = {r.runtime.maps_ms, r.runtime.reduction_ms, r.runtime.bounce_ms,
+                               r.runtime.upload_ms, r.runtime.total_ms, r.render.shading_ms, r.frame_ms,
+                               double(r.runtime.emitters_refreshed), double(r.runtime.samples_rendered),
+                               double(r.runtime.faces_rendered)};
+    for (int k = 0; k < 10; ++k) sums[k] += values[k];
+  }
+  mean.runtime.maps_ms = sums[0] / n;
+  mean.runtime.reduction_ms = sums[1] / n;
+  mean.runtime.bounce_ms = sums[2] / n;
+  mean.runtime.upload_ms = sums[3] / n;
+  mean.runtime.total_ms = sums[4] / n;
+  mean.render.shading_ms = sums[5] / n;
+  mean.frame_ms = sums[6] / n;
+  mean.runtime.emitters_refreshed = uint32_t(sums[7] / n);
+  mean.runtime.samples_rendered = uint32_t(sums[8] / n);
+  mean.runtime.faces_rendered = uint32_t(sums[9] / n);
+  return mean;
+}
+
 Status WalkStats::writeJson(const std::string& path, const std::string& level, const std::string& renderer) const {
   nlohmann::json frames = nlohmann::json::array();
   for (const FrameRecord& r : frames_) {
@@ -43,6 +70,15 @@ Status WalkStats::writeJson(const std::string& path, const std::string& level, c
     for (const Stage& stage : kStages) f[stage.name] = finite(stage.of(r));
     f["emitters_refreshed"] = r.runtime.emitters_refreshed;
     f["emitters_pending"] = r.runtime.emitters_pending;
+    // Which emitters refreshed and why (importance caching), by reason.
+    nlohmann::json reasons = nlohmann::json::object();
+    for (const EmitterRefresh& refresh : r.runtime.refreshes) {
+      const char* name = refreshReasonName(refresh.reason);
+      reasons[name] = reasons.value(name, 0) + 1;
+    }
+    f["refresh_reasons"] = std::move(reasons);
+    f["visible_patches"] = r.runtime.visible_patches;
+    f["view_ms"] = finite(r.runtime.view_ms);
     f["samples"] = r.runtime.samples_rendered;
     f["faces"] = r.runtime.faces_rendered;
     f["texels_reduced"] = r.runtime.texels_reduced;

@@ -29,6 +29,12 @@ class WalkStats {
   void add(const FrameRecord& record) { frames_.push_back(record); }
   const std::vector<FrameRecord>& frames() const { return frames_; }
 
+  /// The mean of frames [first, end): stage timings, and the work counters
+  /// (emitters refreshed, maps, faces) rounded down; emitters pending,
+  /// frame, t_s and view are the last frame's. A default record when the
+  /// range is empty.
+  FrameRecord meanSince(size_t first) const;
+
   /// Writes {"level", "renderer", "frames": [...], "summary": {"mean": {...},
   /// "max": {...}}} to `path` via `path`.tmp and a rename. Errors name the path.
   Status writeJson(const std::string& path, const std::string& level, const std::string& renderer) const;

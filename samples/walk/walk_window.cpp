@@ -22,18 +22,40 @@ struct Controls {
   int screenshots = 0;
   float baked_lamp_scale = 1;
   bool lamp_pending = false;      // K pressed: apply the new baked lamp scale
-  std::string message;            // last action, shown in the title
+  std::string message;            // last action, shown in the title and the overlay
+  bool overlay_visible = true;    // F1
+  std::vector<OverlayRow> overlay_rows;  // refreshed with the title
   Status error;                   // a runtime call that failed in the callback
 };
 
-// Emitter 0 of kind patch or light: the level's baked lamp (Cornell's
-// ceiling quad); -1 when the bake has none.
-int bakedLamp(const BakeData& bake) {
-  for (size_t e = 0; e < bake.emitters.size(); ++e) {
-    const BakeEmitter::Kind kind = bake.emitters[e].kind;
-    if (kind == BakeEmitter::Kind::kPatch || kind == BakeEmitter::Kind::kLight) return int(e);
+// The instance a patch's first element lies on, or -1.
+int patchInstance(const BakeData& bake, uint32_t patch) {
+  if (patch >= bake.patches.size()) return -1;
+  const uint32_t first = bake.patches[patch].first_element;
+  if (first >= bake.patch_elements.size()) return -1;
+  const uint32_t triangle = bake.patch_elements[first] / 2;
+  return triangle < bake.triangle_uvs.size() ? int(bake.triangle_uvs[triangle].instance) : -1;
+}
+
+// The level's baked lamp: the first bake emitter of kind patch or light,
+// with every other emissive patch of the same object (Cornell's ceiling
+// quad is two patches); empty when the bake has none.
+std::vector<uint32_t> bakedLamp(const BakeData& bake) {
+  for (uint32_t e = 0; e < bake.emitters.size(); ++e) {
+    const BakeEmitter& first = bake.emitters[e];
+    if (first.kind == BakeEmitter::Kind::kLight) return {e};
+    if (first.kind != BakeEmitter::Kind::kPatch) continue;
+    const int instance = patchInstance(bake, first.index);
+    std::vector<uint32_t> lamp = {e};
+    for (uint32_t o = e + 1; o < bake.emitters.size(); ++o) {
+      const BakeEmitter& other = bake.emitters[o];
+      if (other.kind == BakeEmitter::Kind::kPatch && instance >= 0 && patchInstance(bake, other.index) == instance) {
+        lamp.push_back(o);
+      }
+    }
+    return lamp;
   }
-  return -1;
+  return {};
 }
 
 std::string nodeName(const Scene& scene, int node) {
@@ -90,16 +112,17 @@ void onKey(GLFWwindow* window, int key, int, int action, int) {
       }
       break;
     case GLFW_KEY_K: {
-      const int lamp = bakedLamp(s.bake);
-      if (lamp < 0) {
+      const std::vector<uint32_t> lamp = bakedLamp(s.bake);
+      if (lamp.empty()) {
         c.message = "no baked lamp";
         break;
       }
       c.baked_lamp_scale = c.baked_lamp_scale > 0.9f ? 0.5f : c.baked_lamp_scale > 0.4f ? 0.25f
                            : c.baked_lamp_scale > 0.2f ? 0.0f : 1.0f;
-      check(s.runtime->setBakedEmitterScale(uint32_t(lamp), c.baked_lamp_scale));
-      char text[64];
-      std::snprintf(text, sizeof text, "baked emitter %d x %.2f", lamp, c.baked_lamp_scale);
+      for (uint32_t e : lamp) check(scaleBakeEmitter(s, e, c.baked_lamp_scale));
+      char text[96];
+      std::snprintf(text, sizeof text, "baked lamp (emitter %u, %zu in all) x %.2f", lamp[0], lamp.size(),
+                    c.baked_lamp_scale);
       c.message = text;
       break;
     }
@@ -109,11 +132,18 @@ void onKey(GLFWwindow* window, int key, int, int action, int) {
                                                  : ShadingView::kBakedOnly;
       c.message = std::string("view ") + viewName(s.view);
       break;
+    case GLFW_KEY_F1:
+      c.overlay_visible = !c.overlay_visible;
+      break;
     case GLFW_KEY_F12: {
-      // Render the current view offscreen once more and save it.
+      // Render the current view offscreen once more (with the overlay if shown) and save it.
       if (Expected<RenderStats> r = s.renderer->render(c.camera.camera(), s.view); !r.ok()) {
         check(r.status());
         break;
+      }
+      if (c.overlay_visible && s.overlay) {
+        check(s.overlay->draw(c.overlay_rows, s.renderer->offscreenFramebuffer(), s.renderer->width(),
+                              s.renderer->height()));
       }
       char name[48];
       std::snprintf(name, sizeof name, "svit-walk-%03d.png", c.screenshots++);
@@ -178,12 +208,14 @@ Status runWindow(WalkSession& session) {
   controls.session = &session;
   controls.camera = FlyCamera::lookingLike(cameraAt(session.scene, session.overview, session.script.camera, 0));
   controls.speed_m_per_s = std::max(0.1f, glm::length(toGlm(session.overview.position) - toGlm(session.overview.look_at)) / 6);
-  controls.message = "WASD QE move, right mouse look, P pick, arrows PgUp/PgDn move it, L [ ] light, K lamp, V view, F12 shot";
+  controls.message = "WASD QE move, right mouse look, P pick, arrows PgUp/PgDn move it, L [ ] light, K lamp, V view, "
+                     "F1 overlay, F12 shot";
   glfwSetWindowUserPointer(window, &controls);
   glfwSetKeyCallback(window, onKey);
 
   const Clock::time_point start = Clock::now();
   Clock::time_point last = start, last_title = start;
+  size_t first_unshown = 0;  // first stats record the overlay's mean has not covered
   double last_x = 0, last_y = 0;
   glfwGetCursorPos(window, &last_x, &last_y);
   std::vector<bool> fired(session.script.events.size(), false);
@@ -213,18 +245,26 @@ Status runWindow(WalkSession& session) {
       fired[e] = true;
       if (Status s = applyEvent(session, session.script.events[e]); !s.ok()) return s;
     }
-    Expected<FrameStats> lighting = stepLighting(session, t_s);
+    Expected<FrameStats> lighting = stepLighting(session, t_s, controls.camera.camera(), height > 0 ? float(width) / float(height) : 1.0f);
     if (!lighting.ok()) return lighting.status();
     Expected<RenderStats> render = session.renderer->render(controls.camera.camera(), session.view, true);
     if (!render.ok()) return render.status();
     const double frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
     const FrameRecord record{frame, double(t_s), *lighting, *render, frame_ms, session.view};
     session.stats.add(record);
-    glfwSwapBuffers(window);
-    if (now - last_title > std::chrono::milliseconds(250)) {
-      glfwSetWindowTitle(window, statsLine(session, controls, record).c_str());
+    // Title and overlay show the mean of the last quarter second: legible,
+    // and steadier than any single frame.
+    if (now - last_title > std::chrono::milliseconds(250) || controls.overlay_rows.empty()) {
+      const FrameRecord mean = session.stats.meanSince(first_unshown);
+      first_unshown = session.stats.frames().size();
+      glfwSetWindowTitle(window, statsLine(session, controls, mean).c_str());
+      controls.overlay_rows = statsRows(mean, controls.message);
       last_title = now;
     }
+    if (controls.overlay_visible && session.overlay) {
+      if (Status s = session.overlay->draw(controls.overlay_rows, 0, width, height); !s.ok()) return s;
+    }
+    glfwSwapBuffers(window);
   }
   return Status();
 }

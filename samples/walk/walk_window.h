@@ -1,7 +1,8 @@
 #pragma once
 // The interactive walkthrough (samples/walk/README.md "Window"): fly with
 // WASD and the mouse, pick and move dynamic objects, switch and dim lights,
-// cycle the views; the window title carries the statistics line.
+// cycle the views; the statistics are drawn over the frame (F1 toggles
+// them) and carried in the window title.
 
 #include "svit/status.h"
 #include "walk_session.h"

@@ -42,8 +42,9 @@ expect_exit walk 0 -- "$walk" "$level" --bake "$work/cornell" --headless --scrip
   --width 160 --height 90
 grep -q "maps_ms" "$work/out.txt" && ok "prints the stage table" || fail "no stage table on stdout"
 
-python3 - "$work" <<'PY' && ok "frames, stats and probes" || fail "frames, stats and probes"
-import json, math, struct, sys, zlib
+# A PNG reader (standard library only) the checks below share.
+cat >"$work/pngread.py" <<'PY'
+import struct, zlib
 
 def png_pixels(path):
     """8-bit RGB/RGBA PNG -> (width, height, channels, rows of bytes); standard filters."""
@@ -72,6 +73,12 @@ def png_pixels(path):
         rows.append(line)
         prev = line
     return w, h, ch, rows
+PY
+
+python3 - "$work" <<'PY' && ok "frames, stats and probes" || fail "frames, stats and probes"
+import json, math, sys
+sys.path.insert(0, sys.argv[1])
+from pngread import png_pixels
 
 work = sys.argv[1]
 for i in range(5):
@@ -100,6 +107,38 @@ assert len(lines) == 4, lines
 for line in lines:
     rgb = [float(x) for x in line.split()]
     assert len(rgb) == 3 and all(math.isfinite(v) and v >= 0 for v in rgb), line
+PY
+
+# The statistics overlay (--overlay): the same baked-view frame with and
+# without it (480 x 270, text at 1 pixel per font unit) differs only in the
+# top-left corner, which is darkened (the box) and carries light pixels
+# (the text).
+for variant in plain overlay; do
+  extra=()
+  [[ $variant == overlay ]] && extra=(--overlay)
+  expect_exit "walk_$variant" 0 -- "$walk" "$level" --bake "$work/cornell" --headless --frames 1 --view baked \
+    --frames-out "$work/$variant" --width 480 --height 270 "${extra[@]}"
+done
+python3 - "$work" <<'PY' && ok "overlay drawn top left" || fail "overlay drawn top left"
+import sys
+sys.path.insert(0, sys.argv[1])
+from pngread import png_pixels
+
+work = sys.argv[1]
+w, h, ch, plain = png_pixels(f"{work}/plain/frame-0000.png")
+_, _, _, over = png_pixels(f"{work}/overlay/frame-0000.png")
+def px(rows, x, y):
+    return tuple(rows[y][x * ch:x * ch + 3])
+changed = [(x, y) for y in range(h) for x in range(w) if px(plain, x, y) != px(over, x, y)]
+assert changed, "--overlay changed nothing"
+x1, y1 = max(x for x, _ in changed), max(y for _, y in changed)
+assert x1 < w * 3 // 4 and y1 < h * 3 // 4, f"changes reach ({x1}, {y1}) of {w} x {h}: not a corner overlay"
+box = [(x, y) for y in range(4, y1 - 4) for x in range(4, x1 - 4)]
+text = [p for p in box if min(px(over, *p)) >= 200 and px(over, *p) != px(plain, *p)]
+dimmed = [p for p in box if sum(px(over, *p)) < sum(px(plain, *p))]
+assert len(text) > 300, f"only {len(text)} light text pixels in the overlay box"
+assert len(dimmed) > len(box) // 2, f"the box darkens only {len(dimmed)} of {len(box)} pixels"
+print(f"overlay: box {x1 + 1} x {y1 + 1} px, {len(text)} text pixels")
 PY
 
 # Bad usage: exit 2 with the usage text.

@@ -72,6 +72,23 @@ class SceneRenderer {
   /// Dynamic objects are drawn where the runtime has them.
   Expected<RenderStats> render(const Camera& camera, ShadingView view, bool to_default_framebuffer = false);
 
+  /// Scales what frames show of a baked emitter (BakeData::emitters index),
+  /// to match Runtime::setBakedEmitterScale with the same arguments (the
+  /// runtime changes the light the emitter casts; the renderer what is seen
+  /// of the emitter itself): a lamp's emissive patch (kPatch) has the
+  /// emission drawn on its triangles scaled; a baked light or the sun
+  /// (kLight, kSun) has its per-pixel direct light on dynamic objects scaled;
+  /// the sky (kSky) draws nothing. 1 = as baked (the default), 0 = off.
+  /// The runtime and patch-delta views show the scale; kBakedOnly shows the
+  /// bake as it is. Errors (nothing changes): `bake_emitter` out of range,
+  /// `scale` negative or not finite.
+  Status setBakedEmitterScale(uint32_t bake_emitter, float scale);
+
+  /// The GL framebuffer of the offscreen target (RGBA8 display values +
+  /// depth) a host may draw over, a HUD say, after render() and before
+  /// readPixels()/writePng(). Replaced by resize().
+  uint32_t offscreenFramebuffer() const;
+
   /// Reads the last offscreen frame back as 8-bit sRGB RGB, rows top first.
   std::vector<uint8_t> readPixels() const;
   /// Writes the last offscreen frame as a PNG. Errors name the path.

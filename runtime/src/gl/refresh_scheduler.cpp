@@ -41,15 +41,17 @@ std::vector<RefreshDecision> scheduleRefreshes(const std::vector<RefreshCandidat
     if (promoted) reason = RefreshReason::kPromoted;
     due.push_back({&c, reason});
   }
-  // Urgent first; then the important (interval 1) most important first,
+  // Urgent and promoted first; then the important (interval 1) most important first,
   // and the round-robin ones longest waiting first. The round-robin ones
   // get a quarter of the budget whenever any is due, so a budget too small
   // for everything never starves the rest of the level.
   std::vector<Due> urgent, important, round_robin;
   for (const Due& d : due) {
-    if (d.c->urgent) {
+    // A promoted emitter's light just started to matter (a door opened):
+    // it goes with the urgent ones, before the steadily important.
+    if (d.c->urgent || d.reason == RefreshReason::kPromoted) {
       urgent.push_back(d);
-    } else if (d.reason == RefreshReason::kPromoted || refreshInterval(d.c->importance, top, max_interval) == 1) {
+    } else if (refreshInterval(d.c->importance, top, max_interval) == 1) {
       important.push_back(d);
     } else {
       round_robin.push_back(d);
@@ -68,6 +70,8 @@ std::vector<RefreshDecision> scheduleRefreshes(const std::vector<RefreshCandidat
   std::vector<RefreshDecision> chosen;
   double spent = 0;
   for (const Due& d : urgent) {
+    // Switched lamps always; promoted ones while the budget lasts.
+    if (!d.c->urgent && !chosen.empty() && spent + d.c->cost > budget) continue;
     chosen.push_back({d.c->emitter, d.reason, d.c->importance});
     spent += d.c->cost;
   }

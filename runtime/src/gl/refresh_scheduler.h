@@ -37,12 +37,13 @@ struct RefreshDecision {
 uint32_t refreshInterval(double importance, double top, uint32_t max_interval);
 
 /// The candidates due this frame (urgent ones, and those that waited their
-/// interval): urgent ones always; then the important ones (interval 1),
-/// most important first, within three quarters of `budget` while any
-/// round-robin one is due; then the round-robin ones, longest waiting first;
-/// then the rest of the important ones, all while the summed cost fits
-/// `budget` (ties: lower emitter id). The first emitter of a frame always
-/// goes, so every frame makes progress.
+/// interval or were promoted): urgent ones always; then the promoted ones
+/// (importance doubled since last up to date), most important first; then
+/// the important ones (interval 1), most important first, within three
+/// quarters of `budget` while any round-robin one is due; then the
+/// round-robin ones, longest waiting first; then the rest of the important
+/// ones, all while the summed cost fits `budget` (ties: lower emitter id).
+/// The first emitter of a frame always goes, so every frame makes progress.
 std::vector<RefreshDecision> scheduleRefreshes(const std::vector<RefreshCandidate>& candidates, uint64_t frame,
                                                double top, uint32_t max_interval, double budget);
 

@@ -109,6 +109,13 @@ struct SceneRenderer::Impl {
   gl::OffscreenTarget target;
   bool has_offscreen_frame = false;
 
+  // Bake emitters as the host scaled them (setBakedEmitterScale), and which
+  // baked light / the sun each stands for (-1: none; kLight emitters carry
+  // the Scene::lights index).
+  std::vector<float> emitter_scale;
+  std::vector<int> light_emitter;  // per Scene::lights entry
+  int sun_emitter = -1;
+
   std::vector<Rgb> shown_deltas;  // static patch deltas the vertex deltas were made from
   bool vertex_deltas_valid = false;
   float exposure = 1;
@@ -121,7 +128,9 @@ struct SceneRenderer::Impl {
 
   void uploadStaticMesh(const gl::StaticMesh& mesh);
   bool refreshVertexDeltas(uint32_t patch_delta_buffer);
-  std::vector<gl::FrameLight> frameLights(bool with_runtime_lights, bool with_baked_lights, size_t* baked_count) const;
+  float emitterScale(int emitter) const { return emitter >= 0 ? emitter_scale[size_t(emitter)] : 1.0f; }
+  std::vector<gl::FrameLight> frameLights(bool with_runtime_lights, bool with_baked_lights, bool scale_baked,
+                                          size_t* baked_count) const;
   void setSharedUniforms(const glm::mat4& clip_from_world, ShadingView view, int light_begin, int light_end) const;
 };
 
@@ -170,18 +179,21 @@ bool SceneRenderer::Impl::refreshVertexDeltas(uint32_t patch_delta_buffer) {
   return true;
 }
 
-// Baked lights first (stable slots: their maps survive view switches),
-// then the runtime's enabled lights.
+// Baked lights first (stable slots: their maps survive view switches and
+// dimming to 0), scaled like their bake emitters when `scale_baked`, then
+// the runtime's enabled lights.
 std::vector<gl::FrameLight> SceneRenderer::Impl::frameLights(bool with_runtime_lights, bool with_baked_lights,
-                                                             size_t* baked_count) const {
+                                                             bool scale_baked, size_t* baked_count) const {
   std::vector<gl::FrameLight> lights;
   auto scaled = [](const Light& l, float dimmer) {
     const float s = l.intensity * dimmer;
     return Rgb{l.color.r * s, l.color.g * s, l.color.b * s};
   };
   if (with_baked_lights) {
-    for (const Light& l : scene.lights) {
-      if (!l.dynamic && l.intensity > 0) lights.push_back({l, scaled(l, 1.0f), true});
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+      const Light& l = scene.lights[i];
+      const float dimmer = scale_baked ? emitterScale(light_emitter[i]) : 1.0f;
+      if (!l.dynamic && l.intensity > 0) lights.push_back({l, scaled(l, dimmer), true});
     }
     if (scene.sun.enabled && scene.sun.illuminance_lux > 0) {
       Light sun;
@@ -190,7 +202,7 @@ std::vector<gl::FrameLight> SceneRenderer::Impl::frameLights(bool with_runtime_l
       sun.direction = {-scene.sun.direction_to_sun.x, -scene.sun.direction_to_sun.y, -scene.sun.direction_to_sun.z};
       sun.color = scene.sun.color;
       sun.intensity = scene.sun.illuminance_lux;
-      lights.push_back({sun, scaled(sun, 1.0f), true});
+      lights.push_back({sun, scaled(sun, scale_baked ? emitterScale(sun_emitter) : 1.0f), true});
     }
   }
   *baked_count = lights.size();
@@ -241,6 +253,13 @@ Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scen
   impl->runtime = runtime;
   impl->settings = settings;
   impl->static_patch_count = bake.patches.size();
+  impl->emitter_scale.assign(bake.emitters.size(), 1.0f);
+  impl->light_emitter.assign(scene.lights.size(), -1);
+  for (size_t e = 0; e < bake.emitters.size(); ++e) {
+    const BakeEmitter& be = bake.emitters[e];
+    if (be.kind == BakeEmitter::Kind::kLight && be.index < scene.lights.size()) impl->light_emitter[be.index] = int(e);
+    if (be.kind == BakeEmitter::Kind::kSun) impl->sun_emitter = int(e);
+  }
 
   // The runtime already holds the pages on the GPU: share them.
   Expected<gl::LightmapTextures> lightmaps =
@@ -319,7 +338,8 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   const bool casters_changed = s.dynamic_objects.update(s.scene, s.runtime);
   const bool has_dynamic = s.dynamic_objects.vertexCount() > 0;
   size_t baked_lights = 0;
-  const std::vector<gl::FrameLight> lights = s.frameLights(view == ShadingView::kRuntime, has_dynamic, &baked_lights);
+  const std::vector<gl::FrameLight> lights =
+      s.frameLights(view == ShadingView::kRuntime, has_dynamic, runtime_view, &baked_lights);
   Aabb bounds = s.static_bounds;
   if (has_dynamic) {
     const Aabb& d = s.dynamic_objects.bounds();
@@ -362,10 +382,19 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   if (static_deltas) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kVertexDeltas, s.vertex_deltas.vertexDeltaBuffer());
   glBindVertexArray(s.static_vao);
   uint32_t bound_material = UINT32_MAX, bound_page = UINT32_MAX;
+  float bound_emission_scale = 1.0f;
+  glUniform1f(b::kEmissionScale, 1.0f);
   for (const gl::StaticBatch& batch : s.batches) {
     if (batch.material != bound_material) {
       s.materials.bind(s.scene.materials[batch.material]);
       bound_material = batch.material;
+    }
+    // A dimmed lamp looks dimmed (the bake as baked in kBakedOnly).
+    const float emission_scale =
+        runtime_view && batch.emitter != gl::kNoBakeEmitter ? s.emitterScale(int(batch.emitter)) : 1.0f;
+    if (emission_scale != bound_emission_scale) {
+      glUniform1f(b::kEmissionScale, emission_scale);
+      bound_emission_scale = emission_scale;
     }
     if (batch.page != bound_page) {
       glBindTextureUnit(b::kLightmapUnit, s.lightmaps.texture(batch.page));
@@ -403,6 +432,22 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   stats.shading_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }
+
+Status SceneRenderer::setBakedEmitterScale(uint32_t bake_emitter, float scale) {
+  Impl& s = *impl_;
+  if (bake_emitter >= s.emitter_scale.size()) {
+    return Status(StatusCode::kNotFound, "SceneRenderer: no baked emitter " + std::to_string(bake_emitter) +
+                                             " (the bake has " + std::to_string(s.emitter_scale.size()) + ")");
+  }
+  if (!(scale >= 0) || !std::isfinite(scale)) {
+    return Status(StatusCode::kInvalidInput,
+                  "SceneRenderer: baked emitter scale " + std::to_string(scale) + " must be finite and >= 0");
+  }
+  s.emitter_scale[bake_emitter] = scale;
+  return Status();
+}
+
+uint32_t SceneRenderer::offscreenFramebuffer() const { return impl_->target.framebuffer(); }
 
 std::vector<uint8_t> SceneRenderer::readPixels() const {
   if (!impl_->has_offscreen_frame) return {};

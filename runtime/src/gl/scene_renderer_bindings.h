@@ -50,6 +50,7 @@ inline constexpr int kAlphaCutoff = 17;      ///< float
 // Static only.
 inline constexpr int kUseDeltas = 18;        ///< int: vertex deltas bound
 inline constexpr int kUseDeltaMap = 19;      ///< int: the runtime's delta map bound (lit_static.frag)
+inline constexpr int kEmissionScale = 24;    ///< float: the batch's bake emitter scale (lit_static.frag)
 // Dynamic only: probe grid.
 inline constexpr int kProbeOrigin = 19;      ///< vec3: centre of probe (0,0,0)
 inline constexpr int kProbeSpacing = 20;     ///< vec3

@@ -200,17 +200,45 @@ Expected<StaticMesh> buildStaticMesh(const Scene& scene, const BakeData& bake) {
     d.offsets[vertex_count] = uint32_t(d.patches.size());
   }
 
-  // Batches: triangles ordered by (material, page), bake order within.
+  // The kPatch bake emitter of each emissive triangle, so a dimmed lamp can
+  // be drawn dimmed: its own batches.
+  std::vector<uint32_t> emitter(triangle_count, kNoBakeEmitter);
+  {
+    std::vector<uint32_t> patch_emitter(bake.patches.size(), kNoBakeEmitter);
+    for (uint32_t e = 0; e < bake.emitters.size(); ++e) {
+      const BakeEmitter& be = bake.emitters[e];
+      if (be.kind == BakeEmitter::Kind::kPatch && be.index < patch_emitter.size()) patch_emitter[be.index] = e;
+    }
+    for (uint32_t p = 0; p < bake.patches.size(); ++p) {
+      if (patch_emitter[p] == kNoBakeEmitter) continue;
+      const BakePatch& patch = bake.patches[p];
+      for (uint32_t i = patch.first_element; i < patch.first_element + patch.element_count; ++i) {
+        const uint32_t element = i < bake.patch_elements.size() ? bake.patch_elements[i] : UINT32_MAX;
+        if (element / 2 >= triangle_count) {
+          return Status(StatusCode::kInvalidInput, "bake patch " + std::to_string(p) + ": element " +
+                                                       std::to_string(i) + " out of range");
+        }
+        const Material& m = scene.materials[material[element / 2]];
+        const bool emits = m.emissive_luminance.r > 0 || m.emissive_luminance.g > 0 || m.emissive_luminance.b > 0;
+        // The front side's emitter wins over the back's.
+        if (emits && (element % 2 == 0 || emitter[element / 2] == kNoBakeEmitter)) emitter[element / 2] = patch_emitter[p];
+      }
+    }
+  }
+
+  // Batches: triangles ordered by (material, page, emitter), bake order within.
   std::vector<uint32_t> order(triangle_count);
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
-    return std::tie(material[x], bake.triangle_uvs[x].page) < std::tie(material[y], bake.triangle_uvs[y].page);
+    return std::tie(material[x], bake.triangle_uvs[x].page, emitter[x]) <
+           std::tie(material[y], bake.triangle_uvs[y].page, emitter[y]);
   });
   out.vertices.reserve(triangle_count * 3);
   for (uint32_t t : order) {
     const BakeTriangleUv& uv = bake.triangle_uvs[t];
-    if (out.batches.empty() || out.batches.back().material != material[t] || out.batches.back().page != uv.page) {
-      out.batches.push_back({material[t], uv.page, uint32_t(out.vertices.size()), 0});
+    if (out.batches.empty() || out.batches.back().material != material[t] || out.batches.back().page != uv.page ||
+        out.batches.back().emitter != emitter[t]) {
+      out.batches.push_back({material[t], uv.page, emitter[t], uint32_t(out.vertices.size()), 0});
     }
     const Mesh& mesh = scene.meshes[size_t(scene.instances[uv.instance].mesh)];
     for (int k = 0; k < 3; ++k) {

@@ -1,7 +1,8 @@
 #pragma once
 // The static geometry as the SceneRenderer draws it: the bake's static
 // triangles (BakeData::triangle_uvs order) in world space with their
-// lightmap UVs, grouped into draw batches by (material, lightmap page), and
+// lightmap UVs, grouped into draw batches by (material, lightmap page, bake
+// emitter of an emissive patch), and
 // the welded vertices the runtime's per-patch deltas are interpolated at.
 // CPU only (no GL): built once at SceneRenderer::create.
 
@@ -27,10 +28,18 @@ struct StaticVertex {
 };
 static_assert(sizeof(StaticVertex) == 56, "lit_static.vert reads this layout");
 
-/// Consecutive vertices sharing a material and a lightmap page.
+/// StaticBatch::emitter of triangles that belong to no emitting patch.
+inline constexpr uint32_t kNoBakeEmitter = 0xffffffffu;
+
+/// Consecutive vertices sharing a material, a lightmap page and a bake emitter.
 struct StaticBatch {
   uint32_t material = 0;  ///< Scene::materials index
   uint32_t page = 0;      ///< BakeData::pages index
+  /// BakeData::emitters index of the kPatch emitter whose patch holds the
+  /// triangles (their front side; the back where only it emits), when the
+  /// material emits; else kNoBakeEmitter. The renderer scales their drawn
+  /// emission by that emitter's scale.
+  uint32_t emitter = kNoBakeEmitter;
   uint32_t first_vertex = 0;
   uint32_t vertex_count = 0;
 };

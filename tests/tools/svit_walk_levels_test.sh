@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# One sample level of samples/levels/ end to end, as issue 6 asks of each: a
+# quick bake (quality is not the point), then svit-walk headless for a few
+# frames of the level's own camera path and paths, with the statistics
+# overlay: exit 0 (no GL error, no runtime error), finite non-negative
+# stats, frames that are not blank. Small frames and a per-frame update
+# budget keep it to seconds (Sponza's bake, mostly its xatlas atlas, is the
+# longest part). Needs a display (CTest label gl: scripts/test runs it under
+# xvfb-run).
+# usage: svit_walk_levels_test.sh SVIT_WALK SVIT_BAKE SOURCE_DIR LEVEL_NAME
+set -u
+walk="$1" bake="$2" src="$3" name="$4"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+level="$src/samples/levels/$name/level.json"
+frames=3
+
+# Sponza's lightmap atlas grows slower, not faster, with fewer texels: keep its default density.
+density=(--texels-per-m 4)
+[[ $name == sponza ]] && density=()
+start=$(date +%s%N)
+if ! "$bake" "$level" -o "$work/bake" --quality 0.05 --time 4 "${density[@]}" --quiet 2>"$work/err.txt"; then
+  echo "FAIL $name: bake"; cat "$work/err.txt"; exit 1
+fi
+baked=$(date +%s%N)
+if ! "$walk" "$level" --bake "$work/bake" --headless --frames $frames --width 160 --height 90 --budget-ms 20 \
+    --overlay --frames-out "$work/frames" --stats "$work/stats.json" >"$work/out.txt" 2>"$work/err.txt"; then
+  echo "FAIL $name: svit-walk"; cat "$work/err.txt"; exit 1
+fi
+walked=$(date +%s%N)
+echo "$name: bake $(( (baked - start) / 1000000 )) ms, $frames headless frames $(( (walked - baked) / 1000000 )) ms"
+cat "$work/out.txt"
+
+python3 - "$work" "$frames" <<'PY' || { echo "FAIL $name: frames and stats"; exit 1; }
+import json, math, struct, sys, zlib
+
+def png_values(path):
+    """All channel bytes of an 8-bit RGB/RGBA PNG (standard filters)."""
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", path
+    pos, idat = 8, b""
+    while pos < len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        if kind == b"IHDR":
+            w, h, depth, colour = struct.unpack(">IIBB", body[:10])
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + length
+    assert depth == 8 and colour in (2, 6), (depth, colour)
+    ch = 3 if colour == 2 else 4
+    raw, stride, out, prev = zlib.decompress(idat), w * ch, [], bytearray(w * ch)
+    for y in range(h):
+        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - ch] if i >= ch else 0
+            b, c = prev[i], prev[i - ch] if i >= ch else 0
+            p = a + b - c
+            pred = [0, a, b, (a + b) // 2, a if abs(p - a) <= abs(p - b) and abs(p - a) <= abs(p - c) else (b if abs(p - b) <= abs(p - c) else c)][f]
+            line[i] = (line[i] + pred) & 255
+        out += line
+        prev = line
+    return (w, h), out
+
+work, frames = sys.argv[1], int(sys.argv[2])
+for i in range(frames):
+    size, values = png_values(f"{work}/frames/frame-{i:04d}.png")
+    assert size == (160, 90), size
+    mean = sum(values) / len(values)
+    spread = math.sqrt(sum((v - mean) ** 2 for v in values) / len(values))
+    assert 2 < mean < 250 and spread > 5, f"frame {i}: mean {mean:.1f}, spread {spread:.1f}: blank"
+s = json.load(open(f"{work}/stats.json"))
+assert [f["frame"] for f in s["frames"]] == list(range(frames)), s["frames"]
+for f in s["frames"]:
+    for k in ("maps_ms", "reduction_ms", "bounce_ms", "upload_ms", "runtime_ms", "shading_ms", "frame_ms",
+              "emitters_refreshed", "samples", "faces", "unshot_share"):
+        assert isinstance(f[k], (int, float)) and math.isfinite(f[k]) and f[k] >= 0, (f["frame"], k, f.get(k))
+PY
+echo "ok   $name: baked, walked $frames frames headless"
