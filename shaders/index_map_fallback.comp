@@ -57,10 +57,11 @@ layout(std430, binding = 0) readonly buffer Receivers { uvec2 receivers[]; };  /
 layout(std430, binding = 4) writeonly buffer SmallFlags { uint small_flags[]; };
 layout(std430, binding = 5) readonly buffer Positions { float positions[]; };  // 9 per triangle
 layout(std430, binding = 6) buffer Counter { uint credited_count; };
-// The runs of triangles (first, count; at most 256 each) any sample of the
-// batch may have drawn: only those are visited, so a big level costs what
-// the samples' reach holds, not all of it.
-layout(std430, binding = 7) readonly buffer Runs { uvec2 runs[]; };
+// Work items: a run of triangles (first, count; at most 256) that one of a
+// run of kSamplesPerInvocation samples (from `first sample`) may have drawn.
+// Only those pairs are visited, so a big level costs what the samples
+// reach, not all of it.
+layout(std430, binding = 7) readonly buffer Runs { uvec4 runs[]; };  // first triangle, count, first sample, -
 
 layout(location = 0) uniform int u_resolution;
 layout(location = 1) uniform uint u_receiver_count;
@@ -244,21 +245,20 @@ void creditTriangle(uint t, uint b, vec3 v0, vec3 v1, vec3 v2, vec3 n2, uvec2 si
 }
 
 void main() {
-  // One invocation per triangle of a run (four work groups of 64 per run of
-  // up to 256) and run of kSamplesPerInvocation samples: the corners are
-  // read once per run, and llvmpipe pays per work group (~8 us), while
-  // small scenes still spread over the threads. Runs go over x and, past
-  // 65535 groups, z; sample runs over y.
+  // One invocation per triangle of an item's run (four work groups of 64
+  // per run of up to 256), looping over the item's samples: the corners are
+  // read once per run, and llvmpipe pays per work group (~8 us). Items go
+  // over x and, past 65535 groups, z.
   uint group = gl_WorkGroupID.z * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-  uint run = group / 4u;
-  if (run >= u_run_count) return;
+  uint item = group / 4u;
+  if (item >= u_run_count) return;
   uint offset = (group % 4u) * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
-  if (offset >= runs[run].y) return;
-  uint t = runs[run].x + offset;
+  if (offset >= runs[item].y) return;
+  uint t = runs[item].x + offset;
   vec3 v0 = corner(t, 0), v1 = corner(t, 1), v2 = corner(t, 2);
   vec3 n2 = cross(v1 - v0, v2 - v0);  // front normal x twice the area
   uvec2 sides = receivers[t];
-  uint first = gl_WorkGroupID.y * kSamplesPerInvocation;
+  uint first = runs[item].z;
   uint end = min(u_sample_count, first + kSamplesPerInvocation);
   vec3 lo = min(v0, min(v1, v2)), hi = max(v0, max(v1, v2));
   for (uint b = first; b < end; ++b) {

@@ -17,9 +17,8 @@ double weighted(const SparseShares& s, const std::vector<double>& weight) {
 
 }  // namespace
 
-std::vector<double> emitterImportance(const ViewWeights& view, const std::vector<ImportanceQuery>& queries) {
+std::vector<double> groupView(const ViewWeights& view, const std::vector<ImportanceQuery>& queries) {
   const size_t groups = view.group_shares.size();
-  // Per unit flux, what a group's light shows: its own shares, or borrowed.
   std::vector<double> group_view(groups, 0.0);
   std::vector<char> has_own(groups, 0);
   for (size_t g = 0; g < groups; ++g) {
@@ -48,26 +47,33 @@ std::vector<double> emitterImportance(const ViewWeights& view, const std::vector
   for (size_t g = 0; g < groups; ++g) {
     if (!has_own[g] && borrowed_weight[g] > 0) group_view[g] = borrowed[g] / borrowed_weight[g];
   }
-  std::vector<double> importance(queries.size(), 0.0);
-  for (size_t k = 0; k < queries.size(); ++k) {
-    const ImportanceQuery& q = queries[k];
-    double best = 0;
-    bool any = false;
-    for (const SparseShares* s : q.shares) {
-      if (s == nullptr) continue;
-      any = true;
-      double per_flux = weighted(*s, view.weight);  // direct
-      for (size_t i = 0; i < s->receivers.size(); ++i) {
-        const uint32_t r = s->receivers[i];
-        if (r >= view.group_of.size()) continue;
-        const int32_t g = view.group_of[r];
-        if (g >= 0 && size_t(g) < groups) per_flux += double(s->shares[i]) * view.reflectance[r] * group_view[size_t(g)];
-      }
-      best = std::max(best, per_flux);
+  return group_view;
+}
+
+double importanceOf(const ViewWeights& view, const std::vector<double>& group_view, const ImportanceQuery& q) {
+  const size_t groups = group_view.size();
+  double best = 0;
+  bool any = false;
+  for (const SparseShares* s : q.shares) {
+    if (s == nullptr) continue;
+    any = true;
+    double per_flux = weighted(*s, view.weight);  // direct
+    for (size_t i = 0; i < s->receivers.size(); ++i) {
+      const uint32_t r = s->receivers[i];
+      if (r >= view.group_of.size()) continue;
+      const int32_t g = view.group_of[r];
+      if (g >= 0 && size_t(g) < groups) per_flux += double(s->shares[i]) * view.reflectance[r] * group_view[size_t(g)];
     }
-    if (!any && q.own_group >= 0 && size_t(q.own_group) < groups) best = group_view[size_t(q.own_group)];
-    importance[k] = q.flux * best;
+    best = std::max(best, per_flux);
   }
+  if (!any && q.own_group >= 0 && size_t(q.own_group) < groups) best = group_view[size_t(q.own_group)];
+  return q.flux * best;
+}
+
+std::vector<double> emitterImportance(const ViewWeights& view, const std::vector<ImportanceQuery>& queries) {
+  const std::vector<double> group_view = groupView(view, queries);
+  std::vector<double> importance(queries.size(), 0.0);
+  for (size_t k = 0; k < queries.size(); ++k) importance[k] = importanceOf(view, group_view, queries[k]);
   return importance;
 }
 

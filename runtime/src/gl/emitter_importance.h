@@ -37,7 +37,14 @@ struct ImportanceQuery {
   int32_t own_group = -1;  ///< a static patch group: its borrowed V when it has no shares
 };
 
-/// Importance (flux x pixel weight: lm/m2 x pixels) of each query, in order.
+/// Per group: what its light shows per lumen (its own shares, or borrowed
+/// from the queries lighting it).
+std::vector<double> groupView(const ViewWeights& view, const std::vector<ImportanceQuery>& queries);
+
+/// Importance (flux x pixel weight: lm/m2 x pixels) of one query, given groupView().
+double importanceOf(const ViewWeights& view, const std::vector<double>& group_view, const ImportanceQuery& query);
+
+/// Importance of each query, in order (groupView + importanceOf).
 std::vector<double> emitterImportance(const ViewWeights& view, const std::vector<ImportanceQuery>& queries);
 
 }  // namespace svit::gl

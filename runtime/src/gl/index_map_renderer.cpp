@@ -158,9 +158,9 @@ struct IndexMapRenderer::Impl {
   int view_width = 0, view_height = 0;
   std::vector<uint32_t> view_readback;  // scratch, 2 uints per pixel
   GLuint positions = 0, receivers = 0, accumulators = 0, samples = 0, layers = 0, small_flags = 0, counter = 0;
-  GLuint runs = 0;  // the fallback's triangle runs (uvec2 each), grow-only
+  GLuint runs = 0;  // the fallback's work items (uvec4 each), grow-only
   size_t runs_capacity = 0;
-  std::vector<uint32_t> batch_runs;  // scratch: (first, count) of the chunks the batch may draw
+  std::vector<uint32_t> batch_runs;  // scratch: the fallback's items (first triangle, count, first sample, 0)
   size_t triangle_capacity = 0;     // of positions / receivers
   size_t accumulator_capacity = 0;  // uints
   size_t small_flags_capacity = 0;   // uints
@@ -575,20 +575,23 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
   glBindTextureUnit(kDepthMapUnit, depth_map);
   const bool fallback_on = settings.small_polygon_fallback;
   if (fallback_on) {
-    // The chunks any sample of the batch may have drawn (a superset of the
-    // drawn ones: reach only, no frustum).
+    // Work items: (first triangle, count, first sample) for each run of
+    // kFallbackSamplesPerInvocation samples and each chunk one of them may
+    // have drawn (a superset of the drawn ones: reach only, no frustum), so
+    // the pass costs what the samples reach, not the level.
     batch_runs.clear();
-    for (const TriangleChunk& c : chunks) {
-      bool any = false;
-      for (const PreparedSample& s : batch) {
-        any = s.reach_lo.x > s.reach_hi.x ||
-              !(c.hi.x < s.reach_lo.x || c.lo.x > s.reach_hi.x || c.hi.y < s.reach_lo.y || c.lo.y > s.reach_hi.y ||
-                c.hi.z < s.reach_lo.z || c.lo.z > s.reach_hi.z);
-        if (any) break;
-      }
-      if (any) {
-        batch_runs.push_back(c.first);
-        batch_runs.push_back(c.count);
+    for (size_t first = 0; first < batch.size(); first += kFallbackSamplesPerInvocation) {
+      const size_t end = std::min(batch.size(), first + kFallbackSamplesPerInvocation);
+      for (const TriangleChunk& c : chunks) {
+        bool any = false;
+        for (size_t i = first; i < end && !any; ++i) {
+          const PreparedSample& s = batch[i];
+          any = s.reach_lo.x > s.reach_hi.x ||
+                !(c.hi.x < s.reach_lo.x || c.lo.x > s.reach_hi.x || c.hi.y < s.reach_lo.y || c.lo.y > s.reach_hi.y ||
+                  c.hi.z < s.reach_lo.z || c.lo.z > s.reach_hi.z);
+        }
+        if (!any) continue;
+        batch_runs.insert(batch_runs.end(), {c.first, c.count, uint32_t(first), 0u});
       }
     }
     if (batch_runs.size() > runs_capacity) {
@@ -608,14 +611,13 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
     glProgramUniform1i(p, 5, settings.edge_taps ? 1 : 0);
     glProgramUniform1i(p, 6, settings.neighbour_ids ? 1 : 0);
     glProgramUniform1ui(p, 7, GLuint(batch.size()));
-    glProgramUniform1ui(p, 8, GLuint(batch_runs.size() / 2));
-    // Runs over x (four groups of 64 per run of <= 256; <= 65535 groups)
-    // and z; runs of samples over y.
+    glProgramUniform1ui(p, 8, GLuint(batch_runs.size() / 4));
+    // Items over x (four groups of 64 per run of <= 256 triangles; <= 65535
+    // groups) and z.
     static_assert(kChunkTriangles == 4 * kLocalSize, "index_map_fallback.comp maps four groups to a run");
-    const GLuint groups = GLuint(batch_runs.size() / 2) * 4;
+    const GLuint groups = GLuint(batch_runs.size() / 4) * 4;
     const GLuint x = std::min(groups, kMaxGroups);
-    const GLuint sample_runs = GLuint(batch.size() + kFallbackSamplesPerInvocation - 1) / kFallbackSamplesPerInvocation;
-    if (groups > 0) glDispatchCompute(x, sample_runs, (groups + x - 1) / x);
+    if (groups > 0) glDispatchCompute(x, 1, (groups + x - 1) / x);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   }
   const GLuint p = reduce.id();

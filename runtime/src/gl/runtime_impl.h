@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "bounce_solver.h"
+#include "emitter_importance.h"
 #include "emitter_samples.h"
 #include "index_map_renderer.h"
 #include "receivers.h"
@@ -133,6 +134,8 @@ struct Runtime::Impl {
   bool has_view = false;       ///< setView() called (and not cleared)
   RuntimeView view;
   std::vector<uint32_t> view_pixels;  ///< per receiver, from the last view pass
+  rt::ViewWeights view_weights;       ///< the last view pass's weights (group shares: this update only)
+  std::vector<double> group_view;     ///< per group, what its light shows per lumen, last view
   double top_importance = 0;          ///< the most important emitter's, last view
 
   // GL (created only when the level has runtime content).
@@ -154,6 +157,8 @@ struct Runtime::Impl {
   bool needsMaps(const Emitter& e) const;
   bool outOfDate(const Emitter& e) const;
   void rankForView(FrameStats& stats);
+  rt::ImportanceQuery importanceQuery(const Emitter& e, bool current_only) const;
+  void settleImportance(const std::vector<rt::RefreshDecision>& refreshed);
   std::vector<rt::RefreshCandidate> refreshCandidates();
   void invalidateMoved();
   void refreshSamples(Emitter& e);

@@ -164,10 +164,10 @@ void Runtime::Impl::rankForView(FrameStats& stats) {
     stats.error = s.message();
     view_pixels.assign(receivers.size(), 0u);
   }
-  rt::ViewWeights weights;
+  rt::ViewWeights& weights = view_weights;
   const size_t n = receivers.size();
-  weights.weight.resize(n);
-  weights.reflectance.resize(n);
+  weights.weight.assign(n, 0.0);
+  weights.reflectance.assign(n, 0.0);
   for (size_t r = 0; r < n; ++r) {
     const double rho = lum(dvec(receivers[r].albedo));
     weights.reflectance[r] = rho;
@@ -182,30 +182,14 @@ void Runtime::Impl::rankForView(FrameStats& stats) {
     if (id != kInvalidId && emitters[id].has_current) weights.group_shares[g] = &emitters[id].current;
   }
   std::vector<rt::ImportanceQuery> queries(emitters.size());
-  for (size_t i = 0; i < emitters.size(); ++i) {
-    const Emitter& e = emitters[i];
-    rt::ImportanceQuery& q = queries[i];
-    q.flux = std::max(0.0, lum(e.flux)) * std::max(1.0, emitterScale(e));
-    if (e.kind == EmitterKind::kRuntimeLight) {
-      const RuntimeLightState& light = lights[e.index];
-      q.flux = std::max(0.0, lum(dvec(light.light.color)) * double(light.light.intensity) * double(light.dimmer) *
-                                 rt::lightLobeSolidAngle(light.light));
-    }
-    // An out-of-date cache counts what it lit and what the static level
-    // lets it light (a door that opened, an object that left).
-    if (e.has_current) q.shares.push_back(&e.current);
-    if (outOfDate(e) || !e.has_current) {
-      if (e.has_baseline) {
-        q.shares.push_back(&e.baseline);
-      } else if (!e.bake_shares.receivers.empty()) {
-        q.shares.push_back(&e.bake_shares);
-      }
-    }
-    if (e.kind == EmitterKind::kStaticPatch) q.own_group = int32_t(e.index);
-  }
-  const std::vector<double> importance = rt::emitterImportance(weights, queries);
+  for (size_t i = 0; i < emitters.size(); ++i) queries[i] = importanceQuery(emitters[i], false);
+  group_view = rt::groupView(weights, queries);
   top_importance = 0;
-  for (double v : importance) top_importance = std::max(top_importance, v);
+  std::vector<double> importance(emitters.size());
+  for (size_t i = 0; i < emitters.size(); ++i) {
+    importance[i] = rt::importanceOf(weights, group_view, queries[i]);
+    top_importance = std::max(top_importance, importance[i]);
+  }
   const uint32_t max_interval = uint32_t(settings.max_refresh_interval);
   for (size_t i = 0; i < emitters.size(); ++i) {
     Emitter& e = emitters[i];
@@ -214,6 +198,38 @@ void Runtime::Impl::rankForView(FrameStats& stats) {
     if (!outOfDate(e)) e.settled_importance = importance[i];
   }
   stats.view_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+rt::ImportanceQuery Runtime::Impl::importanceQuery(const Emitter& e, bool current_only) const {
+  rt::ImportanceQuery q;
+  q.flux = std::max(0.0, lum(e.flux)) * std::max(1.0, emitterScale(e));
+  if (e.kind == EmitterKind::kRuntimeLight) {
+    const RuntimeLightState& light = lights[e.index];
+    q.flux = std::max(0.0, lum(dvec(light.light.color)) * double(light.light.intensity) * double(light.dimmer) *
+                               rt::lightLobeSolidAngle(light.light));
+  }
+  if (e.has_current) q.shares.push_back(&e.current);
+  // An out-of-date cache counts what it lit and what the static level lets
+  // it light (a door that opened, an object that left).
+  if (!current_only && (outOfDate(e) || !e.has_current)) {
+    if (e.has_baseline) {
+      q.shares.push_back(&e.baseline);
+    } else if (!e.bake_shares.receivers.empty()) {
+      q.shares.push_back(&e.bake_shares);
+    }
+  }
+  if (e.kind == EmitterKind::kStaticPatch) q.own_group = int32_t(e.index);
+  return q;
+}
+
+void Runtime::Impl::settleImportance(const std::vector<rt::RefreshDecision>& refreshed) {
+  // What a just-refreshed emitter shows now, from its fresh shares: the
+  // reference a later rise (a door opening onto its light) is judged by.
+  for (const rt::RefreshDecision& d : refreshed) {
+    Emitter& e = emitters[d.emitter];
+    if (outOfDate(e)) continue;
+    e.settled_importance = rt::importanceOf(view_weights, group_view, importanceQuery(e, true));
+  }
 }
 
 std::vector<rt::RefreshCandidate> Runtime::Impl::refreshCandidates() {

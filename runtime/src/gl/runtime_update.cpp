@@ -572,6 +572,7 @@ FrameStats Runtime::Impl::update(double budget_ms) {
     if (!outOfDate(e)) e.waiting = false;
     e.region_known = e.region_known || e.has_current;
   }
+  if (by_view) settleImportance(decisions);
   // Bounce; receivers whose reflected delta had no shares to go through get
   // emitters (fewer samples as energy falls), budget permitting, and the
   // bounce is solved again with them.
