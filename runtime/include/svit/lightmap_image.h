@@ -28,7 +28,13 @@ struct LightmapImage {
 /// texels (naming the first), I/O failure.
 Status writeLightmapExr(const LightmapImage& image, const std::string& path);
 
-/// Reads an EXR written by writeLightmapExr (any EXR with R, G, B channels).
+/// Reads an EXR written by writeLightmapExr: any single-part scanline EXR
+/// with R, G and B channels of half or float (other channels ignored),
+/// uncompressed, RLE or ZIP. Errors name the file: not found, not an EXR,
+/// tiled/deep/multi-part, subsampled or PIZ/other compression
+/// (kUnsupported), no R, G or B channel, a data window empty or
+/// over 16384 texels a side or larger than the file could hold compressed,
+/// corrupt pixel data, a texel that is not finite. Thread-safe: yes.
 Expected<LightmapImage> readLightmapExr(const std::string& path);
 
 }  // namespace svit

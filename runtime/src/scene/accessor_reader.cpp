@@ -89,6 +89,18 @@ uint32_t decodeIndex(const unsigned char* p, int component_type) {
 
 Status invalid(const std::string& message) { return Status(StatusCode::kInvalidInput, message); }
 
+// Elements of an accessor without a bufferView (zeros, perhaps with sparse
+// values) are backed by no bytes of the file, so nothing else bounds their
+// count: 2^24 (16.7 M vertices, 200 MB of VEC3) is above any mesh svit
+// lights, and stops a count of 2^40 from allocating terabytes.
+constexpr size_t kMaxUnbackedElements = size_t(1) << 24;
+
+bool isIndexComponentType(int component_type) {
+  return component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+         component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
+         component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+}
+
 // A validated view of `count` elements of `element_bytes` each inside one
 // buffer view: base pointer and stride.
 struct ElementSpan {
@@ -103,6 +115,7 @@ Status locateElements(const tinygltf::Model& model, int buffer_view_index, size_
     return invalid(what + ": bufferView " + std::to_string(buffer_view_index) +
                    " does not exist (file has " + std::to_string(model.bufferViews.size()) + ")");
   }
+  if (element_bytes == 0) return invalid(what + ": elements of 0 bytes");  // callers check types first
   const tinygltf::BufferView& view = model.bufferViews[size_t(buffer_view_index)];
   const std::string view_name = "bufferView " + std::to_string(buffer_view_index);
   if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size()) {
@@ -173,14 +186,21 @@ Status readFloats(const tinygltf::Model& model, int accessor_index, int componen
     return invalid(what + ": unknown componentType " + std::to_string(accessor.componentType));
   }
   const size_t count = accessor.count;
-  out.assign(count * size_t(components), 0.0f);
+  // Bound the count by the bytes behind it before allocating for it: a
+  // count of 2^40 used to allocate first and fail the check after.
+  ElementSpan span;
   if (accessor.bufferView >= 0) {
-    ElementSpan span;
     if (Status s = locateElements(model, accessor.bufferView, accessor.byteOffset, count,
                                   size_t(bytes) * size_t(components), true, what, span);
         !s.ok()) {
       return s;
     }
+  } else if (count > kMaxUnbackedElements) {
+    return invalid(what + ": count " + std::to_string(count) + " without a bufferView exceeds " +
+                   std::to_string(kMaxUnbackedElements));
+  }
+  out.assign(count * size_t(components), 0.0f);
+  if (accessor.bufferView >= 0) {
     for (size_t i = 0; i < count; ++i) {
       const unsigned char* element = span.base + i * span.stride;
       for (int c = 0; c < components; ++c) {
@@ -195,6 +215,14 @@ Status readFloats(const tinygltf::Model& model, int accessor_index, int componen
     if (sparse.count < 0 || sparse_count > count) {
       return invalid(what + ": sparse count " + std::to_string(sparse.count) + " > count " +
                      std::to_string(count));
+    }
+    // glTF 2.0 3.6.2.3: sparse indices are unsigned byte, short or int. An
+    // unknown type gave 0-byte elements and a division by zero (found by
+    // fuzz_gltf and fuzz_glb); a signed byte or short one made decodeIndex
+    // read 4 bytes of a 1- or 2-byte element.
+    if (!isIndexComponentType(sparse.indices.componentType)) {
+      return invalid(what + ": sparse indices componentType " + std::to_string(sparse.indices.componentType) +
+                     " is not unsigned byte, short or int");
     }
     const int index_bytes = componentBytes(sparse.indices.componentType);
     ElementSpan index_span, value_span;
@@ -232,10 +260,7 @@ Status readIndices(const tinygltf::Model& model, int accessor_index, const std::
   if (Status s = checkAccessorIndex(model, accessor_index, context); !s.ok()) return s;
   const tinygltf::Accessor& accessor = model.accessors[size_t(accessor_index)];
   const std::string what = context + ": accessor " + std::to_string(accessor_index);
-  if (accessor.type != TINYGLTF_TYPE_SCALAR ||
-      (accessor.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
-       accessor.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-       accessor.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)) {
+  if (accessor.type != TINYGLTF_TYPE_SCALAR || !isIndexComponentType(accessor.componentType)) {
     return invalid(what + ": indices must be SCALAR unsigned byte/short/int");
   }
   if (accessor.sparse.isSparse) {

@@ -26,6 +26,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "bake_file_decode.h"
 #include "bake_file_io.h"
 #include "bake_file_validate.h"
 
@@ -335,12 +336,16 @@ struct SectionRef {
   size_t size = 0;
 };
 
-// `bytes` is the whole file. Returns the data or why it is not a valid bake.
-Expected<BakeData> decode(const std::vector<uint8_t>& bytes, const std::string& path) {
-  const size_t size = bytes.size();
+std::string osError(int error) { return std::generic_category().message(error); }
+
+}  // namespace
+
+namespace bakeio {
+
+Expected<BakeData> decodeBakeFile(const uint8_t* bytes, size_t size, const std::string& path) {
   // A short prefix of the magic is a cut file; anything else is not ours.
   const size_t magic_bytes = std::min(size, sizeof kMagic);
-  if (magic_bytes > 0 && std::memcmp(bytes.data(), kMagic, magic_bytes) != 0) {
+  if (magic_bytes > 0 && std::memcmp(bytes, kMagic, magic_bytes) != 0) {
     std::string seen;
     for (size_t i = 0; i < magic_bytes; ++i) seen += (bytes[i] >= 0x20 && bytes[i] <= 0x7e) ? char(bytes[i]) : '?';
     return invalid(path, "not a bake file: magic \"" + seen + "\", expected \"SVITBAKE\"");
@@ -348,7 +353,7 @@ Expected<BakeData> decode(const std::vector<uint8_t>& bytes, const std::string& 
   if (size < kHeaderBytes + kChecksumBytes) {
     return invalid(path, truncatedText("the smallest bake file (header and checksum)", kHeaderBytes + kChecksumBytes, size));
   }
-  ByteReader header(bytes.data() + sizeof kMagic, kHeaderBytes - sizeof kMagic);
+  ByteReader header(bytes + sizeof kMagic, kHeaderBytes - sizeof kMagic);
   const uint32_t version = header.u32();
   const uint32_t section_count = header.u32();
   if (version != kBakeFileVersion) {
@@ -358,7 +363,7 @@ Expected<BakeData> decode(const std::vector<uint8_t>& bytes, const std::string& 
   // Walk the section table within [header, checksum) before trusting any
   // size: a cut file shows up here as a section longer than what is left.
   const size_t body_end = size - kChecksumBytes;
-  ByteReader body(bytes.data() + kHeaderBytes, body_end - kHeaderBytes);
+  ByteReader body(bytes + kHeaderBytes, body_end - kHeaderBytes);
   std::vector<SectionRef> sections;
   for (uint32_t i = 0; i < section_count; ++i) {
     if (!body.need(kSectionHeaderBytes)) {
@@ -378,7 +383,7 @@ Expected<BakeData> decode(const std::vector<uint8_t>& bytes, const std::string& 
   }
   uint64_t stored = 0;
   for (size_t i = 0; i < kChecksumBytes; ++i) stored |= uint64_t(bytes[body_end + i]) << (8 * i);
-  if (stored != fnv1a64(bytes.data(), body_end)) return invalid(path, "checksum mismatch: file is corrupt");
+  if (stored != fnv1a64(bytes, body_end)) return invalid(path, "checksum mismatch: file is corrupt");
   if (body.remaining() != 0) {
     return invalid(path, num(uint64_t(body.remaining())) + " unexpected bytes after the last of " + num(section_count) +
                              " sections");
@@ -413,7 +418,7 @@ Expected<BakeData> decode(const std::vector<uint8_t>& bytes, const std::string& 
   data.has_runtime_sections = runtime_present == 6;
   auto parse = [&](int k, auto decoder) -> Status {
     const SectionRef& ref = *found[k];
-    ByteReader r(bytes.data() + ref.offset, ref.size);
+    ByteReader r(bytes + ref.offset, ref.size);
     decoder(r, data);
     if (r.failed()) return invalid(path, truncatedText("section " + tagName(ref.tag), r.failedNeed(), r.failedLeft()));
     if (r.remaining() != 0) {
@@ -437,9 +442,7 @@ Expected<BakeData> decode(const std::vector<uint8_t>& bytes, const std::string& 
   return data;
 }
 
-std::string osError(int error) { return std::generic_category().message(error); }
-
-}  // namespace
+}  // namespace bakeio
 
 uint64_t fnv1a64(const void* data, size_t bytes, uint64_t seed) {
   constexpr uint64_t kPrime = 0x100000001b3ull;  // FNV-1a 64 prime
@@ -519,7 +522,7 @@ Expected<BakeData> readBakeFile(const std::string& path) {
                  reinterpret_cast<const uint8_t*>(chunk) + in.gcount());
   }
   if (in.bad()) return Status(StatusCode::kIoError, path + ": read failed: " + osError(errno));
-  return decode(bytes, path);
+  return bakeio::decodeBakeFile(bytes.data(), bytes.size(), path);
 }
 
 }  // namespace svit

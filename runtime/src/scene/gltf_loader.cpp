@@ -26,14 +26,48 @@ const std::set<std::string>& supportedExtensions() {
 // tinygltf's image callback: keep the encoded bytes and decode later, only
 // for the images that base-colour or emissive textures use (Sponza's normal
 // and roughness maps would otherwise cost seconds and gigabytes).
-bool keepEncodedImage(tinygltf::Image* /*image*/, const int image_index, std::string* /*err*/,
+// Images stored in a bufferView are not read here: tinygltf 2.7 hands over
+// buffer bytes [byteOffset, byteOffset + byteLength) without checking them
+// against the buffer's size (a heap overread found by fuzz_glb), so
+// copyBufferViewImages() reads them after the load, bounds-checked.
+bool keepEncodedImage(tinygltf::Image* image, const int image_index, std::string* /*err*/,
                       std::string* /*warn*/, int, int, const unsigned char* bytes, int size,
                       void* user_data) {
   auto* images = static_cast<std::vector<std::vector<unsigned char>>*>(user_data);
-  if (image_index < 0) return true;
+  if (image_index < 0 || image->bufferView >= 0 || size < 0) return true;
   if (images->size() <= size_t(image_index)) images->resize(size_t(image_index) + 1);
   (*images)[size_t(image_index)].assign(bytes, bytes + size);
   return true;
+}
+
+// The encoded bytes of images stored in a bufferView (GLB files), once the
+// view is known to lie inside its buffer.
+Status copyBufferViewImages(const tinygltf::Model& model, const std::string& path,
+                            std::vector<std::vector<unsigned char>>& images) {
+  for (size_t i = 0; i < model.images.size(); ++i) {
+    const int view_index = model.images[i].bufferView;
+    if (view_index < 0) continue;
+    // tinygltf checked that the view and its buffer exist; check again
+    // rather than depend on it.
+    const std::string what = path + ": image " + std::to_string(i) + ": bufferView " + std::to_string(view_index);
+    if (size_t(view_index) >= model.bufferViews.size()) {
+      return Status(StatusCode::kInvalidInput, what + " does not exist");
+    }
+    const tinygltf::BufferView& view = model.bufferViews[size_t(view_index)];
+    if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size()) {
+      return Status(StatusCode::kInvalidInput, what + ": buffer " + std::to_string(view.buffer) + " does not exist");
+    }
+    const std::vector<unsigned char>& data = model.buffers[size_t(view.buffer)].data;
+    if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset) {
+      return Status(StatusCode::kInvalidInput,
+                    what + " bytes [" + std::to_string(view.byteOffset) + ", " +
+                        std::to_string(uint64_t(view.byteOffset) + view.byteLength) + ") out of bounds of buffer " +
+                        std::to_string(view.buffer) + " (" + std::to_string(data.size()) + " bytes)");
+    }
+    if (images.size() <= i) images.resize(i + 1);
+    images[i].assign(data.begin() + long(view.byteOffset), data.begin() + long(view.byteOffset + view.byteLength));
+  }
+  return Status();
 }
 
 bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
@@ -112,6 +146,9 @@ Expected<Scene> importGltfUnfinalized(const std::string& path, const LoadOptions
     return Status(StatusCode::kInvalidInput,
                   path + ": not a valid glTF 2.0 file: " +
                       trimmed(error.empty() ? "tinygltf gave no reason" : error));
+  }
+  if (options.load_textures) {
+    if (Status s = copyBufferViewImages(model, path, encoded_images); !s.ok()) return s;
   }
   Scene scene;
   scene.source_path = path;

@@ -2,6 +2,7 @@
 // emission (luminance in cd/m2, KHR_materials_emissive_strength).
 
 #include <cmath>
+#include <sstream>
 
 #include <stb_image.h>
 #include <tiny_gltf.h>
@@ -17,6 +18,17 @@ WrapMode wrapMode(int gl_wrap) {
     case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return WrapMode::kMirroredRepeat;
     default: return WrapMode::kRepeat;
   }
+}
+
+// stb_image's reason as printable ASCII: for an unknown PNG chunk it is the
+// chunk's four raw type bytes (found by fuzz_gltf: a warning that was not
+// UTF-8 made svit-info --json throw).
+std::string printableReason(const char* reason) {
+  std::string out = reason ? reason : "no reason given";
+  for (char& c : out) {
+    if (c < 0x20 || c > 0x7e) c = '?';
+  }
+  return out;
 }
 
 std::string imageLabel(const tinygltf::Image& image, int index) {
@@ -58,7 +70,7 @@ int decodeTexture(ImportContext& context, int texture_index, const std::string& 
       stbi_load_from_memory(bytes.data(), int(bytes.size()), &width, &height, &channels, 0);
   if (pixels == nullptr) {
     context.scene.warnings.push_back(user + ": " + label +
-                                     " cannot be decoded (" + stbi_failure_reason() +
+                                     " cannot be decoded (" + printableReason(stbi_failure_reason()) +
                                      "); the factor is used alone");
     ++context.scene.counters.missing_textures;
     return slot;
@@ -105,7 +117,9 @@ Status readTextureRef(ImportContext& context, const tinygltf::TextureInfo& info,
                                                  " does not exist");
   }
   ref.texture = decoded;
-  ref.texcoord = info.texCoord;
+  // The UV set as a double until it is known to be 0 or 1: an int cast of
+  // KHR_texture_transform's 1e300 would be undefined.
+  double texcoord = info.texCoord;
   auto transform = info.extensions.find("KHR_texture_transform");
   if (transform != info.extensions.end() && transform->second.IsObject()) {
     const tinygltf::Value& t = transform->second;
@@ -119,17 +133,24 @@ Status readTextureRef(ImportContext& context, const tinygltf::TextureInfo& info,
       ref.scale = {float(number(t.Get("scale").Get(0), 1)), float(number(t.Get("scale").Get(1), 1))};
     }
     if (t.Has("rotation")) ref.rotation_rad = float(number(t.Get("rotation"), 0));
-    if (t.Has("texCoord")) ref.texcoord = int(number(t.Get("texCoord"), ref.texcoord));
+    if (t.Has("texCoord")) texcoord = number(t.Get("texCoord"), texcoord);
     if (!std::isfinite(ref.offset.x) || !std::isfinite(ref.offset.y) ||
         !std::isfinite(ref.scale.x) || !std::isfinite(ref.scale.y) ||
         !std::isfinite(ref.rotation_rad)) {
       return Status(StatusCode::kInvalidInput, what + ": KHR_texture_transform is not finite");
     }
   }
-  if (ref.texcoord < 0 || ref.texcoord > 1) {
-    context.scene.warnings.push_back(what + ": TEXCOORD_" + std::to_string(ref.texcoord) +
+  if (texcoord != 0 && texcoord != 1) {
+    std::ostringstream set;
+    set << texcoord;
+    context.scene.warnings.push_back(what + ": TEXCOORD_" + set.str() +
                                      " is not supported (only 0 and 1); texture ignored");
+    // No texture, and a UV set that is one (TextureRef's contract; found
+    // by fuzz_glb: texcoord 5 was left beside texture -1).
     ref.texture = -1;
+    ref.texcoord = 0;
+  } else {
+    ref.texcoord = int(texcoord);
   }
   return Status();
 }

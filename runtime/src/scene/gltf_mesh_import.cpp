@@ -258,7 +258,9 @@ Status importMesh(ImportContext& context, int mesh_index, Mesh& mesh) {
             n = {0, 1, 0};  // used by no kept triangle
           }
         } else {
-          n = fromGlm(glm::normalize(toGlm(n)));
+          // In double: a float |n|^2 overflows for |n| > ~1.8e19 and would
+          // normalise to zero (found by fuzz_glb).
+          n = fromGlm(glm::vec3(glm::normalize(dvec(normals, uint32_t(v)))));
         }
       }
     }

@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <vector>
 
 #include <tinyexr.h>
 
@@ -85,27 +87,211 @@ Status writeLightmapExr(const LightmapImage& image, const std::string& path) {
   return Status();
 }
 
+namespace {
+
+// Largest page side read, texels: 8x the baker's default max_page_size
+// (2048), far above any page svit-bake writes, so a corrupt header cannot
+// make the reader allocate gigabytes.
+constexpr int64_t kMaxLightmapSide = 16384;
+// Decoded bytes (as floats) allowed per file byte. zlib (EXR's ZIP)
+// expands at most ~1032:1 and RLE 64:1; half channels double that as
+// floats. An all-black 4096^2 page written by writeLightmapExr measures
+// 980:1, so 4096 leaves 4x margin and still refuses a 1 KB file that claims
+// gigabytes of pixels before they are allocated.
+constexpr int64_t kMaxExpansion = 4096;
+
+std::string exrMessage(const char* error) {
+  std::string message = error ? error : "unknown error";
+  FreeEXRErrorMessage(error);
+  while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
+  return message;
+}
+
+// Frees what tinyexr allocated, on every path out of the reader.
+struct ExrHeaderGuard {
+  EXRHeader header;
+  ExrHeaderGuard() { InitEXRHeader(&header); }
+  ~ExrHeaderGuard() { FreeEXRHeader(&header); }
+};
+struct ExrImageGuard {
+  EXRImage image;
+  ExrImageGuard() { InitEXRImage(&image); }
+  ~ExrImageGuard() { FreeEXRImage(&image); }
+};
+
+// The values of every header attribute called `name` in a single-part EXR,
+// in file order. Layout (OpenEXR file layout, "Header"): 4-byte magic,
+// 4-byte version, then attributes {name\0, type\0, int32 size, size bytes}
+// up to an empty name. Returns false when the list runs past the data.
+bool headerAttributes(const std::vector<unsigned char>& bytes, const std::string& name,
+                      std::vector<std::string>& values) {
+  size_t at = 8;
+  auto cString = [&](std::string& out) {
+    const size_t start = at;
+    while (at < bytes.size() && bytes[at] != 0) ++at;
+    if (at >= bytes.size()) return false;
+    out.assign(reinterpret_cast<const char*>(bytes.data()) + start, at - start);
+    ++at;
+    return true;
+  };
+  values.clear();
+  for (;;) {
+    std::string attribute, type;
+    if (!cString(attribute)) return false;
+    if (attribute.empty()) return true;
+    if (!cString(type) || bytes.size() - at < 4) return false;
+    const uint32_t size = uint32_t(bytes[at]) | uint32_t(bytes[at + 1]) << 8 | uint32_t(bytes[at + 2]) << 16 |
+                          uint32_t(bytes[at + 3]) << 24;
+    at += 4;
+    if (size > bytes.size() - at) return false;
+    if (attribute == name) values.emplace_back(reinterpret_cast<const char*>(bytes.data()) + at, size);
+    at += size;
+  }
+}
+
+}  // namespace
+
 Expected<LightmapImage> readLightmapExr(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return Status(StatusCode::kNotFound, path + ": file not found");
-  float* rgba = nullptr;
-  int width = 0, height = 0;
+  if (std::filesystem::is_directory(path, ec)) return Status(StatusCode::kIoError, path + ": is a directory, not an EXR");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Status(StatusCode::kIoError, path + ": cannot open");
+  std::vector<unsigned char> bytes;
+  char chunk[1 << 16];
+  while (in) {
+    in.read(chunk, sizeof chunk);
+    bytes.insert(bytes.end(), chunk, chunk + in.gcount());
+  }
+  if (in.bad()) return Status(StatusCode::kIoError, path + ": read failed");
+  auto invalid = [&](const std::string& what) { return Status(StatusCode::kInvalidInput, path + ": " + what); };
+
+  // The reader takes what writeLightmapExr writes and what other tools
+  // write for the same job: one scanline part with R, G and B channels of
+  // half or float. tinyexr's whole-file LoadEXR() is avoided on purpose: it
+  // also takes tiled and deep files through less-tested paths, and the
+  // lower-level calls let every header field be checked before the pixels
+  // are allocated (docs/fuzzing.md).
+  EXRVersion version;
+  if (ParseEXRVersionFromMemory(&version, bytes.data(), bytes.size()) != TINYEXR_SUCCESS) {
+    return invalid("not a readable EXR: no OpenEXR magic number and version 2");
+  }
+  if (version.multipart || version.non_image || version.tiled) {
+    return Status(StatusCode::kUnsupported, path + ": " +
+                                                (version.multipart ? "multi-part" : version.non_image ? "deep" : "tiled") +
+                                                " EXR; lightmap pages are single-part scanline images");
+  }
+  // Debian's tinyexr keeps assert() on: a part type other than the four it
+  // knows aborts the process inside ParseEXRHeaderFromMemory (found by
+  // fuzz_lightmap_exr). A lightmap is a scanline image; say so first.
+  // Every 'type' attribute counts (tinyexr keeps whichever it parsed last
+  // with data), read as tinyexr reads it: up to the first NUL.
+  std::vector<std::string> part_types;
+  if (!headerAttributes(bytes, "type", part_types)) return invalid("not a readable EXR: header runs past the file");
+  for (const std::string& value : part_types) {
+    const std::string part_type = value.substr(0, value.find('\0'));
+    if (part_type.empty() || part_type == "scanlineimage") continue;
+    std::string printable;
+    for (char c : part_type.substr(0, 32)) printable += (c >= 0x20 && c <= 0x7e) ? c : '?';
+    return Status(StatusCode::kUnsupported,
+                  path + ": part type '" + printable + "'; lightmap pages are scanline images");
+  }
+  ExrHeaderGuard header;
   const char* error = nullptr;
-  const int result = LoadEXR(&rgba, &width, &height, path.c_str(), &error);
-  if (result != TINYEXR_SUCCESS) {
-    const std::string message = error ? error : "unknown error";
-    FreeEXRErrorMessage(error);
-    return Status(StatusCode::kInvalidInput, path + ": not a readable EXR: " + message);
+  if (ParseEXRHeaderFromMemory(&header.header, &version, bytes.data(), bytes.size(), &error) != TINYEXR_SUCCESS) {
+    return invalid("not a readable EXR: " + exrMessage(error));
   }
-  LightmapImage image;
-  image.width = width;
-  image.height = height;
-  image.rgb.resize(size_t(width) * size_t(height) * 3);
-  for (size_t i = 0; i < size_t(width) * size_t(height); ++i) {
-    for (int c = 0; c < 3; ++c) image.rgb[i * 3 + size_t(c)] = rgba[i * 4 + size_t(c)];
+  EXRHeader& h = header.header;
+  if (h.tiled || h.multipart || h.non_image) return invalid("header disagrees with the version field (tiled, deep or multi-part)");
+  // svit-bake writes ZIP; uncompressed, RLE and single-line ZIP are as
+  // simple. PIZ is refused: tinyexr 1.0.1's Huffman decoder reads its table
+  // header past the end of a short chunk (heap overread, found by
+  // fuzz_lightmap_exr), and its other decoders were never needed here.
+  if (h.compression_type != TINYEXR_COMPRESSIONTYPE_NONE && h.compression_type != TINYEXR_COMPRESSIONTYPE_RLE &&
+      h.compression_type != TINYEXR_COMPRESSIONTYPE_ZIPS && h.compression_type != TINYEXR_COMPRESSIONTYPE_ZIP) {
+    return Status(StatusCode::kUnsupported, path + ": compression " + std::to_string(h.compression_type) +
+                                                " (lightmap pages are uncompressed, RLE or ZIP; PIZ is not read)");
   }
-  std::free(rgba);
-  return image;
+  int rgb_channel[3] = {-1, -1, -1};
+  for (int c = 0; c < h.num_channels; ++c) {
+    const EXRChannelInfo& channel = h.channels[c];
+    for (int k = 0; k < 3; ++k) {
+      if (std::strcmp(channel.name, k == 0 ? "R" : k == 1 ? "G" : "B") == 0) rgb_channel[k] = c;
+    }
+    if (h.pixel_types[c] != TINYEXR_PIXELTYPE_HALF && h.pixel_types[c] != TINYEXR_PIXELTYPE_FLOAT &&
+        h.pixel_types[c] != TINYEXR_PIXELTYPE_UINT) {
+      return invalid("channel " + std::to_string(c) + " has unknown pixel type " + std::to_string(h.pixel_types[c]));
+    }
+    if (channel.x_sampling != 1 || channel.y_sampling != 1) {
+      return Status(StatusCode::kUnsupported, path + ": channel " + std::to_string(c) + " is subsampled (" +
+                                                  std::to_string(channel.x_sampling) + " x " +
+                                                  std::to_string(channel.y_sampling) + ")");
+    }
+    // Everything is decoded as float (HALF widened); UINT channels other than
+    // R, G, B are read and ignored.
+    if (h.pixel_types[c] == TINYEXR_PIXELTYPE_HALF) h.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (rgb_channel[k] < 0) return invalid(std::string("no ") + "RGB"[k] + " channel (a lightmap page has R, G and B)");
+    if (h.pixel_types[rgb_channel[k]] == TINYEXR_PIXELTYPE_UINT) {
+      return invalid(std::string("channel ") + "RGB"[k] + " holds unsigned integers, not half or float");
+    }
+  }
+  const int64_t width = int64_t(h.data_window.max_x) - h.data_window.min_x + 1;
+  const int64_t height = int64_t(h.data_window.max_y) - h.data_window.min_y + 1;
+  if (width < 1 || height < 1 || width > kMaxLightmapSide || height > kMaxLightmapSide) {
+    return invalid("data window " + std::to_string(width) + " x " + std::to_string(height) +
+                   " texels is empty or larger than " + std::to_string(kMaxLightmapSide) + " on a side");
+  }
+  // The offset table holds one 8-byte offset per chunk of at least one
+  // scanline; tinyexr sizes it from a chunkCount attribute if there is one
+  // (825 million for 9 scanlines asked for 6.6 GB: found by
+  // fuzz_lightmap_exr).
+  if (h.chunk_count < 0 || h.chunk_count > height || int64_t(h.chunk_count) * 8 > int64_t(bytes.size())) {
+    return invalid("chunkCount " + std::to_string(h.chunk_count) + " does not fit " + std::to_string(height) +
+                   " scanlines in a file of " + std::to_string(bytes.size()) + " bytes");
+  }
+  const int64_t decoded_bytes = width * height * int64_t(h.num_channels) * 4;
+  if (decoded_bytes > kMaxExpansion * int64_t(bytes.size())) {
+    return invalid(std::to_string(width) + " x " + std::to_string(height) + " texels of " +
+                   std::to_string(h.num_channels) + " channels cannot be stored in a file of " +
+                   std::to_string(bytes.size()) + " bytes");
+  }
+
+  ExrImageGuard image;
+  // tinyexr 1.0.1 sets num_channels only once decoding succeeds, so when a
+  // corrupt chunk fails the decode its own cleanup frees no channel planes
+  // (a leak per bad file, found by fuzz_lightmap_exr). Set it up front: the
+  // cleanup then frees them. Nothing else reads it before it is set.
+  image.image.num_channels = h.num_channels;
+  if (LoadEXRImageFromMemory(&image.image, &h, bytes.data(), bytes.size(), &error) != TINYEXR_SUCCESS) {
+    // tinyexr has already released what it could (FreeEXRImage without
+    // resetting the pointers): forget them, or the guard frees them twice.
+    InitEXRImage(&image.image);
+    return invalid("not a readable EXR: " + exrMessage(error));
+  }
+  const EXRImage& exr = image.image;
+  if (exr.images == nullptr || exr.width != width || exr.height != height || exr.num_channels != h.num_channels) {
+    return invalid("decoded image does not match its header");
+  }
+  LightmapImage out;
+  out.width = int(width);
+  out.height = int(height);
+  const size_t texels = size_t(width) * size_t(height);
+  out.rgb.resize(texels * 3);
+  for (int k = 0; k < 3; ++k) {
+    const float* plane = reinterpret_cast<const float*>(exr.images[rgb_channel[k]]);
+    for (size_t i = 0; i < texels; ++i) {
+      // NaN or Inf would spread through every bilinear lookup that touches
+      // the texel (found by fuzz_lightmap_exr: such pages were accepted).
+      if (!std::isfinite(plane[i])) {
+        return invalid("texel (" + std::to_string(i % size_t(width)) + ", " + std::to_string(i / size_t(width)) +
+                       ") channel " + "RGB"[k] + " is not finite");
+      }
+      out.rgb[i * 3 + size_t(k)] = plane[i];
+    }
+  }
+  return out;
 }
 
 }  // namespace svit

@@ -130,7 +130,10 @@ std::string summaryToJson(const std::string& level_path, const SceneSummary& s) 
                      {"max", {s.bounds.max.x, s.bounds.max.y, s.bounds.max.z}}};
   }
   j["warnings"] = s.warnings;
-  return j.dump(2) + "\n";
+  // Names, paths and warnings come from files and need not be UTF-8 (a
+  // Linux path, a percent-decoded URI): write U+FFFD for bad bytes rather
+  // than throw out of a noexcept-by-contract API (found by fuzz_gltf).
+  return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace svit
