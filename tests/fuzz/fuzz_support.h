@@ -3,6 +3,7 @@
 // broken promise, and a private scratch directory for the APIs that take
 // paths. Header-only; each target is one translation unit.
 
+#include <cerrno>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -10,6 +11,7 @@
 #include <fstream>
 #include <string>
 
+#include <signal.h>
 #include <unistd.h>
 
 #ifndef SVIT_TEST_DATA_DIR
@@ -36,7 +38,8 @@ class ScratchDir {
     if (!std::filesystem::is_directory(base, ec) || ::access(base.c_str(), W_OK) != 0) {
       base = std::filesystem::temp_directory_path();
     }
-    std::string pattern = (base / "svit_fuzz_XXXXXX").string();
+    removeAbandoned(base);
+    std::string pattern = (base / ("svit_fuzz_" + std::to_string(::getpid()) + "_XXXXXX")).string();
     if (::mkdtemp(pattern.data()) == nullptr) fail("cannot create a scratch directory under " + base.string());
     dir_ = pattern;
   }
@@ -71,6 +74,21 @@ class ScratchDir {
   }
 
  private:
+  // A crash ends the process without destructors, leaving its directory;
+  // the next run removes those whose process (the pid in the name) is gone.
+  static void removeAbandoned(const std::filesystem::path& base) {
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(base, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind("svit_fuzz_", 0) != 0) continue;
+      const long pid = std::strtol(name.c_str() + 10, nullptr, 10);
+      if (pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH) {
+        std::error_code ignored;
+        std::filesystem::remove_all(entry.path(), ignored);
+      }
+    }
+  }
+
   std::filesystem::path dir_;
 };
 
