@@ -72,7 +72,6 @@ bool mayMeet(const TriangleChunk& c, const Frustum& f) {
 void visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& frustum, uint32_t skip,
                    const glm::dvec3& reach_lo, const glm::dvec3& reach_hi, std::vector<int32_t>& firsts,
                    std::vector<int32_t>& counts) {
-  const bool boxed = reach_lo.x <= reach_hi.x && reach_lo.y <= reach_hi.y && reach_lo.z <= reach_hi.z;
   firsts.clear();
   counts.clear();
   auto push = [&](uint32_t first, uint32_t end) {  // triangles [first, end)
@@ -86,10 +85,7 @@ void visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& frustum
   };
   for (const TriangleChunk& c : chunks) {
     if (!mayMeet(c, frustum)) continue;
-    if (boxed && (c.hi.x < reach_lo.x || c.lo.x > reach_hi.x || c.hi.y < reach_lo.y || c.lo.y > reach_hi.y ||
-                  c.hi.z < reach_lo.z || c.lo.z > reach_hi.z)) {
-      continue;
-    }
+    if (!chunkMeetsBox(c, reach_lo, reach_hi)) continue;
     const uint32_t end = c.first + c.count;
     if (skip >= c.first && skip < end) {
       push(c.first, skip);

@@ -24,6 +24,13 @@ struct TriangleChunk {
   glm::dvec3 lo{0}, hi{0};
 };
 
+/// Whether chunk `c` may meet the box [lo, hi]; lo > hi on an axis means no
+/// box (everything meets it).
+inline bool chunkMeetsBox(const TriangleChunk& c, const glm::dvec3& lo, const glm::dvec3& hi) {
+  if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) return true;
+  return !(c.hi.x < lo.x || c.lo.x > hi.x || c.hi.y < lo.y || c.lo.y > hi.y || c.hi.z < lo.z || c.lo.z > hi.z);
+}
+
 /// Appends the chunks of `positions` (9 floats per triangle), numbering the
 /// triangles from `first_triangle`.
 void appendChunks(std::span<const float> positions, uint32_t first_triangle, std::vector<TriangleChunk>& out);

@@ -72,6 +72,28 @@ struct SampleGpu {
 };
 static_assert(sizeof(SampleGpu) == 160, "SampleGpu must match std430 in index_map_common.comp");
 
+// The fixed-function state id rasters need (maps and the view pass):
+// reversed depth (nearer is larger), every colour channel, CCW fronts.
+void setIdRasterState(bool scissor) {
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_RASTERIZER_DISCARD);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_DEPTH_CLAMP);
+  if (scissor) {
+    glEnable(GL_SCISSOR_TEST);
+  } else {
+    glDisable(GL_SCISSOR_TEST);
+  }
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);
+  glDepthMask(GL_TRUE);
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  glFrontFace(GL_CCW);
+}
+
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
@@ -586,9 +608,7 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
         bool any = false;
         for (size_t i = first; i < end && !any; ++i) {
           const PreparedSample& s = batch[i];
-          any = s.reach_lo.x > s.reach_hi.x ||
-                !(c.hi.x < s.reach_lo.x || c.lo.x > s.reach_hi.x || c.hi.y < s.reach_lo.y || c.lo.y > s.reach_hi.y ||
-                  c.hi.z < s.reach_lo.z || c.lo.z > s.reach_hi.z);
+          any = chunkMeetsBox(c, s.reach_lo, s.reach_hi);
         }
         if (!any) continue;
         batch_runs.insert(batch_runs.end(), {c.first, c.count, uint32_t(first), 0u});
@@ -678,19 +698,7 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
                                                       double(bounds.max.z) - bounds.min.z);
   {
     StateGuard guard;
-    glDisable(GL_BLEND);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_RASTERIZER_DISCARD);
-    glDisable(GL_POLYGON_OFFSET_FILL);
-    glDisable(GL_STENCIL_TEST);
-    glDisable(GL_DEPTH_CLAMP);
-    glEnable(GL_SCISSOR_TEST);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);  // reversed depth: nearer is larger
-    glDepthMask(GL_TRUE);
-    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    glFrontFace(GL_CCW);
+    setIdRasterState(true);
 
     std::vector<PreparedSample> batch;
     batch.reserve(size_t(m.settings.max_batch_samples));
@@ -775,19 +783,7 @@ Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int h
   const uint32_t triangles = m.triangleCount();
   {
     StateGuard guard;
-    glDisable(GL_BLEND);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_RASTERIZER_DISCARD);
-    glDisable(GL_POLYGON_OFFSET_FILL);
-    glDisable(GL_STENCIL_TEST);
-    glDisable(GL_DEPTH_CLAMP);
-    glDisable(GL_SCISSOR_TEST);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);  // reversed depth, as the maps
-    glDepthMask(GL_TRUE);
-    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    glFrontFace(GL_CCW);
+    setIdRasterState(false);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.view_fbo);
     glViewport(0, 0, width, height);
     const GLuint clear_id[4] = {kNoReceiver, kNoTriangle, 0, 0};
