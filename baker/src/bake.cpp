@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include <nlohmann/json.hpp>
 
@@ -88,6 +89,32 @@ double referenceError(const TexelSet& texels, const std::vector<TexelIrradiance>
   }
   const double n = double(std::max<size_t>(1, texels.samples.size()));
   return sum > 0 ? std::sqrt(difference / n) / (sum / n) : 0.0;
+}
+
+// The bake file's sections with their sizes and what each holds, for the
+// "pay for what is used" audit in report.json.
+nlohmann::ordered_json sectionsJson(const BakeData& data) {
+  const size_t probes = size_t(data.probes.dims[0]) * data.probes.dims[1] * data.probes.dims[2];
+  const std::map<std::string, std::pair<std::string, std::string>> what = {
+      {"HEAD", {"header", "level hash, seed"}},
+      {"PAGE", {"pages", std::to_string(data.pages.size()) + " lightmap pages (names, sizes, hashes)"}},
+      {"TUVS", {"triangle_uvs", std::to_string(data.triangle_uvs.size()) + " static triangles' lightmap coordinates"}},
+      {"PTCH", {"patches", std::to_string(data.patches.size()) + " patches the runtime's deltas live on"}},
+      {"PELM", {"patch_elements", std::to_string(data.patch_elements.size()) + " elements of those patches"}},
+      {"CLST", {"clusters", std::to_string(data.clusters.size()) + " cluster-tree nodes over the patches"}},
+      {"EMIT", {"emitters", std::to_string(data.emitters.size()) + " baked emitters with their form factors"}},
+      {"PRXY", {"proxy", std::to_string(data.proxy.indices.size() / 3) + " LOD-proxy triangles the index maps draw"}},
+      {"PROB", {"probes", std::to_string(probes) + " irradiance probes for dynamic objects"}},
+  };
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const BakeSectionSize& section : bakeSectionSizes(data)) {
+    const auto it = what.find(section.tag);
+    out.push_back({{"section", it != what.end() ? it->second.first : section.tag},
+                   {"tag", section.tag},
+                   {"bytes", section.bytes},
+                   {"holds", it != what.end() ? it->second.second : std::string()}});
+  }
+  return out;
 }
 
 nlohmann::ordered_json seriesJson(const std::vector<ErrorPoint>& series, bool with_reference) {
@@ -345,11 +372,7 @@ Expected<BakeResult> bakeLevel(const BakeOptions& options, const std::function<b
   nlohmann::ordered_json warnings = scene->warnings;
   if (degenerate > 0) warnings.push_back(std::to_string(degenerate) + " static triangles flattened to zero area by their instance transform; skipped");
   json["warnings"] = warnings;
-  nlohmann::ordered_json written = {"header", "pages", "triangle_uvs"};
-  if (data.has_runtime_sections) {
-    for (const char* section : {"patches", "clusters", "emitters", "proxy", "probes"}) written.push_back(section);
-  }
-  json["sections_written"] = written;
+  json["sections_written"] = sectionsJson(data);
   json["sections_left_out"] = left_out;
   json["error_vs_time"] = seriesJson(series, !reference_pages.empty());
 

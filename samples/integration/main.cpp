@@ -72,7 +72,10 @@ int main(int argc, char** argv) {
   int status = 0;
   {
     // 3. svit's runtime (lighting) and renderer (shading), made once per level.
-    svit::Expected<std::unique_ptr<svit::Runtime>> runtime = svit::Runtime::create(*scene, *bake, bake_dir);
+    svit::RuntimeSettings runtime_settings;
+    runtime_settings.delta_textures = false;  // SceneRenderer interpolates the patch delta buffer instead
+    svit::Expected<std::unique_ptr<svit::Runtime>> runtime =
+        svit::Runtime::create(*scene, *bake, bake_dir, runtime_settings);
     if (!runtime.ok()) return fail(runtime.status().message());
     svit::SceneRendererSettings settings;
     settings.width = 640;

@@ -67,7 +67,9 @@ Expected<std::unique_ptr<WalkSession>> openSession(const WalkOptions& options) {
   Expected<GlContextInfo> gl = checkGlContext();
   if (!gl.ok()) return gl.status();
   s.gl_renderer = gl->renderer;
-  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(s.scene, s.bake, options.bake_dir);
+  RuntimeSettings runtime_settings;
+  runtime_settings.delta_textures = false;  // SceneRenderer interpolates the patch delta buffer
+  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(s.scene, s.bake, options.bake_dir, runtime_settings);
   if (!runtime.ok()) return runtime.status();
   s.runtime = std::move(runtime).value();
   SceneRendererSettings settings;
@@ -149,7 +151,8 @@ Status writeOutputs(const WalkSession& session) {
     if (Status s = writeIrradiance(session.options.probe_out, values); !s.ok()) return s;
   }
   if (!session.options.stats.empty()) {
-    return session.stats.writeJson(session.options.stats, session.options.level, session.gl_renderer);
+    return session.stats.writeJson(session.options.stats, session.options.level, session.gl_renderer,
+                                   session.runtime->resources(), session.renderer->resources());
   }
   return Status();
 }

@@ -61,7 +61,9 @@ FrameRecord WalkStats::meanSince(size_t first) const {
   return mean;
 }
 
-Status WalkStats::writeJson(const std::string& path, const std::string& level, const std::string& renderer) const {
+Status WalkStats::writeJson(const std::string& path, const std::string& level, const std::string& renderer,
+                            const std::vector<ResourceUse>& runtime_resources,
+                            const std::vector<ResourceUse>& renderer_resources) const {
   nlohmann::json frames = nlohmann::json::array();
   for (const FrameRecord& r : frames_) {
     nlohmann::json f;
@@ -105,6 +107,15 @@ Status WalkStats::writeJson(const std::string& path, const std::string& level, c
   root["renderer"] = renderer;
   root["frames"] = std::move(frames);
   root["summary"] = {{"frames", frames_.size()}, {"mean", mean}, {"max", max}};
+  auto resources = [](const std::vector<ResourceUse>& uses) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const ResourceUse& u : uses) {
+      out.push_back({{"name", u.name}, {"allocated", u.allocated}, {"gl_objects", u.gl_objects},
+                     {"gpu_bytes", u.gpu_bytes}, {"cpu_bytes", u.cpu_bytes}, {"reason", u.reason}});
+    }
+    return out;
+  };
+  root["resources"] = {{"runtime", resources(runtime_resources)}, {"renderer", resources(renderer_resources)}};
 
   const std::string tmp = path + ".tmp";
   {

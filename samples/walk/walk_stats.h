@@ -36,8 +36,13 @@ class WalkStats {
   FrameRecord meanSince(size_t first) const;
 
   /// Writes {"level", "renderer", "frames": [...], "summary": {"mean": {...},
-  /// "max": {...}}} to `path` via `path`.tmp and a rename. Errors name the path.
-  Status writeJson(const std::string& path, const std::string& level, const std::string& renderer) const;
+  /// "max": {...}}, "resources": {"runtime": [...], "renderer": [...]}} to
+  /// `path` via `path`.tmp and a rename; `resources` are what the runtime
+  /// and the renderer hold at the end (Runtime/SceneRenderer::resources()).
+  /// Errors name the path.
+  Status writeJson(const std::string& path, const std::string& level, const std::string& renderer,
+                   const std::vector<ResourceUse>& runtime_resources,
+                   const std::vector<ResourceUse>& renderer_resources) const;
 
   /// A table of mean and max per stage, and totals of the work counters.
   void printTable(FILE* out) const;

@@ -38,7 +38,7 @@ for f in bake.svit lightmap-0.exr report.json; do
   [[ -f "$work/a/$f" ]] && ok "wrote $f" || fail "missing $f"
 done
 python3 - "$work/a/report.json" <<'PY' && ok "report.json fields" || fail "report.json fields"
-import json, sys
+import json, os, sys
 r = json.load(open(sys.argv[1]))
 for key in ("stage_seconds", "radiosity", "lightmap", "warnings", "error_vs_time", "sections_left_out"):
     assert key in r, key
@@ -46,6 +46,13 @@ assert r["radiosity"]["rays_per_s"] > 0
 assert len(r["error_vs_time"]) >= 2 and all("t_s" in p and "est_rel_error" in p for p in r["error_vs_time"])
 assert r["lightmap"]["covered_texels"] > 0
 assert {s["section"] for s in r["sections_left_out"]} >= {"patches", "proxy", "probes"}
+# The audit's section sizes add up to the file: 16-byte header, 12 bytes per
+# section entry, 8-byte checksum.
+written = r["sections_written"]
+assert [s["section"] for s in written] == ["header", "pages", "triangle_uvs"], written
+assert all(s["bytes"] > 0 and s["holds"] for s in written), written
+size = os.path.getsize(os.path.join(os.path.dirname(sys.argv[1]), "bake.svit"))
+assert sum(s["bytes"] for s in written) + 16 + 12 * len(written) + 8 == size, (written, size)
 PY
 # Determinism: the same seed gives identical files.
 expect_exit bake_again 0 -- "$bake" "$cornell" -o "$work/b" --quality 0.2 --texels-per-m 24 --seed 7 --quiet --threads 1

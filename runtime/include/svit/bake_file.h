@@ -102,6 +102,17 @@ struct BakeData {
 /// (e.g. factors and patches of different lengths, indices out of range).
 Status writeBakeFile(const BakeData& data, const std::string& path);
 
+/// One section of a bake file as writeBakeFile lays it out: its tag
+/// ("HEAD", "PAGE", ...) and payload bytes.
+struct BakeSectionSize {
+  std::string tag;
+  uint64_t bytes = 0;
+};
+
+/// The sections writeBakeFile writes for `data`, in file order, with their
+/// payload sizes (what report.json's audit lists). `data` must be valid.
+std::vector<BakeSectionSize> bakeSectionSizes(const BakeData& data);
+
 /// Reads and validates a bake file. Errors name the file and what is wrong:
 /// missing file, bad magic, other version ("version 7, this build reads 1"),
 /// truncated section, checksum mismatch, out-of-range indices.

@@ -19,6 +19,7 @@
 
 #include "svit/bake_file.h"
 #include "svit/math_types.h"
+#include "svit/resource_use.h"
 #include "svit/scene.h"
 #include "svit/status.h"
 
@@ -75,6 +76,12 @@ struct RuntimeSettings {
   /// re-rendered every update, ignoring views and budgets (what caching is
   /// measured against).
   bool refresh_all = false;
+  /// Lightmap-space delta pages (ShadingResources::delta_textures) for hosts
+  /// that shade with lightmap(uv) + delta(uv). SceneRenderer interpolates
+  /// the patch delta buffer per vertex instead and never reads them: a host
+  /// drawing with it sets this false and pays neither the textures nor
+  /// their per-update rasterisation.
+  bool delta_textures = true;
 };
 
 /// A dynamic object the game adds at run time (the level's own dynamic nodes
@@ -305,6 +312,11 @@ class Runtime {
   /// Irradiance a dynamic object's patch receives (lux), all light included.
   Expected<Rgb> objectPatchIrradiance(ObjectId object, uint32_t triangle) const;
   ShadingResources shadingResources() const;
+  /// What the runtime holds now, one line per buffer or table, with GL
+  /// storage measured through GL queries and host bytes from container
+  /// sizes; what it left out says why (a static level: only the lightmap
+  /// pages). Needs the context current. Cheap; not for every frame.
+  std::vector<ResourceUse> resources() const;
   const BakeData& bake() const;
   const Scene& scene() const;
 

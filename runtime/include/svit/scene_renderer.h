@@ -18,6 +18,7 @@
 
 #include "svit/bake_file.h"
 #include "svit/math_types.h"
+#include "svit/resource_use.h"
 #include "svit/scene.h"
 #include "svit/status.h"
 
@@ -96,6 +97,11 @@ class SceneRenderer {
   int width() const;
   int height() const;
   void resize(int width, int height);
+
+  /// What the renderer holds on the GPU now, one line per buffer or
+  /// texture set, measured through GL queries; what it left out says why
+  /// (Runtime::resources() for the runtime's part). Context current.
+  std::vector<ResourceUse> resources() const;
 
  private:
   struct Impl;

@@ -837,4 +837,25 @@ Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int h
   return checkGlError("IndexMapRenderer::countViewPixels");
 }
 
+std::vector<GlObject> IndexMapRenderer::mapObjects() const {
+  const Impl& m = *impl_;
+  std::vector<GlObject> out = {glTextureObject(m.id_map), glTextureObject(m.depth_map)};
+  for (GLuint b : {m.positions, m.receivers, m.accumulators, m.samples, m.layers, m.small_flags, m.counter, m.runs}) {
+    out.push_back(glBufferObject(b));
+  }
+  return out;
+}
+
+std::vector<GlObject> IndexMapRenderer::viewObjects() const {
+  return {glTextureObject(impl_->view_ids), glTextureObject(impl_->view_depth)};
+}
+
+uint64_t IndexMapRenderer::hostBytes() const {
+  const Impl& m = *impl_;
+  auto bytes = [](const auto& v) { return uint64_t(v.capacity()) * sizeof(v[0]); };
+  return bytes(m.static_positions) + bytes(m.dynamic_positions) + bytes(m.static_receivers) +
+         bytes(m.dynamic_receivers) + bytes(m.static_chunks) + bytes(m.chunks) + bytes(m.readback) +
+         bytes(m.view_readback) + bytes(m.batch_samples) + bytes(m.batch_layers) + bytes(m.batch_runs);
+}
+
 }  // namespace svit::gl

@@ -15,6 +15,7 @@
 #include <span>
 #include <vector>
 
+#include "gl_memory.h"
 #include "svit/math_types.h"
 #include "svit/status.h"
 
@@ -170,6 +171,14 @@ class IndexMapRenderer {
   Status countViewPixels(const ViewFrame& view, int width, int height, std::vector<uint32_t>& pixels);
 
   const IndexMapSettings& settings() const;
+
+  /// The GL objects behind the maps and their reduction (id and depth
+  /// layers, geometry, samples, accumulators, fallback work items), and
+  /// behind countViewPixels' target (empty until its first use): what the
+  /// resource audit measures. Host copies of the triangle sets, in bytes.
+  std::vector<GlObject> mapObjects() const;
+  std::vector<GlObject> viewObjects() const;
+  uint64_t hostBytes() const;
 
  private:
   struct Impl;

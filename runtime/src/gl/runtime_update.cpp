@@ -417,6 +417,10 @@ void Runtime::Impl::uploadDisplay(FrameStats& stats) {
     ++gl_objects_created;
   }
   glNamedBufferSubData(delta_buffer, 0, GLsizeiptr(n * 4 * sizeof(float)), packed.data());
+  if (!settings.delta_textures) {
+    stats.upload_ms += msSince(t0);
+    return;
+  }
   // The same deltas in lightmap space, interpolated as shading shows them.
   std::vector<glm::dvec3> shown(static_receivers);
   for (uint32_t r = 0; r < static_receivers; ++r) shown[r] = dvec(display[r]);

@@ -21,6 +21,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl_memory.h"
 #include "gl_program.h"
 #include "glm_interop.h"
 #include "scene_renderer_bindings.h"
@@ -471,6 +472,46 @@ void SceneRenderer::resize(int width, int height) {
   s.settings.width = width;
   s.settings.height = height;
   s.has_offscreen_frame = false;
+}
+
+std::vector<ResourceUse> SceneRenderer::resources() const {
+  const Impl& s = *impl_;
+  auto use = [](std::string name, const std::vector<gl::GlObject>& objects, std::string why, std::string why_not) {
+    const gl::GlFootprint footprint = gl::glFootprint(objects);
+    ResourceUse out;
+    out.name = std::move(name);
+    out.allocated = footprint.objects > 0;
+    out.gl_objects = footprint.objects;
+    out.gpu_bytes = footprint.bytes;
+    out.reason = out.allocated ? std::move(why) : std::move(why_not);
+    return out;
+  };
+  std::vector<ResourceUse> out;
+  out.push_back(use("static mesh vertex buffer", {gl::glBufferObject(s.static_buffer)},
+                    std::to_string(s.static_vertex_count) + " vertices", "no static triangles"));
+  const size_t skipped = s.materials.skippedCount();
+  out.push_back(use("material textures", s.materials.glObjects(),
+                    "base colour of the materials that use one; " + std::to_string(skipped) +
+                        " scene textures no material samples (normal, roughness) not uploaded",
+                    ""));
+  out.push_back(use("lightmap textures", s.lightmaps.glObjects(), "its own copy: drawn without a runtime",
+                    s.lightmaps.borrowed() ? "borrowed from the runtime (counted there): one copy" : "no lightmap pages"));
+  out.push_back(use("vertex delta interpolation buffers", s.vertex_deltas.glObjects(),
+                    "runtime deltas smoothed over welded vertices",
+                    s.runtime == nullptr ? "no runtime: baked lighting only" : "the bake has no runtime patches"));
+  out.push_back(use("light shadow maps", s.shadows.glObjects(),
+                    std::to_string(s.shadows.lightCount()) +
+                        " lights drawn per pixel (runtime lights; baked ones while dynamic objects need them)",
+                    "no runtime lights, and no dynamic object to light per pixel (or nothing rendered yet)"));
+  out.push_back(use("probe grid textures", s.probes.glObjects(), "indirect light of dynamic objects",
+                    "no dynamic objects can exist (no runtime, none in the level), or the bake has no probes"));
+  ResourceUse dynamic = use("dynamic object vertex buffer", s.dynamic_objects.glObjects(), "the objects as last drawn",
+                            "no dynamic objects drawn");
+  dynamic.cpu_bytes = s.dynamic_objects.hostBytes();
+  out.push_back(dynamic);
+  out.push_back(use("offscreen target (colour + depth)", s.target.glObjects(),
+                    std::to_string(s.settings.width) + " x " + std::to_string(s.settings.height), ""));
+  return out;
 }
 
 std::string_view shadingSource(std::string_view file_name) { return gl::shaderSource(file_name); }

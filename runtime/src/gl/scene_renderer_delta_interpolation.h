@@ -7,6 +7,7 @@
 
 #include <cstdint>
 
+#include "gl_memory.h"
 #include "scene_renderer_static_mesh.h"
 #include "gl_program.h"
 #include "svit/status.h"
@@ -36,6 +37,10 @@ class VertexDeltaInterpolator {
   /// vec4 per welded vertex (lux); 0 when there are none.
   uint32_t vertexDeltaBuffer() const { return vertex_deltas_; }
   uint32_t vertexCount() const { return vertex_count_; }
+
+  std::vector<GlObject> glObjects() const {
+    return {glBufferObject(offsets_), glBufferObject(entries_), glBufferObject(vertex_deltas_)};
+  }
 
  private:
   void release();

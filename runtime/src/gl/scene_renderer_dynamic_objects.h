@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "gl_memory.h"
 #include "svit/math_types.h"
 #include "svit/runtime.h"
 #include "svit/scene.h"
@@ -47,6 +48,9 @@ class DynamicObjectMeshes {
   const Aabb& bounds() const { return bounds_; }
   /// Draws the triangles (attributes 0..6 per DynamicVertex); no-op when empty.
   void draw() const;
+
+  std::vector<GlObject> glObjects() const { return {glBufferObject(buffer_)}; }
+  uint64_t hostBytes() const { return uint64_t(vertices_.capacity()) * sizeof(DynamicVertex); }
 
  private:
   void release();

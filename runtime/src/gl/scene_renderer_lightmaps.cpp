@@ -114,4 +114,12 @@ void LightmapTextures::release() {
   textures_.clear();
 }
 
+std::vector<GlObject> LightmapTextures::glObjects() const {
+  std::vector<GlObject> out;
+  if (owned_) {
+    for (uint32_t t : textures_) out.push_back(glTextureObject(t));
+  }
+  return out;
+}
+
 }  // namespace svit::gl

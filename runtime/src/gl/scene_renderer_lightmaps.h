@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "gl_memory.h"
 #include "svit/bake_file.h"
 #include "svit/status.h"
 
@@ -37,6 +38,10 @@ class LightmapTextures {
   /// irradiance a "typical" surface receives, robust to the few texels
   /// beside a lamp. 0 when no texel is lit.
   double logMeanIrradiance() const { return log_mean_lux_; }
+
+  /// Its textures when it owns them (borrowed ones belong to the runtime).
+  std::vector<GlObject> glObjects() const;
+  bool borrowed() const { return !owned_; }
 
  private:
   void release();

@@ -134,4 +134,16 @@ void MaterialTextures::bind(const Material& m) const {
   glUniform1f(b::kAlphaCutoff, m.alpha_cutoff);
 }
 
+std::vector<GlObject> MaterialTextures::glObjects() const {
+  std::vector<GlObject> out = {glTextureObject(white_)};
+  for (uint32_t t : textures_) out.push_back(glTextureObject(t));
+  return out;
+}
+
+size_t MaterialTextures::skippedCount() const {
+  size_t skipped = 0;
+  for (uint32_t t : textures_) skipped += t == 0 ? 1 : 0;
+  return skipped;
+}
+
 }  // namespace svit::gl

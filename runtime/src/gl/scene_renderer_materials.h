@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "gl_memory.h"
 #include "svit/scene.h"
 #include "svit/status.h"
 
@@ -29,6 +30,11 @@ class MaterialTextures {
   /// Sets the material uniforms (scene_renderer_bindings.h) of the current
   /// program and binds its textures (a white texel where it has none).
   void bind(const Material& material) const;
+
+  /// The uploaded textures and the 1x1 white one.
+  std::vector<GlObject> glObjects() const;
+  /// Scene textures not uploaded because no material uses them.
+  size_t skippedCount() const;
 
  private:
   void release();

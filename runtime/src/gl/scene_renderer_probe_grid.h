@@ -5,6 +5,7 @@
 
 #include <cstdint>
 
+#include "gl_memory.h"
 #include "svit/bake_file.h"
 #include "svit/status.h"
 
@@ -26,6 +27,10 @@ class ProbeGridTextures {
   /// Binds the textures and sets the grid uniforms of the current program
   /// (kProbeOrigin..kUseProbes of scene_renderer_bindings.h).
   void bind() const;
+
+  std::vector<GlObject> glObjects() const {
+    return {glTextureObject(textures_[0]), glTextureObject(textures_[1]), glTextureObject(textures_[2])};
+  }
 
  private:
   void release();

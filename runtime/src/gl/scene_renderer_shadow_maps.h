@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include "gl_memory.h"
 #include "gl_program.h"
 #include "svit/math_types.h"
 #include "svit/scene.h"
@@ -69,6 +70,10 @@ class LightShadowMaps {
   /// scene_renderer_bindings.h); valid after update().
   void bind() const;
   size_t lightCount() const { return gpu_lights_.size(); }
+
+  std::vector<GlObject> glObjects() const {
+    return {glTextureObject(cube_array_), glTextureObject(face_array_), glBufferObject(lights_buffer_)};
+  }
 
  private:
   void release();

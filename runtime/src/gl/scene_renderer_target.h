@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "gl_memory.h"
 #include "svit/status.h"
 
 namespace svit::gl {
@@ -27,6 +28,8 @@ class OffscreenTarget {
   int height() const { return height_; }
   /// The colour as 8-bit RGB, rows top first (GL's first row is the bottom).
   std::vector<uint8_t> readRgb() const;
+
+  std::vector<GlObject> glObjects() const { return {glTextureObject(colour_), glRenderbufferObject(depth_)}; }
 
  private:
   void release();

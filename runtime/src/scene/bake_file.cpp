@@ -501,6 +501,22 @@ Status writeBakeFile(const BakeData& data, const std::string& path) {
   return Status();
 }
 
+std::vector<BakeSectionSize> bakeSectionSizes(const BakeData& data) {
+  const std::vector<uint8_t> bytes = encode(data);
+  ByteReader header(bytes.data() + sizeof kMagic, kHeaderBytes - sizeof kMagic);
+  header.u32();  // version
+  const uint32_t count = header.u32();
+  ByteReader body(bytes.data() + kHeaderBytes, bytes.size() - kHeaderBytes - kChecksumBytes);
+  std::vector<BakeSectionSize> out;
+  for (uint32_t i = 0; i < count; ++i) {
+    const uint32_t tag = body.u32();
+    const uint64_t size = body.u64();
+    out.push_back({tagName(tag), size});
+    body.skip(size_t(size));
+  }
+  return out;
+}
+
 Expected<BakeData> readBakeFile(const std::string& path) {
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
