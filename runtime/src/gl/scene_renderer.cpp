@@ -502,7 +502,8 @@ std::vector<ResourceUse> SceneRenderer::resources() const {
   out.push_back(use("light shadow maps", s.shadows.glObjects(),
                     std::to_string(s.shadows.lightCount()) +
                         " lights drawn per pixel (runtime lights; baked ones while dynamic objects need them)",
-                    "no runtime lights, and no dynamic object to light per pixel (or nothing rendered yet)"));
+                    "no light to draw per pixel: no runtime lights, and no baked point, spot or sun light while "
+                    "dynamic objects exist (or nothing rendered yet)"));
   out.push_back(use("probe grid textures", s.probes.glObjects(), "indirect light of dynamic objects",
                     "no dynamic objects can exist (no runtime, none in the level), or the bake has no probes"));
   ResourceUse dynamic = use("dynamic object vertex buffer", s.dynamic_objects.glObjects(), "the objects as last drawn",
