@@ -1,7 +1,9 @@
 // Importance caching benchmark (issue 7), headless under xvfb-run on
 // whatever GL is there (Mesa llvmpipe on the CI machines). On a generated
 // house (samples/levels/house/make_house.py, baked by importance_bench.sh):
-//  1. a walk through four rooms while every table in the house slides, two
+//  1. a walk through four rooms while every table in the house slides (or,
+//     with --moving walk, only the tables of the four rooms walked: the same
+//     dynamic activity whatever the house's size), two
 //     runtimes side by side in this process: refresh-all (every emitter a
 //     moving table can reach re-rendered every frame) and importance
 //     caching with a per-frame sample budget; per-frame cost of each and
@@ -12,6 +14,7 @@
 //  3. a lamp of the camera's room switched off: the irradiance under it the
 //     very next frame against the settled value.
 // usage: bench_importance LEVEL.json BAKE_DIR [--budget SAMPLES] [--stop-frames N] [--json OUT] [--no-reference]
+//                         [--moving all|walk]
 // (--no-reference: caching alone, for its per-stage times; no error figures).
 
 #include <GLFW/glfw3.h>
@@ -137,6 +140,7 @@ int main(int argc, char** argv) {
   int budget = 48, stop_frames = 6;
   std::string json_path;
   bool reference = true;
+  std::string moving = "all";
   for (int i = 3; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--no-reference")) {
       reference = false;
@@ -148,6 +152,12 @@ int main(int argc, char** argv) {
       stop_frames = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) {
       json_path = argv[++i];
+    } else if (!std::strcmp(argv[i], "--moving") && i + 1 < argc) {
+      moving = argv[++i];
+      if (moving != "all" && moving != "walk") {
+        std::fprintf(stderr, "bench_importance: --moving takes all or walk, not %s\n", moving.c_str());
+        return 2;
+      }
     } else {
       std::fprintf(stderr, "bench_importance: unknown argument %s\n", argv[i]);
       return 2;
@@ -182,8 +192,13 @@ int main(int argc, char** argv) {
   // ---- 1. the walk: refresh-all against caching, side by side ----
   std::unique_ptr<Runtime> all = reference ? makeRuntime(scene, bake, bake_dir, rooms, true, budget) : nullptr;
   std::unique_ptr<Runtime> cached = makeRuntime(scene, bake, bake_dir, rooms, false, budget);
+  const std::vector<Room> walk = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   std::vector<std::pair<ObjectId, Mat4>> table_ids;
   for (const std::string& name : tables) {
+    const bool walked = std::any_of(walk.begin(), walk.end(), [&](const Room& r) {
+      return name == "table_" + std::to_string(r.i) + "_" + std::to_string(r.j);
+    });
+    if (moving == "walk" && !walked) continue;
     const ObjectId id = cached->objectForNode(nodeIndex(scene, name));
     BENCH_CHECK(id != kInvalidId, "table " + name);
     table_ids.push_back({id, cached->objectInfo(id)->world_from_object});
@@ -192,7 +207,6 @@ int main(int argc, char** argv) {
   // Both start settled on the level as placed (a loading screen's work).
   if (all) all->update(0);
   settle(*cached, budget);
-  const std::vector<Room> walk = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   double time_all = 0, time_cached = 0, error_sum = 0, samples_all = 0, samples_cached = 0;
   double stage_maps = 0, stage_reduction = 0, stage_bounce = 0, stage_upload = 0, stage_view = 0;
   int frames = 0;
@@ -309,7 +323,7 @@ int main(int argc, char** argv) {
               lit, next_frame, settled, 100 * std::abs(next_frame - settled) / lit);
 
   if (!json_path.empty()) {
-    nlohmann::json out = {{"level", level_path}, {"rooms", rooms}, {"lamps", scene.lights.size()}, {"gl", renderer},
+    nlohmann::json out = {{"level", level_path}, {"rooms", rooms}, {"moving", moving}, {"moving_tables", table_ids.size()}, {"lamps", scene.lights.size()}, {"gl", renderer},
                           {"budget_samples", budget}, {"frames", frames}, {"refresh_all_ms", mean_all},
                           {"caching_ms", mean_cached}, {"caching_stages", stages}, {"cost_ratio", mean_all > 0 ? mean_cached / mean_all : 0.0},
                           {"refresh_all_samples", samples_all / frames}, {"caching_samples", samples_cached / frames},
