@@ -323,7 +323,8 @@ int main(int argc, char** argv) {
               lit, next_frame, settled, 100 * std::abs(next_frame - settled) / lit);
 
   if (!json_path.empty()) {
-    nlohmann::json out = {{"level", level_path}, {"rooms", rooms}, {"moving", moving}, {"moving_tables", table_ids.size()}, {"lamps", scene.lights.size()}, {"gl", renderer},
+    nlohmann::json out = {{"level", level_path}, {"rooms", rooms}, {"moving", moving},
+                          {"moving_tables", table_ids.size()}, {"lamps", scene.lights.size()}, {"gl", renderer},
                           {"budget_samples", budget}, {"frames", frames}, {"refresh_all_ms", mean_all},
                           {"caching_ms", mean_cached}, {"caching_stages", stages}, {"cost_ratio", mean_all > 0 ? mean_cached / mean_all : 0.0},
                           {"refresh_all_samples", samples_all / frames}, {"caching_samples", samples_cached / frames},
