@@ -187,6 +187,10 @@ def plot_runtime(results, path):
             label = "no budget" if unlimited else "budget %g ms" % run["budget_ms"]
             ax.plot(*zip(*pts), "*-" if unlimited else "o-", markersize=11 if unlimited else 3,
                     color="tab:orange" if unlimited else cmap(i / max(1, len(runs) - 1) * 0.8), label=label)
+        settled = r.get("settled_after_budget")  # --one-settle: update(0) after the budgeted frames
+        if settled:
+            ax.plot([settled["t_s"]], [100 * settled["rms_rel_error"]], "*", markersize=11, color="tab:orange",
+                    label="then update(0): settled")
         before = runs[0]["rms_rel_error"][0]
         ax.axhline(100 * before, color="black", linestyle="--", linewidth=1, label="before any update")
         ax.axhline(100 * r["rest_vs_start_bake"], color="grey", linestyle=":", linewidth=1,
@@ -254,6 +258,10 @@ def main():
                 md.append("| %s | %d | %s | %.2f%% | %s | %s | %s | %s | %.2f%% (frame %d) | %.2f |" % (
                     level, r["probes"], "%g" % run["budget_ms"] if run["budget_ms"] > 0 else "none", 100 * e[0],
                     cell(1), cell(2), cell(4), cell(8), 100 * e[-1], len(e) - 1, run["t_s"][-1]))
+            settled = r.get("settled_after_budget")
+            if settled:
+                md.append("| %s | %d | then update(0) | | | | | | %.2f%% (settled) | %.2f |" % (
+                    level, r["probes"], 100 * settled["rms_rel_error"], settled["t_s"]))
         md += ["", "| level | probes | runtime settled at the start vs the bake with the object static there | "
                "start bake vs moved bake |", "|---|---:|---:|---:|"]
         for level, r in runtime.items():
