@@ -348,7 +348,8 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
     bounds.max = {std::max(bounds.max.x, d.max.x), std::max(bounds.max.y, d.max.y), std::max(bounds.max.z, d.max.z)};
   }
   if (!lights.empty()) {
-    stats.shadow_maps_rendered = s.shadows.update(lights, bounds, casters_changed, [&] {
+    const std::vector<Aabb>& moved = s.dynamic_objects.movedBoxes();
+    stats.shadow_maps_rendered = s.shadows.update(lights, bounds, casters_changed, &moved, [&] {
       glBindVertexArray(s.static_vao);
       glDrawArrays(GL_TRIANGLES, 0, GLsizei(s.static_vertex_count));
       s.dynamic_objects.draw();

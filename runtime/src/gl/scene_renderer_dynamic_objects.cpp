@@ -71,6 +71,8 @@ DynamicObjectMeshes& DynamicObjectMeshes::operator=(DynamicObjectMeshes&& other)
   if (this != &other) {
     release();
     vertices_ = std::move(other.vertices_);
+    objects_ = std::move(other.objects_);
+    moved_boxes_ = std::move(other.moved_boxes_);
     hash_ = other.hash_;
     uploaded_ = other.uploaded_;
     bounds_ = other.bounds_;
@@ -93,6 +95,20 @@ void DynamicObjectMeshes::release() {
 bool DynamicObjectMeshes::update(const Scene& scene, const Runtime* runtime) {
   vertices_.clear();
   bounds_ = Aabb{};
+  std::vector<ObjectSpan> objects;
+  // Closes the object whose vertices start at `first`: its hash and box.
+  auto endObject = [&](size_t first) {
+    ObjectSpan span;
+    span.hash = fnv1a64(vertices_.data() + first, (vertices_.size() - first) * sizeof(DynamicVertex));
+    for (size_t v = first; v < vertices_.size(); ++v) {
+      const float* p = vertices_[v].position;
+      span.bounds.min = {std::min(span.bounds.min.x, p[0]), std::min(span.bounds.min.y, p[1]),
+                         std::min(span.bounds.min.z, p[2])};
+      span.bounds.max = {std::max(span.bounds.max.x, p[0]), std::max(span.bounds.max.y, p[1]),
+                         std::max(span.bounds.max.z, p[2])};
+    }
+    objects.push_back(span);
+  };
   if (runtime != nullptr) {
     for (ObjectId id : runtime->objects()) {
       Expected<ObjectInfo> info = runtime->objectInfo(id);
@@ -102,8 +118,10 @@ bool DynamicObjectMeshes::update(const Scene& scene, const Runtime* runtime) {
         const int m = scene.instances[size_t(info->instance)].mesh;
         if (m >= 0 && size_t(m) < scene.meshes.size()) mesh = &scene.meshes[size_t(m)];
       }
+      const size_t first = vertices_.size();
       appendObject(info->world_positions, info->world_from_object, mesh, &scene.materials, info->triangle_albedo,
                    info->triangle_emission, info->first_patch, info->patch_count, vertices_, bounds_);
+      endObject(first);
     }
   } else {
     std::vector<Vec3> world;
@@ -113,12 +131,23 @@ bool DynamicObjectMeshes::update(const Scene& scene, const Runtime* runtime) {
       const glm::mat4 m = toGlm(instance.world_from_object);
       world.clear();
       for (uint32_t index : mesh.indices) world.push_back(fromGlm(transformPoint(m, toGlm(mesh.positions[index]))));
+      const size_t first = vertices_.size();
       appendObject(world, instance.world_from_object, &mesh, &scene.materials, mesh.triangle_albedo,
                    mesh.triangle_emission, 0, 0, vertices_, bounds_);
+      endObject(first);
     }
   }
   const uint64_t hash = fnv1a64(vertices_.data(), vertices_.size() * sizeof(DynamicVertex));
   const bool changed = !uploaded_ || hash != hash_;
+  moved_boxes_.clear();
+  const bool same_objects = objects.size() == objects_.size();
+  for (size_t o = 0; o < std::max(objects.size(), objects_.size()); ++o) {
+    const bool had = o < objects_.size(), has = o < objects.size();
+    if (same_objects && objects[o].hash == objects_[o].hash) continue;
+    if (had && !objects_[o].bounds.empty()) moved_boxes_.push_back(objects_[o].bounds);
+    if (has && !objects[o].bounds.empty()) moved_boxes_.push_back(objects[o].bounds);
+  }
+  objects_ = std::move(objects);
   hash_ = hash;
   uploaded_ = true;
   if (!changed || vertices_.empty()) return changed;

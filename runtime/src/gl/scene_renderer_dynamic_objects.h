@@ -46,6 +46,10 @@ class DynamicObjectMeshes {
 
   uint32_t vertexCount() const { return uint32_t(vertices_.size()); }
   const Aabb& bounds() const { return bounds_; }
+  /// After update(): the boxes of the objects whose triangles changed, where
+  /// they were and where they are (all of them when objects came or went):
+  /// what a shadow map must be tested against.
+  const std::vector<Aabb>& movedBoxes() const { return moved_boxes_; }
   /// Draws the triangles (attributes 0..6 per DynamicVertex); no-op when empty.
   void draw() const;
 
@@ -54,7 +58,13 @@ class DynamicObjectMeshes {
 
  private:
   void release();
+  struct ObjectSpan {
+    uint64_t hash = 0;  ///< of its vertices
+    Aabb bounds;
+  };
   std::vector<DynamicVertex> vertices_;
+  std::vector<ObjectSpan> objects_;  ///< per drawn object, in draw order
+  std::vector<Aabb> moved_boxes_;
   uint64_t hash_ = 0;
   bool uploaded_ = false;
   Aabb bounds_;

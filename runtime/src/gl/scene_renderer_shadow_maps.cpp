@@ -78,6 +78,10 @@ LightShadowMaps& LightShadowMaps::operator=(LightShadowMaps&& other) noexcept {
     cube_capacity_ = std::exchange(other.cube_capacity_, 0);
     face_capacity_ = std::exchange(other.face_capacity_, 0);
     light_capacity_ = std::exchange(other.light_capacity_, 0);
+    box_vao_ = std::exchange(other.box_vao_, 0);
+    box_buffer_ = std::exchange(other.box_buffer_, 0);
+    box_query_ = std::exchange(other.box_query_, 0);
+    box_capacity_ = std::exchange(other.box_capacity_, 0);
     gpu_lights_ = std::move(other.gpu_lights_);
     rendered_keys_ = std::move(other.rendered_keys_);
   }
@@ -91,8 +95,13 @@ void LightShadowMaps::release() {
   if (cube_array_ != 0) glDeleteTextures(1, &cube_array_);
   if (face_array_ != 0) glDeleteTextures(1, &face_array_);
   if (lights_buffer_ != 0) glDeleteBuffers(1, &lights_buffer_);
+  if (box_buffer_ != 0) glDeleteBuffers(1, &box_buffer_);
+  if (box_vao_ != 0) glDeleteVertexArrays(1, &box_vao_);
+  if (box_query_ != 0) glDeleteQueries(1, &box_query_);
   framebuffer_ = cube_array_ = face_array_ = lights_buffer_ = 0;
+  box_buffer_ = box_vao_ = box_query_ = 0;
   cube_capacity_ = face_capacity_ = light_capacity_ = 0;
+  box_capacity_ = 0;
 }
 
 void LightShadowMaps::ensureCapacity(uint32_t cubes, uint32_t faces) {
@@ -128,8 +137,75 @@ void LightShadowMaps::ensureCapacity(uint32_t cubes, uint32_t faces) {
   }
 }
 
+uint32_t LightShadowMaps::uploadBoxes(const std::vector<Aabb>& boxes) {
+  std::vector<glm::vec3> corners;
+  corners.reserve(boxes.size() * 36);
+  // Two triangles per face of each box (winding is irrelevant: no culling).
+  static constexpr int kFaces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  for (const Aabb& b : boxes) {
+    glm::vec3 c[8];
+    for (int k = 0; k < 8; ++k) {
+      c[k] = {(k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y, (k & 4) ? b.max.z : b.min.z};
+    }
+    for (const auto& f : kFaces) {
+      for (int k : {f[0], f[1], f[2], f[0], f[2], f[3]}) corners.push_back(c[k]);
+    }
+  }
+  if (corners.size() > box_capacity_) {
+    if (box_buffer_ != 0) glDeleteBuffers(1, &box_buffer_);
+    box_capacity_ = std::max(corners.size(), box_capacity_ * 2);
+    glCreateBuffers(1, &box_buffer_);
+    glNamedBufferStorage(box_buffer_, GLsizeiptr(box_capacity_ * sizeof(glm::vec3)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    if (box_vao_ == 0) {
+      glCreateVertexArrays(1, &box_vao_);
+      glEnableVertexArrayAttrib(box_vao_, 0);
+      glVertexArrayAttribFormat(box_vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
+      glVertexArrayAttribBinding(box_vao_, 0, 0);
+    }
+    glVertexArrayVertexBuffer(box_vao_, 0, box_buffer_, 0, sizeof(glm::vec3));
+  }
+  if (box_query_ == 0) glCreateQueries(GL_ANY_SAMPLES_PASSED, 1, &box_query_);
+  if (!corners.empty()) {
+    glNamedBufferSubData(box_buffer_, 0, GLsizeiptr(corners.size() * sizeof(glm::vec3)), corners.data());
+  }
+  return uint32_t(corners.size());
+}
+
+bool LightShadowMaps::boxesSeen(size_t light, uint32_t box_vertices, const glm::mat4& face_view) const {
+  const GpuLight& g = gpu_lights_[light];
+  const glm::vec3 p(g.position[0], g.position[1], g.position[2]);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
+  glViewport(0, 0, map_size_, map_size_);
+  glUseProgram(program_.id());
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_FALSE);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glBindVertexArray(box_vao_);
+  glBeginQuery(GL_ANY_SAMPLES_PASSED, box_query_);
+  auto testFace = [&](GLuint texture, int layer, const glm::mat4& clip_from_world) {
+    glNamedFramebufferTextureLayer(framebuffer_, GL_DEPTH_ATTACHMENT, texture, 0, layer);
+    glUniformMatrix4fv(render_binding::kShadowClipFromWorld, 1, GL_FALSE, glm::value_ptr(clip_from_world));
+    glDrawArrays(GL_TRIANGLES, 0, GLsizei(box_vertices));
+  };
+  if (g.shadow[0] == kKindFace) {
+    testFace(face_array_, int(g.shadow[1]), face_view);
+  } else {
+    const glm::mat4 projection = glm::perspective(glm::radians(90.0f), 1.0f, g.shadow[2], g.shadow[3]);
+    for (int f = 0; f < 6; ++f) {
+      testFace(cube_array_, int(g.shadow[1]) * 6 + f, projection * glm::lookAt(p, p + kCubeForward[f], kCubeUp[f]));
+    }
+  }
+  glEndQuery(GL_ANY_SAMPLES_PASSED);
+  glDepthMask(GL_TRUE);
+  GLuint passed = 1;
+  glGetQueryObjectuiv(box_query_, GL_QUERY_RESULT, &passed);
+  return passed != 0;
+}
+
 uint32_t LightShadowMaps::update(const std::vector<FrameLight>& lights, const Aabb& scene_bounds, bool casters_changed,
-                                 const DrawCasters& draw_casters) {
+                                 const std::vector<Aabb>* moved_boxes, const DrawCasters& draw_casters) {
   // Lay the lights out and count the maps they need.
   gpu_lights_.assign(lights.size(), GpuLight{});
   uint32_t cubes = 0, faces = 0;
@@ -186,17 +262,27 @@ uint32_t LightShadowMaps::update(const std::vector<FrameLight>& lights, const Aa
     glNamedBufferSubData(lights_buffer_, 0, GLsizeiptr(gpu_lights_.size() * sizeof(GpuLight)), gpu_lights_.data());
   }
 
-  // Render the maps whose light (or casters) changed.
+  // Render the maps whose light changed, or whose light sees where the
+  // casters moved from or to.
   uint32_t rendered = 0;
   rendered_keys_.resize(gpu_lights_.size());
   bool state_set = false;
+  const bool test_boxes = casters_changed && moved_boxes != nullptr;
+  const uint32_t box_vertices = test_boxes ? uploadBoxes(*moved_boxes) : 0;
   for (size_t i = 0; i < gpu_lights_.size(); ++i) {
     const GpuLight& g = gpu_lights_[i];
     if (g.shadow[0] == kKindNone) continue;
     std::vector<float> key(reinterpret_cast<const float*>(&g), reinterpret_cast<const float*>(&g) + 4 * 5 + 16);
     key.insert(key.end(), {scene_bounds.min.x, scene_bounds.min.y, scene_bounds.min.z, scene_bounds.max.x,
                            scene_bounds.max.y, scene_bounds.max.z});
-    if (!casters_changed && rendered_keys_[i] == key) continue;
+    if (rendered_keys_[i] == key) {
+      if (!casters_changed) continue;
+      if (test_boxes) {
+        if (box_vertices == 0) continue;
+        state_set = false;  // the test leaves its own state
+        if (!boxesSeen(i, box_vertices, face_views[i])) continue;
+      }
+    }
     rendered_keys_[i] = std::move(key);
     if (!state_set) {
       state_set = true;

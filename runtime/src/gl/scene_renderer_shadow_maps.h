@@ -3,8 +3,9 @@
 // a cube (six faces of a cube-map array) for point lights and wide spots,
 // one perspective face for spots up to 45 degrees, one orthographic face
 // for the sun and other directional lights. Maps are re-rendered only for a
-// light that changed or when the casters (dynamic objects) moved; storage
-// grows only when a frame has more lights than any before.
+// light that changed or that sees where a caster (dynamic object) moved
+// from or to; storage grows only when a frame has more lights than any
+// before.
 
 #include <cstdint>
 #include <functional>
@@ -60,11 +61,15 @@ class LightShadowMaps {
   /// Brings the lights buffer and the maps up to date for `lights` within
   /// `scene_bounds` (world box holding every caster and receiver; sizes
   /// directional maps and near/far planes). `casters_changed`: the casters
-  /// moved since the last call (every map is re-rendered). Returns the
-  /// number of maps rendered (a cube counts once). Leaves the draw
+  /// moved since the last call; `moved_boxes` (may be null: every map is
+  /// then re-rendered) are the boxes they moved from and to. A light's map
+  /// is re-rendered only when one of those boxes is seen from the light:
+  /// the boxes are drawn against its current map under an occlusion query,
+  /// and a box wholly behind what the map holds cannot change it. Returns
+  /// the number of maps rendered (a cube counts once). Leaves the draw
   /// framebuffer and viewport changed; the caller restores its own.
   uint32_t update(const std::vector<FrameLight>& lights, const Aabb& scene_bounds, bool casters_changed,
-                  const DrawCasters& draw_casters);
+                  const std::vector<Aabb>* moved_boxes, const DrawCasters& draw_casters);
 
   /// Binds the lights buffer and the two shadow textures (units of
   /// scene_renderer_bindings.h); valid after update().
@@ -78,11 +83,18 @@ class LightShadowMaps {
  private:
   void release();
   void ensureCapacity(uint32_t cubes, uint32_t faces);
+  /// Uploads the triangles of `boxes` for boxesSeen(); returns their vertex count.
+  uint32_t uploadBoxes(const std::vector<Aabb>& boxes);
+  /// Whether any of the uploaded boxes passes the depth test against light
+  /// `light`'s current map (any face).
+  bool boxesSeen(size_t light, uint32_t box_vertices, const glm::mat4& face_view) const;
   GlProgram program_;
   int map_size_ = 512;
   uint32_t framebuffer_ = 0;
   uint32_t cube_array_ = 0, face_array_ = 0, lights_buffer_ = 0;
   uint32_t cube_capacity_ = 0, face_capacity_ = 0, light_capacity_ = 0;
+  uint32_t box_vao_ = 0, box_buffer_ = 0, box_query_ = 0;
+  size_t box_capacity_ = 0;  ///< vertices box_buffer_ holds
   std::vector<GpuLight> gpu_lights_;
   std::vector<std::vector<float>> rendered_keys_;  ///< per light slot: what its map was rendered for
 };
