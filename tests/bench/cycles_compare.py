@@ -60,7 +60,7 @@ def rms_rel(x, ref):
 def crossing(times, errors, target):
     """First time the curve reaches target, log-log interpolated; None if
     never; an upper bound (the first bake's time) if the first bake does."""
-    pts = [(t, e) for t, e in zip(times, errors) if t > 0 and e > 0]
+    pts = [(t, e) for t, e in zip(times, errors) if t > 0 and e is not None and e > 0]
     for i, (t, e) in enumerate(pts):
         if e <= target:
             if i == 0:

@@ -34,23 +34,12 @@ import sys
 
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cycles_compare import crossing  # noqa: E402  (time to an error, log-log interpolated)
+
 TARGETS = (0.05, 0.02, 0.01)
 NAMES = {"cornell": "Cornell box", "house": "house (2x2 rooms)", "sponza": "Sponza + sun + sky"}
 COLOURS = {"cornell": "tab:red", "house": "tab:blue", "sponza": "tab:green"}
-
-
-def crossing(times, errors, target):
-    """First time the curve reaches target, log-log interpolated between
-    bakes; None if never; the first bake's time if the first already does."""
-    pts = [(t, e) for t, e in zip(times, errors) if t > 0 and e is not None and e > 0]
-    for i, (t, e) in enumerate(pts):
-        if e <= target:
-            if i == 0:
-                return t
-            t0, e0 = pts[i - 1]
-            f = (math.log(target) - math.log(e0)) / (math.log(e) - math.log(e0))
-            return math.exp(math.log(t0) + f * (math.log(t) - math.log(t0)))
-    return None
 
 
 def final(report):

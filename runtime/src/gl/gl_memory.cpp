@@ -2,6 +2,8 @@
 
 #include <epoxy/gl.h>
 
+#include <utility>
+
 namespace svit::gl {
 namespace {
 
@@ -82,6 +84,16 @@ GlFootprint glFootprint(std::span<const GlObject> objects) {
     out.bytes += glObjectBytes(o);
   }
   return out;
+}
+
+ResourceUse measuredUse(std::string name, const std::vector<GlObject>& objects) {
+  const GlFootprint footprint = glFootprint(objects);
+  ResourceUse use;
+  use.name = std::move(name);
+  use.allocated = footprint.objects > 0;
+  use.gl_objects = footprint.objects;
+  use.gpu_bytes = footprint.bytes;
+  return use;
 }
 
 }  // namespace svit::gl

@@ -5,6 +5,10 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
+#include <vector>
+
+#include "svit/resource_use.h"
 
 namespace svit::gl {
 
@@ -31,5 +35,9 @@ struct GlFootprint {
 
 /// Sum over `objects`, skipping names of 0.
 GlFootprint glFootprint(std::span<const GlObject> objects);
+
+/// A resource-audit line named `name` for `objects`, measured: allocated
+/// when any of them exists; the reason is the caller's to fill.
+ResourceUse measuredUse(std::string name, const std::vector<GlObject>& objects);
 
 }  // namespace svit::gl

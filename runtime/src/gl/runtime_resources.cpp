@@ -36,16 +36,6 @@ uint64_t patchBytes(const rt::RuntimePatches& p) {
 
 uint64_t sharesBytes(const rt::SparseShares& s) { return vectorBytes(s.receivers) + vectorBytes(s.shares); }
 
-ResourceUse gpuUse(std::string name, const std::vector<rt::GlObject>& objects) {
-  const rt::GlFootprint footprint = rt::glFootprint(objects);
-  ResourceUse use;
-  use.name = std::move(name);
-  use.allocated = footprint.objects > 0;
-  use.gl_objects = footprint.objects;
-  use.gpu_bytes = footprint.bytes;
-  return use;
-}
-
 }  // namespace
 
 std::vector<ResourceUse> Runtime::resources() const {
@@ -63,7 +53,7 @@ std::vector<ResourceUse> Runtime::resources() const {
 
   std::vector<rt::GlObject> lightmap_objects;
   for (uint32_t t : r.lightmap_textures) lightmap_objects.push_back(rt::glTextureObject(t));
-  ResourceUse lightmaps = gpuUse("lightmap textures", lightmap_objects);
+  ResourceUse lightmaps = rt::measuredUse("lightmap textures", lightmap_objects);
   lightmaps.reason = lightmaps.allocated ? "shadingResources() asked for them (SceneRenderer borrows these: one copy)"
                                          : "shadingResources() not called: a host with its own copy pays nothing here";
   out.push_back(lightmaps);
@@ -107,7 +97,7 @@ std::vector<ResourceUse> Runtime::resources() const {
                                    : (r.have_content ? "no update() yet" : no_content);
   out.push_back(caches);
 
-  ResourceUse maps = gpuUse("index maps, geometry and reduction buffers",
+  ResourceUse maps = rt::measuredUse("index maps, geometry and reduction buffers",
                             r.renderer ? r.renderer->mapObjects() : std::vector<rt::GlObject>{});
   if (r.renderer) maps.cpu_bytes = r.renderer->hostBytes();
   maps.reason = maps.allocated ? std::to_string(r.settings.map_resolution) + "^2 maps, made on the first update with "
@@ -115,20 +105,21 @@ std::vector<ResourceUse> Runtime::resources() const {
                                : (r.have_content ? "no update() yet" : no_content + ": no emitter needs a map");
   out.push_back(maps);
 
-  ResourceUse view = gpuUse("camera id pass (importance)", r.renderer ? r.renderer->viewObjects() : std::vector<rt::GlObject>{});
+  ResourceUse view = rt::measuredUse("camera id pass (importance)",
+                                     r.renderer ? r.renderer->viewObjects() : std::vector<rt::GlObject>{});
   view.reason = view.allocated ? "setView() gave a camera: visible patches rank the emitters"
                                : (!r.settings.importance_caching ? "importance caching is off"
                                                                  : "no camera: setView() not called, or no maps needed");
   out.push_back(view);
 
-  ResourceUse deltas = gpuUse("patch delta buffer", {rt::glBufferObject(r.delta_buffer)});
+  ResourceUse deltas = rt::measuredUse("patch delta buffer", {rt::glBufferObject(r.delta_buffer)});
   deltas.reason = deltas.allocated ? std::to_string(r.delta_buffer_receivers) + " patches: what shading adds"
                                    : (r.have_content ? "no update() yet" : no_content + ": nothing to add to the lightmaps");
   out.push_back(deltas);
 
   std::vector<rt::GlObject> delta_objects;
   for (uint32_t t : r.delta_textures) delta_objects.push_back(rt::glTextureObject(t));
-  ResourceUse delta_pages = gpuUse("delta textures (half-resolution pages)", delta_objects);
+  ResourceUse delta_pages = rt::measuredUse("delta textures (half-resolution pages)", delta_objects);
   delta_pages.reason = delta_pages.allocated ? "lightmap(uv) + delta(uv) shading (RuntimeSettings::delta_textures)"
                       : !r.settings.delta_textures
                           ? "RuntimeSettings::delta_textures off: the host interpolates the patch delta buffer"

@@ -478,12 +478,7 @@ void SceneRenderer::resize(int width, int height) {
 std::vector<ResourceUse> SceneRenderer::resources() const {
   const Impl& s = *impl_;
   auto use = [](std::string name, const std::vector<gl::GlObject>& objects, std::string why, std::string why_not) {
-    const gl::GlFootprint footprint = gl::glFootprint(objects);
-    ResourceUse out;
-    out.name = std::move(name);
-    out.allocated = footprint.objects > 0;
-    out.gl_objects = footprint.objects;
-    out.gpu_bytes = footprint.bytes;
+    ResourceUse out = gl::measuredUse(std::move(name), objects);
     out.reason = out.allocated ? std::move(why) : std::move(why_not);
     return out;
   };

@@ -137,6 +137,40 @@ void LightShadowMaps::ensureCapacity(uint32_t cubes, uint32_t faces) {
   }
 }
 
+void LightShadowMaps::setDepthState(bool write) const {
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
+  glViewport(0, 0, map_size_, map_size_);
+  glUseProgram(program_.id());
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(write ? GL_TRUE : GL_FALSE);
+  glDisable(GL_CULL_FACE);  // backs absorb light too (the baker's rule)
+  if (write) {
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(1.5f, 4.0f);
+  } else {
+    glDisable(GL_POLYGON_OFFSET_FILL);  // tests against the stored (offset) depths
+  }
+}
+
+void LightShadowMaps::forEachFace(size_t light, const glm::mat4& face_view, const std::function<void()>& draw) const {
+  const GpuLight& g = gpu_lights_[light];
+  auto face = [&](GLuint texture, int layer, const glm::mat4& clip_from_world) {
+    glNamedFramebufferTextureLayer(framebuffer_, GL_DEPTH_ATTACHMENT, texture, 0, layer);
+    glUniformMatrix4fv(render_binding::kShadowClipFromWorld, 1, GL_FALSE, glm::value_ptr(clip_from_world));
+    draw();
+  };
+  if (g.shadow[0] == kKindFace) {
+    face(face_array_, int(g.shadow[1]), face_view);
+    return;
+  }
+  const glm::vec3 p(g.position[0], g.position[1], g.position[2]);
+  const glm::mat4 projection = glm::perspective(glm::radians(90.0f), 1.0f, g.shadow[2], g.shadow[3]);
+  for (int f = 0; f < 6; ++f) {
+    face(cube_array_, int(g.shadow[1]) * 6 + f, projection * glm::lookAt(p, p + kCubeForward[f], kCubeUp[f]));
+  }
+}
+
 uint32_t LightShadowMaps::uploadBoxes(const std::vector<Aabb>& boxes) {
   std::vector<glm::vec3> corners;
   corners.reserve(boxes.size() * 36);
@@ -172,31 +206,10 @@ uint32_t LightShadowMaps::uploadBoxes(const std::vector<Aabb>& boxes) {
 }
 
 bool LightShadowMaps::boxesSeen(size_t light, uint32_t box_vertices, const glm::mat4& face_view) const {
-  const GpuLight& g = gpu_lights_[light];
-  const glm::vec3 p(g.position[0], g.position[1], g.position[2]);
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
-  glViewport(0, 0, map_size_, map_size_);
-  glUseProgram(program_.id());
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_FALSE);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_POLYGON_OFFSET_FILL);
+  setDepthState(false);
   glBindVertexArray(box_vao_);
   glBeginQuery(GL_ANY_SAMPLES_PASSED, box_query_);
-  auto testFace = [&](GLuint texture, int layer, const glm::mat4& clip_from_world) {
-    glNamedFramebufferTextureLayer(framebuffer_, GL_DEPTH_ATTACHMENT, texture, 0, layer);
-    glUniformMatrix4fv(render_binding::kShadowClipFromWorld, 1, GL_FALSE, glm::value_ptr(clip_from_world));
-    glDrawArrays(GL_TRIANGLES, 0, GLsizei(box_vertices));
-  };
-  if (g.shadow[0] == kKindFace) {
-    testFace(face_array_, int(g.shadow[1]), face_view);
-  } else {
-    const glm::mat4 projection = glm::perspective(glm::radians(90.0f), 1.0f, g.shadow[2], g.shadow[3]);
-    for (int f = 0; f < 6; ++f) {
-      testFace(cube_array_, int(g.shadow[1]) * 6 + f, projection * glm::lookAt(p, p + kCubeForward[f], kCubeUp[f]));
-    }
-  }
+  forEachFace(light, face_view, [&] { glDrawArrays(GL_TRIANGLES, 0, GLsizei(box_vertices)); });
   glEndQuery(GL_ANY_SAMPLES_PASSED);
   glDepthMask(GL_TRUE);
   GLuint passed = 1;
@@ -286,31 +299,12 @@ uint32_t LightShadowMaps::update(const std::vector<FrameLight>& lights, const Aa
     rendered_keys_[i] = std::move(key);
     if (!state_set) {
       state_set = true;
-      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
-      glViewport(0, 0, map_size_, map_size_);
-      glUseProgram(program_.id());
-      glEnable(GL_DEPTH_TEST);
-      glDepthFunc(GL_LESS);
-      glDepthMask(GL_TRUE);
-      glDisable(GL_CULL_FACE);  // backs absorb light too (the baker's rule)
-      glEnable(GL_POLYGON_OFFSET_FILL);
-      glPolygonOffset(1.5f, 4.0f);
+      setDepthState(true);
     }
-    auto renderFace = [&](GLuint texture, int layer, const glm::mat4& clip_from_world) {
-      glNamedFramebufferTextureLayer(framebuffer_, GL_DEPTH_ATTACHMENT, texture, 0, layer);
+    forEachFace(i, face_views[i], [&] {
       glClear(GL_DEPTH_BUFFER_BIT);
-      glUniformMatrix4fv(render_binding::kShadowClipFromWorld, 1, GL_FALSE, glm::value_ptr(clip_from_world));
       draw_casters();
-    };
-    if (g.shadow[0] == kKindFace) {
-      renderFace(face_array_, int(g.shadow[1]), face_views[i]);
-    } else {
-      const glm::vec3 p(g.position[0], g.position[1], g.position[2]);
-      const glm::mat4 projection = glm::perspective(glm::radians(90.0f), 1.0f, g.shadow[2], g.shadow[3]);
-      for (int f = 0; f < 6; ++f) {
-        renderFace(cube_array_, int(g.shadow[1]) * 6 + f, projection * glm::lookAt(p, p + kCubeForward[f], kCubeUp[f]));
-      }
-    }
+    });
     ++rendered;
   }
   if (state_set) glDisable(GL_POLYGON_OFFSET_FILL);

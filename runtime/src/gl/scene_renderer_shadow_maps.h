@@ -83,6 +83,12 @@ class LightShadowMaps {
  private:
   void release();
   void ensureCapacity(uint32_t cubes, uint32_t faces);
+  /// Depth-only drawing into the maps: writing (with the casters' polygon
+  /// offset) or testing against what they hold.
+  void setDepthState(bool write) const;
+  /// Attaches each face of light `light`'s map in turn (one for a face
+  /// light, six for a cube), sets its clip transform and calls `draw`.
+  void forEachFace(size_t light, const glm::mat4& face_view, const std::function<void()>& draw) const;
   /// Uploads the triangles of `boxes` for boxesSeen(); returns their vertex count.
   uint32_t uploadBoxes(const std::vector<Aabb>& boxes);
   /// Whether any of the uploaded boxes passes the depth test against light
