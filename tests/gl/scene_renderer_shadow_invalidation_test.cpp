@@ -5,9 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
-
 #include "gl_test_context.h"
 #include "scene_renderer_test_util.h"
 #include "svit/runtime.h"
@@ -17,21 +14,6 @@ namespace svit {
 namespace {
 
 using namespace svit::render_test;  // NOLINT: test helpers
-
-// The Cornell box with the tall box dynamic, a point lamp above the short
-// box (sees the tall box) and a narrow spot aimed at the right of the back
-// wall (its single face never sees the tall box where the level has it).
-std::string cornellWithMovingBoxAndLights() {
-  const fs::path path = fs::temp_directory_path() / "svit_scene_renderer_test" / "cornell_box_lights_dynamic.json";
-  fs::create_directories(path.parent_path());
-  std::ofstream(path) << R"({"gltf": ")" << cornellGltf() << R"(", "dynamic": ["tallBox"],
-  "lights": [
-    {"name": "lamp", "type": "point", "position": [0.33, 1.2, 0.38], "color": [1, 1, 1], "intensity_cd": 2,
-     "dynamic": true},
-    {"name": "spot", "type": "spot", "position": [0.5, 1.5, 0.0], "direction": [0, 0, -1], "color": [1, 1, 1],
-     "intensity_cd": 5, "inner_cone_rad": 0.2, "outer_cone_rad": 0.3, "dynamic": true}]})";
-  return path.string();
-}
 
 // A frame from a renderer made now, which renders every map.
 std::vector<uint8_t> freshFrame(const BakedLevel& level, const Runtime& runtime, const SceneRendererSettings& settings,
@@ -48,7 +30,7 @@ std::vector<uint8_t> freshFrame(const BakedLevel& level, const Runtime& runtime,
 TEST(SceneRendererShadowInvalidation, OnlyLightsThatSeeTheMoveRenderAgain) {
   test::GlTestContext context;
   SVIT_REQUIRE_GL(context);
-  const BakedLevel& level = bakedLevel(cornellWithMovingBoxAndLights());
+  const BakedLevel& level = bakedLevel(cornellWithRuntimeLights("tallBox"));
   ASSERT_TRUE(level.bake.has_runtime_sections);
   auto created = Runtime::create(level.scene, level.bake, level.dir);
   ASSERT_TRUE(created.ok()) << created.status().message();

@@ -77,13 +77,16 @@ inline std::string cornellGltf() {
   return std::string(SVIT_SHARED_SCENES_DIR) + "/cornell_box_original/CornellBox-Original.gltf";
 }
 
-// The Cornell box (all static) with two runtime lights: a point lamp above
-// the short box (0.33, 1.2, 0.38), 2 cd, and a narrow spot at (0.5, 1.5, 0)
-// aimed at the back wall (z = -1.04), 5 cd, cone 0.2/0.3 rad.
-inline std::string cornellWithRuntimeLights() {
-  const fs::path path = fs::temp_directory_path() / "svit_scene_renderer_test" / "cornell_runtime_lights.json";
+// The Cornell box with two runtime lights: a point lamp above the short box
+// (0.33, 1.2, 0.38), 2 cd, and a narrow spot at (0.5, 1.5, 0) aimed at the
+// back wall (z = -1.04), 5 cd, cone 0.2/0.3 rad. All static, or with the
+// node `dynamic_node` (e.g. "tallBox") dynamic.
+inline std::string cornellWithRuntimeLights(const std::string& dynamic_node = "") {
+  const std::string name = dynamic_node.empty() ? "cornell_runtime_lights" : "cornell_runtime_lights_" + dynamic_node;
+  const fs::path path = fs::temp_directory_path() / "svit_scene_renderer_test" / (name + ".json");
   fs::create_directories(path.parent_path());
-  std::ofstream(path) << R"({"gltf": ")" << cornellGltf() << R"(",
+  const std::string dynamic = dynamic_node.empty() ? "" : R"("dynamic": [")" + dynamic_node + R"("],)";
+  std::ofstream(path) << R"({"gltf": ")" << cornellGltf() << R"(", )" << dynamic << R"(
   "lights": [
     {"name": "lamp", "type": "point", "position": [0.33, 1.2, 0.38], "color": [1, 1, 1], "intensity_cd": 2,
      "dynamic": true},
