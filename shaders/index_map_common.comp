@@ -30,6 +30,13 @@ layout(std430, binding = 3) buffer Accumulators { uint acc[]; };
 
 layout(location = 0) uniform int u_resolution;
 
+// Which static triangles each slot's maps showed: a bit per triangle,
+// u_seen_words words per slot; u_seen_words 0 = not asked for. What the
+// runtime's lit-set culling draws (PointSample::static_triangles).
+layout(std430, binding = 8) buffer SeenTriangles { uint seen[]; };
+layout(location = 9) uniform uint u_seen_words;
+layout(location = 10) uniform uint u_static_triangles;
+
 // Accessors, so the programs that link this file need not repeat SampleGpu.
 vec3 samplePosition(uint b) { return samples[b].position_near.xyz; }
 float sampleNear(uint b) { return samples[b].position_near.w; }
@@ -45,6 +52,11 @@ uint sampleOwnTriangle(uint b) { return samples[b].info.w; }
 uint sampleFaceMask(uint b) { return samples[b].faces.x; }
 uint sampleHalfMask(uint b) { return samples[b].faces.y; }
 uint sampleFirstLayer(uint b) { return samples[b].faces.z; }
+// Records that sample b's map shows triangle t (static ones only).
+void markSeen(uint b, uint t) {
+  if (u_seen_words == 0u || t >= u_static_triangles) return;
+  atomicOr(seen[samples[b].info.z * u_seen_words + t / 32u], 1u << (t % 32u));
+}
 // Whether a box [lo, hi] may meet the sample's reach (the maps drew nothing outside it).
 bool sampleMayReach(uint b, vec3 lo, vec3 hi) {
   return all(lessThanEqual(samples[b].reach_lo.xyz, hi)) && all(lessThanEqual(lo, samples[b].reach_hi.xyz));

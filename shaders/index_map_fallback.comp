@@ -43,6 +43,7 @@ float sampleScale(uint b);
 mat3 sampleWorldFromCube(uint b);
 bool sampleIsParallel(uint b);
 uint sampleSlot(uint b);
+void markSeen(uint b, uint t);
 uint sampleOwnTriangle(uint b);
 uint sampleFaceMask(uint b);
 uint sampleHalfMask(uint b);
@@ -240,6 +241,7 @@ void creditTriangle(uint t, uint b, vec3 v0, vec3 v1, vec3 v2, vec3 n2, uvec2 si
     }
   }
   if (visible == 0) return;
+  markSeen(b, t);  // seen, if only by a vertex: it must stay drawn
   accumulate(sampleSlot(b) * u_receiver_count + receiver, quantize(share * float(visible) / float(testable)));
   atomicAdd(credited_count, 1u);
 }

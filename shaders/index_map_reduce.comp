@@ -23,6 +23,7 @@ uvec2 quantize(float q);
 uvec2 add64(uvec2 a, uvec2 b);
 void accumulate(uint index, uvec2 v);
 uint sampleSlot(uint b);
+void markSeen(uint b, uint t);
 
 layout(binding = 0) uniform usampler2DArray u_id_map;  // (receiver, triangle) per texel
 
@@ -54,12 +55,17 @@ void main() {
   uint row_base = sampleSlot(b) * u_receiver_count;
   FaceWeights weights = faceWeights(b, face);
 
-  uint current = kNone;
+  uint current = kNone, marked = kNone;
   uvec2 sum = uvec2(0u);
   for (int i = 0; i < kRun; ++i) {
     int col = col0 + i;
     if (col >= u_resolution) break;
     uvec2 id = texelFetch(u_id_map, ivec3(col, row, int(layer.w)), 0).xy;
+    // Any triangle shown, absorbing or small ones too, hides what is behind it.
+    if (id.y != kNone && id.y != marked) {
+      markSeen(b, id.y);
+      marked = id.y;
+    }
     if (id.x >= u_receiver_count) continue;  // nothing, or an absorbing side
     if (u_skip_small != 0 && isSmall(b, id.y)) continue;
     uvec2 q = quantize(texelWeight(weights, ivec2(col, row)));

@@ -57,6 +57,13 @@ struct RuntimeSettings {
   bool edge_taps = true;
   bool neighbour_ids = true;
   bool jitter_map_roll = true;  ///< rotate each sample's map frame (aliasing)
+  /// Lit-set culling: once an emitter's static-level maps exist (its
+  /// baseline), its later maps draw only the runs of static triangles those
+  /// maps showed, plus the dynamic objects. Exact for emitters whose samples
+  /// stay put (objects only hide static surfaces, so nothing else can show)
+  /// and far cheaper than its bounding box on levels of many rooms with
+  /// aligned doorways; emitters whose samples move keep the box. Off: box only.
+  bool lit_set_culling = true;
   uint64_t seed = 1;            ///< sample placement; same seed, same result
 
   /// Importance caching (thesis 5.9-5.10), used while a view is set
@@ -163,6 +170,7 @@ struct FrameStats {
   uint32_t emitters_pending = 0;     ///< emitters still out of date (budget ran out)
   uint32_t samples_rendered = 0;     ///< point samples (one map each)
   uint32_t faces_rendered = 0;       ///< raster passes (a cube map is 6)
+  uint64_t triangles_drawn = 0;      ///< triangles the raster passes submitted (after culling)
   uint64_t texels_reduced = 0;
   uint32_t fallback_triangles = 0;   ///< small polygons credited by vertex visibility
   uint32_t bounce_rounds = 0;

@@ -7,12 +7,14 @@
 
 namespace svit::gl {
 
-void appendChunks(std::span<const float> positions, uint32_t first_triangle, std::vector<TriangleChunk>& out) {
+void appendChunks(std::span<const float> positions, uint32_t first_triangle, bool dynamic,
+                  std::vector<TriangleChunk>& out) {
   const uint32_t triangles = uint32_t(positions.size() / 9);
   for (uint32_t begin = 0; begin < triangles; begin += kChunkTriangles) {
     TriangleChunk c;
     c.first = first_triangle + begin;
     c.count = std::min(kChunkTriangles, triangles - begin);
+    c.dynamic = dynamic;
     c.lo = glm::dvec3(1e300);
     c.hi = glm::dvec3(-1e300);
     for (size_t v = size_t(begin) * 3; v < size_t(begin + c.count) * 3; ++v) {
@@ -67,15 +69,34 @@ bool mayMeet(const TriangleChunk& c, const Frustum& f) {
   return true;
 }
 
+bool inSet(const TriangleBits& set, uint32_t t) {  // t static
+  return t / 32 < set.size() && ((set[t / 32] >> (t % 32)) & 1u) != 0;
+}
+
 }  // namespace
 
-void visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& frustum, uint32_t skip,
-                   const glm::dvec3& reach_lo, const glm::dvec3& reach_hi, std::vector<int32_t>& firsts,
-                   std::vector<int32_t>& counts) {
+bool chunkInSet(const TriangleChunk& c, const TriangleBits* static_set) {
+  if (!static_set || c.dynamic) return true;
+  const uint32_t end = c.first + c.count;
+  for (uint32_t w = c.first / 32; w <= (end - 1) / 32 && w < static_set->size(); ++w) {
+    uint32_t bits = (*static_set)[w];
+    // Only the chunk's own bits of the first and last words.
+    if (w == c.first / 32) bits &= ~0u << (c.first % 32);
+    if (w == (end - 1) / 32 && end % 32 != 0) bits &= ~(~0u << (end % 32));
+    if (bits != 0) return true;
+  }
+  return false;
+}
+
+uint64_t visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& frustum, uint32_t skip,
+                       const glm::dvec3& reach_lo, const glm::dvec3& reach_hi, const TriangleBits* static_set,
+                       std::vector<int32_t>& firsts, std::vector<int32_t>& counts) {
   firsts.clear();
   counts.clear();
+  uint64_t triangles = 0;
   auto push = [&](uint32_t first, uint32_t end) {  // triangles [first, end)
     if (end <= first) return;
+    triangles += end - first;
     if (!firsts.empty() && uint32_t(firsts.back() + counts.back()) == 3 * first) {
       counts.back() += int32_t(3 * (end - first));
     } else {
@@ -83,21 +104,27 @@ void visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& frustum
       counts.push_back(int32_t(3 * (end - first)));
     }
   };
+  // A chunk's triangles, `skip` and static ones outside the set left out.
+  auto pushKept = [&](const TriangleChunk& c) {
+    const uint32_t first = c.first, end = c.first + c.count;
+    const bool filtered = static_set && !c.dynamic;
+    if (!filtered && (skip < first || skip >= end)) return push(first, end);
+    uint32_t run = first;
+    for (uint32_t t = first; t < end; ++t) {
+      if (t == skip || (filtered && !inSet(*static_set, t))) {
+        push(run, t);
+        run = t + 1;
+      }
+    }
+    push(run, end);
+  };
   for (const TriangleChunk& c : chunks) {
+    if (!chunkInSet(c, static_set)) continue;
     if (!mayMeet(c, frustum)) continue;
     if (!chunkMeetsBox(c, reach_lo, reach_hi)) continue;
-    const uint32_t end = c.first + c.count;
-    if (skip >= c.first && skip < end) {
-      push(c.first, skip);
-      // A break in the run, so the range after the skipped one starts anew.
-      if (skip + 1 < end) {
-        firsts.push_back(int32_t(3 * (skip + 1)));
-        counts.push_back(int32_t(3 * (end - skip - 1)));
-      }
-    } else {
-      push(c.first, end);
-    }
+    pushKept(c);
   }
+  return triangles;
 }
 
 }  // namespace svit::gl

@@ -22,6 +22,7 @@ inline constexpr uint32_t kChunkTriangles = 256;
 struct TriangleChunk {
   uint32_t first = 0, count = 0;
   glm::dvec3 lo{0}, hi{0};
+  bool dynamic = false;  ///< of the dynamic set (never culled by a static set)
 };
 
 /// Whether chunk `c` may meet the box [lo, hi]; lo > hi on an axis means no
@@ -31,9 +32,19 @@ inline bool chunkMeetsBox(const TriangleChunk& c, const glm::dvec3& lo, const gl
   return !(c.hi.x < lo.x || c.lo.x > hi.x || c.hi.y < lo.y || c.lo.y > hi.y || c.hi.z < lo.z || c.lo.z > hi.z);
 }
 
+/// A set of static triangles: bit t % 32 of word t / 32 (PointSample::
+/// static_triangles); words for `triangles` of them.
+using TriangleBits = std::vector<uint32_t>;
+inline size_t triangleBitWords(size_t triangles) { return (triangles + 31) / 32; }
+
+/// Whether chunk `c` may be drawn under `static_set` (null = everything):
+/// it holds a triangle of the set, or is dynamic.
+bool chunkInSet(const TriangleChunk& c, const TriangleBits* static_set);
+
 /// Appends the chunks of `positions` (9 floats per triangle), numbering the
-/// triangles from `first_triangle`.
-void appendChunks(std::span<const float> positions, uint32_t first_triangle, std::vector<TriangleChunk>& out);
+/// triangles from `first_triangle`, of the dynamic set or the static one.
+void appendChunks(std::span<const float> positions, uint32_t first_triangle, bool dynamic,
+                  std::vector<TriangleChunk>& out);
 
 /// A convex region: p is inside when dot(normal[i], p - eye) >= offset[i] for
 /// every plane i < count.
@@ -53,10 +64,12 @@ Frustum faceFrustum(const glm::dvec3& eye, const glm::dvec3& right, const glm::d
 
 /// Vertex ranges (first vertex, vertex count) of the chunks that may meet
 /// `frustum` and the box [reach_lo, reach_hi] (lo > hi on an axis: no box),
+/// only their triangles in `static_set` (null: all; dynamic ones always),
 /// merged where adjacent, with triangle `skip` left out (any value past the
-/// end skips nothing). Clears and fills `firsts`/`counts`.
-void visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& frustum, uint32_t skip,
-                   const glm::dvec3& reach_lo, const glm::dvec3& reach_hi, std::vector<int32_t>& firsts,
-                   std::vector<int32_t>& counts);
+/// end skips nothing). Clears and fills `firsts`/`counts`; returns the
+/// number of triangles in them.
+uint64_t visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& frustum, uint32_t skip,
+                       const glm::dvec3& reach_lo, const glm::dvec3& reach_hi, const TriangleBits* static_set,
+                       std::vector<int32_t>& firsts, std::vector<int32_t>& counts);
 
 }  // namespace svit::gl

@@ -49,7 +49,10 @@ constexpr double kNearPerCoordinate = 1e-6;
 constexpr uint32_t kNoTriangle = 0xffffffffu;
 // Shader storage and texture bindings (shaders/index_map_*.{frag,comp}).
 constexpr GLuint kReceiversBinding = 0, kSamplesBinding = 1, kLayersBinding = 2, kAccumulatorBinding = 3,
-                 kSmallFlagsBinding = 4, kPositionsBinding = 5, kCounterBinding = 6, kRunsBinding = 7;
+                 kSmallFlagsBinding = 4, kPositionsBinding = 5, kCounterBinding = 6, kRunsBinding = 7,
+                 kSeenBinding = 8;
+// Uniforms both compute programs take from index_map_common.comp.
+constexpr GLint kSeenWordsLocation = 9, kStaticTrianglesLocation = 10;
 constexpr GLuint kIdMapUnit = 0, kDepthMapUnit = 1;
 constexpr int kReduceRun = 16;         // texels per reduce invocation (index_map_reduce.comp kRun)
 constexpr int kLocalSize = 64;         // local_size_x of both compute shaders
@@ -168,6 +171,7 @@ struct PreparedSample {
   MapLayout layout;
   glm::dmat3 world_from_cube;
   glm::dvec3 reach_lo{1}, reach_hi{0};  // lo > hi: no box
+  const TriangleBits* static_triangles = nullptr;  // PointSample::static_triangles
 };
 
 }  // namespace
@@ -182,6 +186,9 @@ struct IndexMapRenderer::Impl {
   GLuint positions = 0, receivers = 0, accumulators = 0, samples = 0, layers = 0, small_flags = 0, counter = 0;
   GLuint runs = 0;  // the fallback's work items (uvec4 each), grow-only
   size_t runs_capacity = 0;
+  GLuint seen = 0;  // per slot, a bit per static triangle its maps showed (gather's `seen`), grow-only
+  size_t seen_capacity = 1;  // uints
+  uint32_t seen_words = 0;   // per slot in this gather; 0 = not asked for
   std::vector<uint32_t> batch_runs;  // scratch: the fallback's items (first triangle, count, first sample, 0)
   size_t triangle_capacity = 0;     // of positions / receivers
   size_t accumulator_capacity = 0;  // uints
@@ -210,7 +217,7 @@ struct IndexMapRenderer::Impl {
   mutable std::vector<CoverageEntry> coverage_cache;
 
   ~Impl() {
-    const GLuint buffers[] = {positions, receivers, accumulators, samples, layers, small_flags, counter, runs};
+    const GLuint buffers[] = {positions, receivers, accumulators, samples, layers, small_flags, counter, runs, seen};
     for (GLuint b : buffers) {
       if (b != 0) glDeleteBuffers(1, &b);
     }
@@ -260,10 +267,10 @@ struct IndexMapRenderer::Impl {
     const size_t static_count = static_receivers.size() / 2;
     if (static_changed) {
       static_chunks.clear();
-      appendChunks(static_positions, 0, static_chunks);
+      appendChunks(static_positions, 0, false, static_chunks);
     }
     chunks = static_chunks;
-    appendChunks(dynamic_positions, uint32_t(static_count), chunks);
+    appendChunks(dynamic_positions, uint32_t(static_count), true, chunks);
     bool all = static_changed;
     if (count > triangle_capacity) {
       triangle_capacity = std::max(count, triangle_capacity + triangle_capacity / 2);
@@ -402,12 +409,14 @@ Expected<std::unique_ptr<IndexMapRenderer>> IndexMapRenderer::create(const Index
     std::snprintf(code, sizeof code, "0x%04x", unsigned(fbo_status));
     return Status(StatusCode::kUnsupported, std::string("index map framebuffer (RG32UI + DEPTH32F array) is incomplete: ") + code);
   }
-  GLuint* buffers[] = {&m.positions, &m.receivers, &m.accumulators, &m.samples, &m.layers, &m.small_flags, &m.counter, &m.runs};
+  GLuint* buffers[] = {&m.positions, &m.receivers, &m.accumulators, &m.samples, &m.layers, &m.small_flags, &m.counter, &m.runs,
+                      &m.seen};
   for (GLuint* b : buffers) glCreateBuffers(1, b);
   glNamedBufferData(m.samples, GLsizeiptr(sizeof(SampleGpu) * size_t(settings.max_batch_samples)), nullptr,
                     GL_DYNAMIC_DRAW);
   glNamedBufferData(m.layers, GLsizeiptr(4 * sizeof(uint32_t) * size_t(layer_count)), nullptr, GL_DYNAMIC_DRAW);
   glNamedBufferData(m.counter, sizeof(uint32_t), nullptr, GL_DYNAMIC_DRAW);
+  glNamedBufferData(m.seen, sizeof(uint32_t), nullptr, GL_DYNAMIC_DRAW);  // bound even when unused
   glCreateVertexArrays(1, &m.vao);
   glEnableVertexArrayAttrib(m.vao, 0);
   glVertexArrayAttribFormat(m.vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
@@ -460,6 +469,11 @@ Status IndexMapRenderer::Impl::validate(std::span<const PointSample> list, uint3
     if (s.lobe == Lobe::kParallel && !(s.half_extent_m > 0 && std::isfinite(s.half_extent_m))) {
       return bad("half_extent_m " + str(s.half_extent_m) + " is not a positive length");
     }
+    const size_t words = triangleBitWords(static_receivers.size() / 2);
+    if (s.static_triangles && s.static_triangles->size() != words) {
+      return bad("static_triangles has " + std::to_string(s.static_triangles->size()) + " words, the static set needs " +
+                 std::to_string(words));
+    }
   }
   return Status();
 }
@@ -471,6 +485,7 @@ PreparedSample IndexMapRenderer::Impl::prepare(const PointSample& s, uint32_t ba
   const float inf = std::numeric_limits<float>::infinity();
   const Vec3 lo = s.reach.empty() ? Vec3{-inf, -inf, -inf} : s.reach.min;
   const Vec3 hi = s.reach.empty() ? Vec3{inf, inf, inf} : s.reach.max;
+  out.static_triangles = s.static_triangles;
   if (!s.reach.empty()) {
     out.reach_lo = glm::dvec3(lo.x, lo.y, lo.z);
     out.reach_hi = glm::dvec3(hi.x, hi.y, hi.z);
@@ -572,7 +587,8 @@ void IndexMapRenderer::Impl::render(std::span<const PreparedSample> batch, Gathe
       glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, view_from_world);  // row-major rows
       // Only the runs that may meet the face, and never the sample's own
       // triangle (the ranges split around it).
-      visibleRanges(chunks, frustum, s.gpu.info[3], s.reach_lo, s.reach_hi, draw_firsts, draw_counts);
+      stats.triangles_drawn += visibleRanges(chunks, frustum, s.gpu.info[3], s.reach_lo, s.reach_hi,
+                                             s.static_triangles, draw_firsts, draw_counts);
       if (!draw_firsts.empty()) {
         glMultiDrawArrays(GL_TRIANGLES, draw_firsts.data(), draw_counts.data(), GLsizei(draw_firsts.size()));
       }
@@ -593,14 +609,22 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSmallFlagsBinding, small_flags);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPositionsBinding, positions);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCounterBinding, counter);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSeenBinding, seen);
+  for (GLuint program : {fallback.id(), reduce.id()}) {
+    glProgramUniform1ui(program, kSeenWordsLocation, seen_words);
+    glProgramUniform1ui(program, kStaticTrianglesLocation, GLuint(static_receivers.size() / 2));
+  }
   glBindTextureUnit(kIdMapUnit, id_map);
   glBindTextureUnit(kDepthMapUnit, depth_map);
   const bool fallback_on = settings.small_polygon_fallback;
   if (fallback_on) {
     // Work items: (first triangle, count, first sample) for each run of
     // kFallbackSamplesPerInvocation samples and each chunk one of them may
-    // have drawn (a superset of the drawn ones: reach only, no frustum), so
-    // the pass costs what the samples reach, not the level.
+    // have drawn (a superset of the drawn ones: reach and static set, no
+    // frustum), so the pass costs what the samples reach, not the level. A
+    // triangle left out of a sample's set is tested against a map without
+    // it: hidden behind what the map drew (why it was left out), so it is
+    // credited nothing.
     batch_runs.clear();
     for (size_t first = 0; first < batch.size(); first += kFallbackSamplesPerInvocation) {
       const size_t end = std::min(batch.size(), first + kFallbackSamplesPerInvocation);
@@ -608,7 +632,7 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
         bool any = false;
         for (size_t i = first; i < end && !any; ++i) {
           const PreparedSample& s = batch[i];
-          any = chunkMeetsBox(c, s.reach_lo, s.reach_hi);
+          any = chunkInSet(c, s.static_triangles) && chunkMeetsBox(c, s.reach_lo, s.reach_hi);
         }
         if (!any) continue;
         batch_runs.insert(batch_runs.end(), {c.first, c.count, uint32_t(first), 0u});
@@ -652,7 +676,8 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
 }
 
 Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32_t slot_count,
-                                std::vector<float>& shares, GatherStats* stats_out) {
+                                std::vector<float>& shares, GatherStats* stats_out,
+                                std::vector<uint32_t>* seen_out) {
   Impl& m = *impl_;
   if (!m.static_error.ok()) return m.static_error;
   if (!m.dynamic_error.ok()) return m.dynamic_error;
@@ -671,8 +696,11 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
                                                  std::to_string(m.settings.max_batch_samples) +
                                                  " max_batch_samples exceed 2^31 (use proxies or smaller batches)");
   }
+  m.seen_words = seen_out ? uint32_t(triangleBitWords(m.static_receivers.size() / 2)) : 0u;
+  const size_t seen_words = size_t(slot_count) * m.seen_words;
   if (sample_list.empty() || cells == 0 || triangles == 0) {
     shares.assign(cells, 0.0f);
+    if (seen_out) seen_out->assign(seen_words, 0u);
     stats.buffer_allocations = std::exchange(m.allocations, 0u);
     if (stats_out) *stats_out = stats;
     return Status();
@@ -685,6 +713,14 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
   glClearNamedBufferSubData(m.accumulators, GL_R32UI, 0, GLsizeiptr(2 * cells * sizeof(uint32_t)), GL_RED_INTEGER,
                             GL_UNSIGNED_INT, &zero);
   glClearNamedBufferSubData(m.counter, GL_R32UI, 0, sizeof(uint32_t), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  if (seen_words > 0) {
+    if (seen_words > m.seen_capacity) {
+      m.seen_capacity = std::max(seen_words, m.seen_capacity + m.seen_capacity / 2);
+      m.growBuffer(m.seen, m.seen_capacity * sizeof(uint32_t));
+    }
+    glClearNamedBufferSubData(m.seen, GL_R32UI, 0, GLsizeiptr(seen_words * sizeof(uint32_t)), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &zero);
+  }
 
   Aabb bounds = m.static_bounds;
   for (const Vec3& v : {m.dynamic_bounds.min, m.dynamic_bounds.max}) {
@@ -733,6 +769,10 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
   uint32_t credited = 0;
   glGetNamedBufferSubData(m.counter, 0, sizeof(uint32_t), &credited);
   stats.fallback_triangles = credited;
+  if (seen_out) {
+    seen_out->resize(seen_words);
+    if (seen_words > 0) glGetNamedBufferSubData(m.seen, 0, GLsizeiptr(seen_words * sizeof(uint32_t)), seen_out->data());
+  }
   shares.resize(cells);
   for (size_t i = 0; i < cells; ++i) {
     const double fixed = double(m.readback[2 * i + 1]) * 4294967296.0 + double(m.readback[2 * i]);
@@ -819,7 +859,7 @@ Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int h
       frustum.offset = {0, 0, 0, 0, double(view.near_m), double(view.near_m)};
       frustum.count = 5;
       const glm::dvec3 no_box_lo(1.0), no_box_hi(0.0);
-      visibleRanges(m.chunks, frustum, 0xffffffffu, no_box_lo, no_box_hi, m.draw_firsts, m.draw_counts);
+      visibleRanges(m.chunks, frustum, 0xffffffffu, no_box_lo, no_box_hi, nullptr, m.draw_firsts, m.draw_counts);
       if (!m.draw_firsts.empty()) {
         glMultiDrawArrays(GL_TRIANGLES, m.draw_firsts.data(), m.draw_counts.data(), GLsizei(m.draw_firsts.size()));
       }
@@ -840,7 +880,8 @@ Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int h
 std::vector<GlObject> IndexMapRenderer::mapObjects() const {
   const Impl& m = *impl_;
   std::vector<GlObject> out = {glTextureObject(m.id_map), glTextureObject(m.depth_map)};
-  for (GLuint b : {m.positions, m.receivers, m.accumulators, m.samples, m.layers, m.small_flags, m.counter, m.runs}) {
+  for (GLuint b : {m.positions, m.receivers, m.accumulators, m.samples, m.layers, m.small_flags, m.counter, m.runs,
+                   m.seen}) {
     out.push_back(glBufferObject(b));
   }
   return out;

@@ -71,6 +71,13 @@ struct PointSample {
   /// the sample meets a drawn surface first inside the box (the first
   /// surfaces it lights, in a closed level); empty (the default): draw all.
   Aabb reach;
+  /// Finer than `reach`: the static triangles the sample may see (a bit
+  /// each, TriangleBits, sized for the static set): the raster draws no
+  /// other static triangle, the small-polygon fallback visits only runs
+  /// holding one. Sound when it holds every static triangle the same sample
+  /// saw with no dynamic triangles set (gather's `seen`): objects only hide
+  /// static surfaces. Null (the default): all. Must outlive gather().
+  const std::vector<uint32_t>* static_triangles = nullptr;
 };
 
 /// Switches for the artifact handling of thesis 5.2 (all on by default; the
@@ -92,6 +99,7 @@ struct IndexMapSettings {
 struct GatherStats {
   uint32_t samples = 0;
   uint32_t faces_rendered = 0;        ///< raster passes (a cube = 6)
+  uint64_t triangles_drawn = 0;       ///< triangles submitted over all faces (after culling)
   uint64_t texels = 0;                ///< texels reduced
   uint32_t fallback_triangles = 0;    ///< (sample, triangle) pairs credited by vertex visibility
   uint32_t buffer_allocations = 0;    ///< GL buffer (re)allocations since the previous gather (0 when steady)
@@ -157,9 +165,13 @@ class IndexMapRenderer {
   /// positive half_extent_m; a bad triangle set (see the setters).
   /// GL state: restores framebuffers, viewport, scissor, depth, clip
   /// control, front face, program, VAO and the capabilities it touches;
-  /// leaves shader-storage bindings 0-7 and texture units 0-1 changed.
+  /// leaves shader-storage bindings 0-8 and texture units 0-1 changed.
+  /// With `seen`: also which static triangles each slot's maps showed (a
+  /// texel, or a vertex the fallback credited), ceil(static triangles / 32)
+  /// words per slot, bit t % 32 of word t / 32: what a later gather of the
+  /// same samples may pass as static_triangles.
   Status gather(std::span<const PointSample> samples, uint32_t slot_count, std::vector<float>& shares,
-                GatherStats* stats = nullptr);
+                GatherStats* stats = nullptr, std::vector<uint32_t>* seen = nullptr);
 
   /// The visible patches of a view (thesis 5.9): renders receiver ids from
   /// the camera into a width x height target (made on first use, remade

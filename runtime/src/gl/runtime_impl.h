@@ -12,6 +12,7 @@
 #include "bounce_solver.h"
 #include "emitter_importance.h"
 #include "emitter_samples.h"
+#include "index_map_culling.h"
 #include "index_map_renderer.h"
 #include "receivers.h"
 #include "refresh_scheduler.h"
@@ -56,6 +57,10 @@ struct Emitter {
   Aabb region;                 ///< samples and everything its shares light
   bool region_known = false;   ///< from its maps or the bake's factors; unknown = anything may matter
   Aabb source_box;             ///< where its light leaves from (samples, lamp, shooter patches)
+  /// Static triangles its baseline maps showed (PointSample::
+  /// static_triangles), for lit-set culling; empty = unknown, or its
+  /// samples changed since (refreshSamples clears it).
+  rt::TriangleBits lit_triangles;
   bool touched = false;        ///< a dynamic object in its reach (Impl::updateReach, once per update)
   bool reach_dirty = true;     ///< touched needs recomputing: invalidated, or its reach changed
   uint64_t refreshed_frame = 0;

@@ -187,6 +187,7 @@ void Runtime::Impl::refreshSamples(Emitter& e) {
     }
   }
   e.samples_stale = false;
+  e.lit_triangles.clear();  // what the old samples saw
 }
 
 void Runtime::Impl::invalidateMoved() {
@@ -213,6 +214,8 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
   // Slots x receivers floats come back per gather; bound that to ~64 MB.
   const size_t max_slots = std::max<size_t>(1, (size_t(16) << 20) / std::max<uint32_t>(receiver_count, 1));
   std::vector<float> shares;
+  std::vector<uint32_t> seen;  // baseline gathers: per slot, the static triangles its maps showed
+  const size_t seen_words = rt::triangleBitWords(static_map.triangleCount());
   Status status;
   for (size_t begin = 0; begin < ids.size() && status.ok(); begin += max_slots) {
     const size_t end = std::min(ids.size(), begin + max_slots);
@@ -223,15 +226,19 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
       // With its baseline mapped, the emitter's region bounds everything it
       // lights and everything that can shadow it: the maps skip the rest.
       const bool bounded = !baseline && e.has_baseline && e.region.max.x < 1e38f;
+      // Finer: the runs of static triangles its baseline maps showed (the
+      // same samples; objects only hide static surfaces).
+      const bool lit_set = !baseline && settings.lit_set_culling && !e.lit_triangles.empty();
       for (rt::PointSample s : e.samples) {
         s.slot = uint32_t(i - begin);
         if (bounded) s.reach = e.region;
+        if (lit_set) s.static_triangles = &e.lit_triangles;
         samples.push_back(s);
       }
     }
     rt::GatherStats g;
     const auto t0 = Clock::now();
-    status = renderer->gather(samples, uint32_t(end - begin), shares, &g);
+    status = renderer->gather(samples, uint32_t(end - begin), shares, &g, baseline ? &seen : nullptr);
     if (!status.ok()) break;
     const double ms = msSince(t0);
     if (!samples.empty()) ms_per_sample = 0.5 * ms_per_sample + 0.5 * ms / double(samples.size());
@@ -239,6 +246,7 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
     stats.reduction_ms += g.reduce_ms + g.readback_ms;
     stats.samples_rendered += g.samples;
     stats.faces_rendered += g.faces_rendered;
+    stats.triangles_drawn += g.triangles_drawn;
     stats.texels_reduced += g.texels;
     stats.fallback_triangles += g.fallback_triangles;
     for (size_t i = begin; i < end; ++i) {
@@ -270,6 +278,8 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
       if (baseline) {
         e.baseline = std::move(sparse);
         e.has_baseline = true;
+        const auto first = seen.begin() + ptrdiff_t((i - begin) * seen_words);
+        e.lit_triangles.assign(first, first + ptrdiff_t(seen_words));
         grow(e.region, region);
       } else {
         e.current = std::move(sparse);
