@@ -14,8 +14,9 @@
 //  3. a lamp of the camera's room switched off: the irradiance under it the
 //     very next frame against the settled value.
 // usage: bench_importance LEVEL.json BAKE_DIR [--budget SAMPLES] [--stop-frames N] [--json OUT] [--no-reference]
-//                         [--moving all|walk]
-// (--no-reference: caching alone, for its per-stage times; no error figures).
+//                         [--moving all|walk] [--no-lit-set]
+// (--no-reference: caching alone, for its per-stage times; no error figures;
+// --no-lit-set: RuntimeSettings::lit_set_culling off, maps culled by boxes).
 
 #include <GLFW/glfw3.h>
 
@@ -102,9 +103,12 @@ Mat4 yRotated(const Mat4& placed, float angle) {
   return out;
 }
 
+bool lit_set_culling = true;  // --no-lit-set
+
 std::unique_ptr<Runtime> makeRuntime(const Scene& scene, const BakeData& bake, const std::string& dir, int rooms,
                                      bool refresh_all, int budget) {
   RuntimeSettings settings;
+  settings.lit_set_culling = lit_set_culling;
   // Equal resolution per room whatever the house's size.
   settings.target_patches = 128 * rooms;
   settings.target_shooters = 16 * rooms;
@@ -144,6 +148,10 @@ int main(int argc, char** argv) {
   for (int i = 3; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--no-reference")) {
       reference = false;
+      continue;
+    }
+    if (!std::strcmp(argv[i], "--no-lit-set")) {
+      lit_set_culling = false;
       continue;
     }
     if (!std::strcmp(argv[i], "--budget") && i + 1 < argc) {
@@ -208,7 +216,7 @@ int main(int argc, char** argv) {
   if (all) all->update(0);
   settle(*cached, budget);
   double time_all = 0, time_cached = 0, error_sum = 0, samples_all = 0, samples_cached = 0;
-  double stage_maps = 0, stage_reduction = 0, stage_bounce = 0, stage_upload = 0, stage_view = 0;
+  double stage_maps = 0, stage_reduction = 0, stage_bounce = 0, stage_upload = 0, stage_view = 0, triangles = 0;
   int frames = 0;
   nlohmann::json frame_log = nlohmann::json::array();
   for (size_t stop = 0; stop < walk.size(); ++stop) {
@@ -239,6 +247,7 @@ int main(int argc, char** argv) {
       stage_bounce += c.bounce_ms;
       stage_upload += c.upload_ms;
       stage_view += c.view_ms;
+      triangles += double(c.triangles_drawn);
       samples_all += a.samples_rendered;
       samples_cached += c.samples_rendered;
       error_sum += error;
@@ -257,11 +266,12 @@ int main(int argc, char** argv) {
   const double mean_all = time_all / frames, mean_cached = time_cached / frames, mean_error = error_sum / frames;
   const nlohmann::json stages = {{"maps_ms", stage_maps / frames}, {"reduction_ms", stage_reduction / frames},
                                  {"bounce_ms", stage_bounce / frames}, {"upload_ms", stage_upload / frames},
-                                 {"view_ms", stage_view / frames}};
+                                 {"view_ms", stage_view / frames}, {"map_triangles", triangles / frames}};
   std::fflush(stdout);
-  std::printf("caching per frame by stage: maps %.1f ms, reduction %.1f ms, bounce %.1f ms, upload %.1f ms, view %.1f ms\n",
-              stage_maps / frames, stage_reduction / frames, stage_bounce / frames, stage_upload / frames,
-              stage_view / frames);
+  std::printf("caching per frame by stage: maps %.1f ms (%.0f triangles), reduction %.1f ms, bounce %.1f ms, "
+              "upload %.1f ms, view %.1f ms\n",
+              stage_maps / frames, triangles / frames, stage_reduction / frames, stage_bounce / frames,
+              stage_upload / frames, stage_view / frames);
   std::printf("walk: %d frames; per frame refresh-all %.1f ms (%.0f samples), caching %.1f ms (%.0f samples): "
               "ratio %.3f; error in the camera's room vs refresh-all %.2f%% (mean)\n",
               frames, mean_all, samples_all / frames, mean_cached, samples_cached / frames,
@@ -323,7 +333,7 @@ int main(int argc, char** argv) {
               lit, next_frame, settled, 100 * std::abs(next_frame - settled) / lit);
 
   if (!json_path.empty()) {
-    nlohmann::json out = {{"level", level_path}, {"rooms", rooms}, {"moving", moving},
+    nlohmann::json out = {{"level", level_path}, {"rooms", rooms}, {"moving", moving}, {"lit_set_culling", lit_set_culling},
                           {"moving_tables", table_ids.size()}, {"lamps", scene.lights.size()}, {"gl", renderer},
                           {"budget_samples", budget}, {"frames", frames}, {"refresh_all_ms", mean_all},
                           {"caching_ms", mean_cached}, {"caching_stages", stages}, {"cost_ratio", mean_all > 0 ? mean_cached / mean_all : 0.0},

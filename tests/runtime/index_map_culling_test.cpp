@@ -64,6 +64,24 @@ TEST(IndexMapCulling, StaticSetKeepsItsTrianglesAndEveryDynamicOne) {
   EXPECT_TRUE(chunkInSet(chunks[0], nullptr));
 }
 
+TEST(IndexMapCulling, ShortGapsBetweenKeptTrianglesAreDrawnThrough) {
+  // Kept 10, 20 and 100: the 9 between 10 and 20 are drawn too (one range,
+  // not two), the 79 before 100 are not.
+  std::vector<TriangleChunk> chunks;
+  appendChunks(rowOfTriangles(256), 0, false, chunks);
+  TriangleBits set(triangleBitWords(256), 0u);
+  for (uint32_t t : {10u, 20u, 100u}) set[t / 32] |= 1u << (t % 32);
+  std::vector<int32_t> firsts, counts;
+  const uint64_t n = visibleRanges(chunks, everything(), 0xffffffffu, glm::dvec3(1), glm::dvec3(0), &set, firsts,
+                                   counts);
+  std::vector<uint32_t> expected;
+  for (uint32_t t = 10; t <= 20; ++t) expected.push_back(t);
+  expected.push_back(100);
+  EXPECT_EQ(drawn(firsts, counts), expected);
+  EXPECT_EQ(n, 12u);
+  EXPECT_EQ(firsts.size(), 2u);
+}
+
 TEST(IndexMapCulling, NoSetDrawsEveryChunkInTheFrustum) {
   std::vector<TriangleChunk> chunks;
   appendChunks(rowOfTriangles(300), 0, false, chunks);

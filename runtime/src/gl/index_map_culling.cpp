@@ -69,6 +69,8 @@ bool mayMeet(const TriangleChunk& c, const Frustum& f) {
   return true;
 }
 
+constexpr uint32_t kBridgedGap = 32;
+
 bool inSet(const TriangleBits& set, uint32_t t) {  // t static
   return t / 32 < set.size() && ((set[t / 32] >> (t % 32)) & 1u) != 0;
 }
@@ -105,18 +107,32 @@ uint64_t visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& fru
     }
   };
   // A chunk's triangles, `skip` and static ones outside the set left out.
+  // Gaps of under kBridgedGap left-out triangles between kept ones are
+  // drawn anyway (sound: the set only spares work) so the draw does not
+  // fall apart into ranges of a few triangles, each with its own setup.
   auto pushKept = [&](const TriangleChunk& c) {
     const uint32_t first = c.first, end = c.first + c.count;
     const bool filtered = static_set && !c.dynamic;
     if (!filtered && (skip < first || skip >= end)) return push(first, end);
-    uint32_t run = first;
-    for (uint32_t t = first; t < end; ++t) {
-      if (t == skip || (filtered && !inSet(*static_set, t))) {
-        push(run, t);
-        run = t + 1;
+    auto keep = [&](uint32_t t) { return t != skip && (!filtered || inSet(*static_set, t)); };
+    uint32_t t = first;
+    while (t < end) {
+      while (t < end && !keep(t)) ++t;
+      if (t == end) break;
+      uint32_t run_end = t + 1;
+      for (uint32_t u = run_end; u < end && u != skip;) {
+        if (keep(u)) {
+          run_end = ++u;
+          continue;
+        }
+        uint32_t gap_end = u;
+        while (gap_end < end && gap_end != skip && !keep(gap_end) && gap_end - u < kBridgedGap) ++gap_end;
+        if (gap_end == end || gap_end == skip || !keep(gap_end)) break;
+        u = gap_end;
       }
+      push(t, run_end);
+      t = run_end;
     }
-    push(run, end);
   };
   for (const TriangleChunk& c : chunks) {
     if (!chunkInSet(c, static_set)) continue;

@@ -158,6 +158,9 @@ struct Runtime::Impl {
   double emitterScale(const Emitter& e) const;
   bool reaches(const Emitter& e, const Aabb& box) const;
   bool reachesAnyObject(const Emitter& e) const;
+  /// A static patch without static-level maps that lit-set culling will
+  /// give them before its next maps (gatherShares).
+  bool wantsLitSetMaps(const Emitter& e) const;
   void updateReach();
   bool needsMaps(const Emitter& e) const;
   bool outOfDate(const Emitter& e) const;

@@ -104,6 +104,10 @@ bool Runtime::Impl::reaches(const Emitter& e, const Aabb& box) const {
   return any(e.bake_shares);
 }
 
+bool Runtime::Impl::wantsLitSetMaps(const Emitter& e) const {
+  return settings.lit_set_culling && e.kind == EmitterKind::kStaticPatch && !e.has_baseline;
+}
+
 bool Runtime::Impl::reachesAnyObject(const Emitter& e) const {
   for (const rt::DynamicObject& object : objects) {
     if (object.visible && !object.removed && reaches(e, object.bounds)) return true;
@@ -247,7 +251,8 @@ std::vector<rt::RefreshCandidate> Runtime::Impl::refreshCandidates() {
     c.emitter = i;
     c.importance = e.importance;
     const size_t samples = e.samples.empty() ? size_t(e.sample_count) : e.samples.size();
-    c.cost = double(std::max<size_t>(samples, 1)) * (e.needs_baseline && !e.has_baseline ? 2.0 : 1.0);
+    const bool static_maps_first = (e.needs_baseline && !e.has_baseline) || wantsLitSetMaps(e);
+    c.cost = double(std::max<size_t>(samples, 1)) * (static_maps_first ? 2.0 : 1.0);
     c.waiting_since = e.waiting_since;
     c.queued_interval = e.queued_interval;
     c.settled_importance = e.settled_importance;

@@ -206,6 +206,16 @@ void Runtime::Impl::invalidateMoved() {
 
 Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, FrameStats& stats) {
   if (ids.empty()) return Status();
+  if (!baseline && settings.lit_set_culling) {
+    // Static patches that shoot only deltas have no static-level maps of
+    // their own; one first (same samples, once) gives them a lit set for
+    // this and every later refresh, and a region that bounds their maps.
+    std::vector<uint32_t> first_maps;
+    for (uint32_t id : ids) {
+      if (wantsLitSetMaps(emitters[id])) first_maps.push_back(id);
+    }
+    if (Status s = gatherShares(std::move(first_maps), true, stats); !s.ok()) return s;
+  }
   const uint32_t receiver_count = uint32_t(receivers.size());
   renderer->setReceiverCount(receiver_count);
   // The baseline is the static level alone: hide dynamic triangles meanwhile.
