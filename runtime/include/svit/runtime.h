@@ -27,12 +27,14 @@ namespace svit {
 
 /// Tuning of the runtime; defaults suit a game at 60 Hz on a real GPU.
 struct RuntimeSettings {
-  /// Static geometry in index maps: the full static triangles cut into
-  /// runtime patches (false), or the bake's LOD proxies re-cut to patch size
-  /// (true: fewer triangles on detailed levels, but pieces of a proxy face
-  /// are assigned to patches by nearest centroid, which misplaces flux
-  /// between neighbouring patches on flat areas; see the benchmark).
-  bool use_proxies = false;
+  /// Static geometry in index maps: the bake's LOD proxies (true) or the
+  /// full static triangles cut into runtime patches (false). With proxies,
+  /// each bake patch whose proxy takes under half its own sub-triangles
+  /// (detailed meshes) is drawn as its proxy faces re-cut to a quarter of a
+  /// patch, each piece standing for the nearest runtime patch; every other
+  /// bake patch (flat walls and floors, which simplify to about what they
+  /// were) keeps its own sub-triangles, so its patch outlines are exact.
+  bool use_proxies = true;
   /// Runtime patches over the static surfaces (the bake's patches cut to
   /// about this many): the resolution of dynamic shadows and deltas.
   int target_patches = 1024;

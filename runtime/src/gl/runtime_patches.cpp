@@ -252,25 +252,37 @@ Expected<RuntimePatches> buildRuntimePatches(const Scene& scene, const BakeData&
 }
 
 MapTriangles proxyMapTriangles(const BakeData& bake, const RuntimePatches& patches, double max_area_m2) {
-  // Per bake patch: the centroids of its runtime patches' sub-triangles.
-  std::vector<std::vector<std::pair<glm::dvec3, uint32_t>>> candidates(patches.bake_members.size());
+  // Per bake patch: its runtime patches' sub-triangles (their centroids and
+  // indices in patches.triangles).
+  struct Original {
+    glm::dvec3 centroid;
+    uint32_t receiver, sub;
+  };
+  std::vector<std::vector<Original>> originals(patches.bake_members.size());
+  std::vector<double> original_area(originals.size(), 0.0), proxy_area(originals.size(), 0.0);
+  auto areaOf = [](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    return 0.5 * glm::length(glm::cross(b - a, c - a));
+  };
   for (size_t s = 0; s < patches.triangles.triangleCount(); ++s) {
     const uint32_t r = patches.triangles.front_receiver[s];
-    const glm::dvec3 c = (dvec(patches.triangles.positions[s * 3]) + dvec(patches.triangles.positions[s * 3 + 1]) +
-                          dvec(patches.triangles.positions[s * 3 + 2])) / 3.0;
-    candidates[patches.bake_patch[r]].push_back({c, r});
+    const glm::dvec3 a = dvec(patches.triangles.positions[s * 3]), b = dvec(patches.triangles.positions[s * 3 + 1]),
+                     c = dvec(patches.triangles.positions[s * 3 + 2]);
+    originals[patches.bake_patch[r]].push_back({(a + b + c) / 3.0, r, uint32_t(s)});
+    original_area[patches.bake_patch[r]] += areaOf(a, b, c);
   }
-  MapTriangles out;
+  // Per bake patch: its proxy faces cut into pieces of a quarter of a patch
+  // each, so assigning pieces by their nearest original sub-triangle follows
+  // the patch outlines closely.
   const BakeProxyMesh& proxy = bake.proxy;
+  std::vector<MapTriangles> pieces(originals.size());
   const size_t faces = proxy.indices.size() / 3;
   for (size_t f = 0; f < faces; ++f) {
     const uint32_t group = proxy.face_patch[f];
-    if (group >= candidates.size() || candidates[group].empty()) continue;
+    if (group >= originals.size() || originals[group].empty()) continue;
     const glm::dvec3 a = dvec(proxy.positions[proxy.indices[f * 3]]), b = dvec(proxy.positions[proxy.indices[f * 3 + 1]]),
                      c = dvec(proxy.positions[proxy.indices[f * 3 + 2]]);
-    const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
-    // A quarter of a patch each, so assigning pieces by their nearest
-    // original sub-triangle follows the patch outlines closely.
+    const double area = areaOf(a, b, c);
+    proxy_area[group] += area;
     const int n = tessellation(area, max_area_m2 / 4);
     for (int i = 0; i < n; ++i) {
       for (int j = 0; i + j < n; ++j) {
@@ -281,20 +293,43 @@ MapTriangles proxyMapTriangles(const BakeData& bake, const RuntimePatches& patch
           glm::dvec3 p[3];
           for (int k = 0; k < 3; ++k) p[k] = a + w[k][0] * (b - a) + w[k][1] * (c - a);
           const glm::dvec3 centroid = (p[0] + p[1] + p[2]) / 3.0;
-          uint32_t best = candidates[group].front().second;
+          uint32_t best = originals[group].front().receiver;
           double best_d = 1e300;
-          for (const auto& [q, r] : candidates[group]) {
-            const double d = glm::dot(centroid - q, centroid - q);
+          for (const Original& o : originals[group]) {
+            const double d = glm::dot(centroid - o.centroid, centroid - o.centroid);
             if (d < best_d) {
               best_d = d;
-              best = r;
+              best = o.receiver;
             }
           }
-          for (const glm::dvec3& q : p) out.positions.push_back(fromGlm(glm::vec3(q)));
-          out.front_receiver.push_back(best);
-          out.back_receiver.push_back(kNoReceiver);
+          for (const glm::dvec3& q : p) pieces[group].positions.push_back(fromGlm(glm::vec3(q)));
+          pieces[group].front_receiver.push_back(best);
+          pieces[group].back_receiver.push_back(kNoReceiver);
         }
       }
+    }
+  }
+  // A bake patch keeps its own sub-triangles unless its proxy is much
+  // simpler and covers about its own area: flat walls and floors simplify
+  // to about what they were (and a wall's few proxy faces may all stand for
+  // one of its patches, leaving the others none), and their pieces would
+  // only blur the patch outlines, while detailed meshes shed most of their
+  // triangles.
+  MapTriangles out;
+  for (size_t g = 0; g < originals.size(); ++g) {
+    const double coverage = original_area[g] > 0 ? proxy_area[g] / original_area[g] : 0.0;
+    const bool simpler = double(pieces[g].triangleCount()) < kProxyShare * double(originals[g].size());
+    if (simpler && coverage > kProxyCoverage[0] && coverage < kProxyCoverage[1]) {
+      const MapTriangles& p = pieces[g];
+      out.positions.insert(out.positions.end(), p.positions.begin(), p.positions.end());
+      out.front_receiver.insert(out.front_receiver.end(), p.front_receiver.begin(), p.front_receiver.end());
+      out.back_receiver.insert(out.back_receiver.end(), p.back_receiver.begin(), p.back_receiver.end());
+      continue;
+    }
+    for (const Original& o : originals[g]) {
+      for (int k = 0; k < 3; ++k) out.positions.push_back(patches.triangles.positions[size_t(o.sub) * 3 + size_t(k)]);
+      out.front_receiver.push_back(patches.triangles.front_receiver[o.sub]);
+      out.back_receiver.push_back(patches.triangles.back_receiver[o.sub]);
     }
   }
   return out;

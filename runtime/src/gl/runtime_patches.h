@@ -61,8 +61,18 @@ Expected<RuntimePatches> buildRuntimePatches(const Scene& scene, const BakeData&
                                              const std::vector<LightmapImage>& pages, double max_area_m2,
                                              double max_shooter_area_m2);
 
-/// The bake's LOD proxy faces tessellated to the same size, each
-/// sub-triangle standing for the nearest runtime patch of its bake patch.
+/// A bake patch's proxy is used when it takes fewer than this share of the
+/// patch's own sub-triangles and its area is within these bounds of the
+/// patch's (proxyMapTriangles).
+inline constexpr double kProxyShare = 0.5;
+inline constexpr double kProxyCoverage[2] = {0.8, 1.25};
+
+/// What index maps draw for the static level with LOD proxies: per bake
+/// patch, its proxy faces tessellated to a quarter of a patch (each piece
+/// standing for the nearest runtime patch of that bake patch) where that is
+/// under kProxyShare of the patch's own sub-triangles and covers its area
+/// (kProxyCoverage), else those sub-triangles unchanged. Ordered by bake
+/// patch.
 MapTriangles proxyMapTriangles(const BakeData& bake, const RuntimePatches& patches, double max_area_m2);
 
 /// Per welded vertex: area-weighted mean of the values of the runtime
