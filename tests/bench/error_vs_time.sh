@@ -22,12 +22,16 @@
 #   SVIT_EVT_BUDGETS_<LEVEL>  the series for one level (e.g. SVIT_EVT_BUDGETS_SPONZA)
 #   SVIT_EVT_REFERENCE     "cornell=120 house=180 sponza=360" (--time of the references)
 #   SVIT_EVT_PAIR          levels that get the second reference ("cornell house sponza")
-#   SVIT_EVT_RUNTIME_LEVELS  levels of the runtime part ("cornell house": Sponza's
-#                          first settle did not finish in 38 minutes on llvmpipe; add
-#                          it where there is a GPU)
+#   SVIT_EVT_RUNTIME_LEVELS  levels of the runtime part ("cornell house sponza")
 #   SVIT_EVT_RUNTIME       "cornell=10,50,200,0:16 house=10,50,200,0:16 sponza=200,0:8"
 #                          (budgets in ms, 0 = none : frames)
 #   SVIT_EVT_RUNTIME_QUALITY  quality of the runtime part's bakes (0.2)
+#   SVIT_EVT_RUNTIME_FLAGS_<LEVEL>  more bench_runtime_error flags for one level;
+#                          Sponza's default settles once, in 20 s frames, with
+#                          16,384 patches (its 0.3 m ball's shadow needs them),
+#                          64-texel maps and at most 4 samples per emitter (about
+#                          25 minutes on llvmpipe): "--one-settle --settle-budget 20000
+#                          --target-patches 16384 --map-resolution 64 --max-samples 4"
 #   SVIT_EVT_REUSE=1       keep references (and the runtime part's bakes) already in OUT_DIR
 #   SVIT_EVT_SKIP=baker|runtime  leave one part out (the other's old results are kept)
 set -euo pipefail
@@ -42,7 +46,8 @@ levels="${SVIT_EVT_LEVELS:-cornell house sponza}"
 budgets="${SVIT_EVT_BUDGETS:-2 4 8 16 32 64}"
 references="${SVIT_EVT_REFERENCE:-cornell=120 house=180 sponza=360}"
 pair="${SVIT_EVT_PAIR:-cornell house sponza}"
-runtime_levels="${SVIT_EVT_RUNTIME_LEVELS:-cornell house}"
+runtime_levels="${SVIT_EVT_RUNTIME_LEVELS:-cornell house sponza}"
+sponza_runtime_flags="--one-settle --settle-budget 20000 --target-patches 16384 --map-resolution 64 --max-samples 4"
 runtime_grid="${SVIT_EVT_RUNTIME:-cornell=10,50,200,0:16 house=10,50,200,0:16 sponza=200,0:8}"
 runtime_quality="${SVIT_EVT_RUNTIME_QUALITY:-0.2}"
 skip="${SVIT_EVT_SKIP:-}"
@@ -93,12 +98,14 @@ if [[ "$skip" != runtime ]]; then
     grid="$(lookup "$level" "$runtime_grid")"
     [[ "${SVIT_EVT_REUSE:-0}" == 1 ]] || rm -rf "$out/runtime/work/$level-base" "$out/runtime/work/$level-moved"
     echo "== $level: runtime, budgets ${grid%%:*} ms, ${grid##*:} frames"
-    # Levels whose settle takes many minutes on llvmpipe settle once (bench_runtime_error --one-settle).
-    one_settle=()
-    [[ " ${SVIT_EVT_ONE_SETTLE:-sponza} " == *" $level "* ]] && one_settle=(--one-settle)
+    # Per-level flags (Sponza's settle takes many minutes on llvmpipe: once, cheaper).
+    flags_var="SVIT_EVT_RUNTIME_FLAGS_${level^^}"
+    default_flags=""
+    [[ "$level" == sponza ]] && default_flags="$sponza_runtime_flags"
+    read -r -a flags <<<"${!flags_var-$default_flags}"
     xvfb-run -a "$build/tests/bench/bench_runtime_error" --level "$level" --work "$out/runtime/work" \
       --json "$out/runtime/$level.json" --budgets "${grid%%:*}" --frames "${grid##*:}" \
-      --quality "$runtime_quality" "${one_settle[@]}" 2>&1 | tee "$out/logs/runtime-$level.log"
+      --quality "$runtime_quality" "${flags[@]}" 2>&1 | tee "$out/logs/runtime-$level.log"
     load "after-runtime-$level"
   done
 fi

@@ -8,14 +8,15 @@
 // update (the runtime still showing the old place).
 // usage: bench_runtime_error --level cornell|house|sponza --work DIR --json OUT
 //        [--budgets 10,50,200,0] [--frames 16] [--quality 0.2] [--one-settle]
-//        [--proxies] [--map-resolution N] [--max-samples N] [--secondary-share S]
+//        [--proxies | --full-geometry] [--target-patches N] [--map-resolution N] [--max-samples N]
+//        [--secondary-share S]
 //        [--settle-budget MS]
 // --one-settle (for levels whose settle takes many minutes on llvmpipe, i.e.
 // Sponza): one runtime, settled once, measured at rest, then the first
 // budget's frames, then update(0) to settled as the "none" end point.
-// The last four set RuntimeSettings (use_proxies, map_resolution,
-// max_samples_per_emitter, secondary_emitter_share) for a cheaper runtime
-// on llvmpipe; the JSON records them. --settle-budget settles in frames of
+// The settings flags set RuntimeSettings (use_proxies, target_patches,
+// map_resolution, max_samples_per_emitter, secondary_emitter_share), e.g.
+// for a cheaper runtime on llvmpipe; the JSON records them. --settle-budget settles in frames of
 // update(MS) until idle instead of update(0), printing progress.
 // Runs headless under xvfb-run; bakes (quality Q, seed 7) go to DIR and are
 // reused when their stamp matches.
@@ -154,6 +155,8 @@ int main(int argc, char** argv) {
     else if (arg == "--one-settle") one_settle = true;
     else if (arg == "--settle-budget" && i + 1 < argc) settle_budget_ms = std::atof(argv[++i]);
     else if (arg == "--proxies") settings.use_proxies = true;
+    else if (arg == "--full-geometry") settings.use_proxies = false;
+    else if (arg == "--target-patches" && i + 1 < argc) settings.target_patches = std::atoi(argv[++i]);
     else if (arg == "--map-resolution" && i + 1 < argc) settings.map_resolution = std::atoi(argv[++i]);
     else if (arg == "--max-samples" && i + 1 < argc) settings.max_samples_per_emitter = std::atoi(argv[++i]);
     else if (arg == "--secondary-share" && i + 1 < argc) settings.secondary_emitter_share = std::atof(argv[++i]);
@@ -166,8 +169,9 @@ int main(int argc, char** argv) {
   }
   if (!chosen || work.empty() || json_path.empty() || frames < 1) {
     std::fprintf(stderr, "usage: bench_runtime_error --level cornell|house|sponza --work DIR --json OUT "
-                         "[--budgets 10,50,200,0] [--frames 16] [--quality 0.2] [--one-settle] [--proxies] "
-                         "[--map-resolution N] [--max-samples N] [--secondary-share S] [--settle-budget MS]\n");
+                         "[--budgets 10,50,200,0] [--frames 16] [--quality 0.2] [--one-settle] [--proxies | --full-geometry] "
+                         "[--target-patches N] [--map-resolution N] [--max-samples N] [--secondary-share S] "
+                         "[--settle-budget MS]\n");
     return 2;
   }
   const Case& c = *chosen;
@@ -232,7 +236,8 @@ int main(int argc, char** argv) {
 
   nlohmann::json out = {{"level", c.name}, {"level_path", c.level}, {"node", c.node}, {"renderer", renderer},
                         {"quality", quality}, {"frames", frames}, {"probes", probes.size()},
-                        {"settings", {{"use_proxies", settings.use_proxies}, {"map_resolution", settings.map_resolution},
+                        {"settings", {{"use_proxies", settings.use_proxies}, {"target_patches", settings.target_patches},
+                                      {"map_resolution", settings.map_resolution},
                                       {"max_samples_per_emitter", settings.max_samples_per_emitter},
                                       {"secondary_emitter_share", settings.secondary_emitter_share}}}};
   {
