@@ -64,8 +64,9 @@ Frustum faceFrustum(const glm::dvec3& eye, const glm::dvec3& right, const glm::d
 
 /// Vertex ranges (first vertex, vertex count) of the chunks that may meet
 /// `frustum` and the box [reach_lo, reach_hi] (lo > hi on an axis: no box),
-/// only their triangles in `static_set` (null: all; dynamic ones always),
-/// merged where adjacent, with triangle `skip` left out (any value past the
+/// of a static chunk with `static_set` only the span from its first to its
+/// last triangle in the set, broken only at `skip` (null: all; dynamic
+/// chunks always whole), merged where adjacent, with triangle `skip` left out (any value past the
 /// end skips nothing). Clears and fills `firsts`/`counts`; returns the
 /// number of triangles in them.
 uint64_t visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& frustum, uint32_t skip,
