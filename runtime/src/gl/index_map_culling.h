@@ -64,11 +64,11 @@ Frustum faceFrustum(const glm::dvec3& eye, const glm::dvec3& right, const glm::d
 
 /// Vertex ranges (first vertex, vertex count) of the chunks that may meet
 /// `frustum` and the box [reach_lo, reach_hi] (lo > hi on an axis: no box),
-/// of a static chunk with `static_set` only the span from its first to its
-/// last triangle in the set, broken only at `skip` (null: all; dynamic
-/// chunks always whole), merged where adjacent, with triangle `skip` left out (any value past the
-/// end skips nothing). Clears and fills `firsts`/`counts`; returns the
-/// number of triangles in them.
+/// merged where adjacent, with triangle `skip` left out (any value past the
+/// end skips nothing). With `static_set`, a static chunk draws only the
+/// span from its first to its last triangle in the set (dynamic chunks are
+/// always whole). Clears and fills `firsts`/`counts`; returns the number of
+/// triangles in them.
 uint64_t visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& frustum, uint32_t skip,
                        const glm::dvec3& reach_lo, const glm::dvec3& reach_hi, const TriangleBits* static_set,
                        std::vector<int32_t>& firsts, std::vector<int32_t>& counts);

@@ -231,6 +231,7 @@ struct IndexMapRenderer::Impl {
   }
 
   uint32_t triangleCount() const { return uint32_t((static_receivers.size() + dynamic_receivers.size()) / 2); }
+  uint32_t staticTriangleCount() const { return uint32_t(static_receivers.size() / 2); }
 
   const LobeCoverage& coverage(const PointSample& s) const {
     // Only a spot's cone changes the lobe; the key ignores the cone otherwise.
@@ -264,7 +265,7 @@ struct IndexMapRenderer::Impl {
   // growing the buffers by half again when they no longer fit.
   void uploadTriangles(bool static_changed) {
     const size_t count = triangleCount();
-    const size_t static_count = static_receivers.size() / 2;
+    const size_t static_count = staticTriangleCount();
     if (static_changed) {
       static_chunks.clear();
       appendChunks(static_positions, 0, false, static_chunks);
@@ -449,6 +450,7 @@ double IndexMapRenderer::missedShare(MapLayout layout, const PointSample& sample
 const IndexMapSettings& IndexMapRenderer::settings() const { return impl_->settings; }
 
 Status IndexMapRenderer::Impl::validate(std::span<const PointSample> list, uint32_t slot_count) const {
+  const size_t static_words = triangleBitWords(staticTriangleCount());
   for (size_t i = 0; i < list.size(); ++i) {
     const PointSample& s = list[i];
     auto bad = [&](const std::string& what) {
@@ -469,10 +471,9 @@ Status IndexMapRenderer::Impl::validate(std::span<const PointSample> list, uint3
     if (s.lobe == Lobe::kParallel && !(s.half_extent_m > 0 && std::isfinite(s.half_extent_m))) {
       return bad("half_extent_m " + str(s.half_extent_m) + " is not a positive length");
     }
-    const size_t words = triangleBitWords(static_receivers.size() / 2);
-    if (s.static_triangles && s.static_triangles->size() != words) {
+    if (s.static_triangles && s.static_triangles->size() != static_words) {
       return bad("static_triangles has " + std::to_string(s.static_triangles->size()) + " words, the static set needs " +
-                 std::to_string(words));
+                 std::to_string(static_words));
     }
   }
   return Status();
@@ -612,7 +613,7 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSeenBinding, seen);
   for (GLuint program : {fallback.id(), reduce.id()}) {
     glProgramUniform1ui(program, kSeenWordsLocation, seen_words);
-    glProgramUniform1ui(program, kStaticTrianglesLocation, GLuint(static_receivers.size() / 2));
+    glProgramUniform1ui(program, kStaticTrianglesLocation, GLuint(staticTriangleCount()));
   }
   glBindTextureUnit(kIdMapUnit, id_map);
   glBindTextureUnit(kDepthMapUnit, depth_map);
@@ -696,7 +697,7 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
                                                  std::to_string(m.settings.max_batch_samples) +
                                                  " max_batch_samples exceed 2^31 (use proxies or smaller batches)");
   }
-  m.seen_words = seen_out ? uint32_t(triangleBitWords(m.static_receivers.size() / 2)) : 0u;
+  m.seen_words = seen_out ? uint32_t(triangleBitWords(m.staticTriangleCount())) : 0u;
   const size_t seen_words = size_t(slot_count) * m.seen_words;
   if (sample_list.empty() || cells == 0 || triangles == 0) {
     shares.assign(cells, 0.0f);

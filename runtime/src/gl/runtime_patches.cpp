@@ -270,20 +270,47 @@ MapTriangles proxyMapTriangles(const BakeData& bake, const RuntimePatches& patch
     originals[patches.bake_patch[r]].push_back({(a + b + c) / 3.0, r, uint32_t(s)});
     original_area[patches.bake_patch[r]] += areaOf(a, b, c);
   }
-  // Per bake patch: its proxy faces cut into pieces of a quarter of a patch
-  // each, so assigning pieces by their nearest original sub-triangle follows
-  // the patch outlines closely.
+  // Per bake patch: its proxy's area and how many pieces of a quarter of a
+  // patch its faces would be cut into (n x n per face).
   const BakeProxyMesh& proxy = bake.proxy;
-  std::vector<MapTriangles> pieces(originals.size());
   const size_t faces = proxy.indices.size() / 3;
+  auto faceOf = [&](size_t f, uint32_t& group, glm::dvec3 (&corner)[3]) {
+    group = proxy.face_patch[f];
+    if (group >= originals.size() || originals[group].empty()) return false;
+    for (int k = 0; k < 3; ++k) corner[k] = dvec(proxy.positions[proxy.indices[f * 3 + size_t(k)]]);
+    return true;
+  };
+  std::vector<size_t> piece_count(originals.size(), 0);
   for (size_t f = 0; f < faces; ++f) {
-    const uint32_t group = proxy.face_patch[f];
-    if (group >= originals.size() || originals[group].empty()) continue;
-    const glm::dvec3 a = dvec(proxy.positions[proxy.indices[f * 3]]), b = dvec(proxy.positions[proxy.indices[f * 3 + 1]]),
-                     c = dvec(proxy.positions[proxy.indices[f * 3 + 2]]);
-    const double area = areaOf(a, b, c);
-    proxy_area[group] += area;
+    uint32_t group;
+    glm::dvec3 c[3];
+    if (!faceOf(f, group, c)) continue;
+    const double area = areaOf(c[0], c[1], c[2]);
     const int n = tessellation(area, max_area_m2 / 4);
+    proxy_area[group] += area;
+    piece_count[group] += size_t(n) * size_t(n);
+  }
+  // A bake patch keeps its own sub-triangles unless its proxy is much
+  // simpler and covers about its own area: flat walls and floors simplify
+  // to about what they were (and a wall's few proxy faces may all stand for
+  // one of its patches, leaving the others none), and their pieces would
+  // only blur the patch outlines, while detailed meshes shed most of their
+  // triangles.
+  std::vector<bool> use_proxy(originals.size(), false);
+  for (size_t g = 0; g < originals.size(); ++g) {
+    const double coverage = original_area[g] > 0 ? proxy_area[g] / original_area[g] : 0.0;
+    use_proxy[g] = double(piece_count[g]) < kProxyShare * double(originals[g].size()) &&
+                   coverage > kProxyCoverage[0] && coverage < kProxyCoverage[1];
+  }
+  // The chosen patches' proxy faces cut into those pieces, each standing for
+  // its nearest original sub-triangle's runtime patch, so the pieces follow
+  // the patch outlines closely.
+  std::vector<MapTriangles> pieces(originals.size());
+  for (size_t f = 0; f < faces; ++f) {
+    uint32_t group;
+    glm::dvec3 c[3];
+    if (!faceOf(f, group, c) || !use_proxy[group]) continue;
+    const int n = tessellation(areaOf(c[0], c[1], c[2]), max_area_m2 / 4);
     for (int i = 0; i < n; ++i) {
       for (int j = 0; i + j < n; ++j) {
         for (int flipped = 0; flipped < 2; ++flipped) {
@@ -291,7 +318,7 @@ MapTriangles proxyMapTriangles(const BakeData& bake, const RuntimePatches& patch
           double w[3][2];
           subCorners(n, i, j, flipped != 0, w);
           glm::dvec3 p[3];
-          for (int k = 0; k < 3; ++k) p[k] = a + w[k][0] * (b - a) + w[k][1] * (c - a);
+          for (int k = 0; k < 3; ++k) p[k] = c[0] + w[k][0] * (c[1] - c[0]) + w[k][1] * (c[2] - c[0]);
           const glm::dvec3 centroid = (p[0] + p[1] + p[2]) / 3.0;
           uint32_t best = originals[group].front().receiver;
           double best_d = 1e300;
@@ -309,17 +336,9 @@ MapTriangles proxyMapTriangles(const BakeData& bake, const RuntimePatches& patch
       }
     }
   }
-  // A bake patch keeps its own sub-triangles unless its proxy is much
-  // simpler and covers about its own area: flat walls and floors simplify
-  // to about what they were (and a wall's few proxy faces may all stand for
-  // one of its patches, leaving the others none), and their pieces would
-  // only blur the patch outlines, while detailed meshes shed most of their
-  // triangles.
   MapTriangles out;
   for (size_t g = 0; g < originals.size(); ++g) {
-    const double coverage = original_area[g] > 0 ? proxy_area[g] / original_area[g] : 0.0;
-    const bool simpler = double(pieces[g].triangleCount()) < kProxyShare * double(originals[g].size());
-    if (simpler && coverage > kProxyCoverage[0] && coverage < kProxyCoverage[1]) {
+    if (use_proxy[g]) {
       const MapTriangles& p = pieces[g];
       out.positions.insert(out.positions.end(), p.positions.begin(), p.positions.end());
       out.front_receiver.insert(out.front_receiver.end(), p.front_receiver.begin(), p.front_receiver.end());
