@@ -62,9 +62,9 @@ struct RuntimeSettings {
   /// Lit-set culling: once an emitter's static-level maps exist (its
   /// baseline), its later maps draw only the runs of static triangles those
   /// maps showed, plus the dynamic objects. Exact for emitters whose samples
-  /// stay put (objects only hide static surfaces, so nothing else can show)
-  /// and far cheaper than its bounding box on levels of many rooms with
-  /// aligned doorways; emitters whose samples move keep the box. Off: box only.
+  /// stay put (objects only hide static surfaces, so nothing else can show);
+  /// on the 8 x 8 house a quarter fewer triangles than its bounding box.
+  /// Emitters whose samples move keep the box. Off: box only.
   bool lit_set_culling = true;
   uint64_t seed = 1;            ///< sample placement; same seed, same result
 
