@@ -35,28 +35,34 @@ std::vector<uint32_t> drawn(const std::vector<int32_t>& firsts, const std::vecto
   return out;
 }
 
+constexpr uint32_t K = kChunkTriangles;
+
 TEST(IndexMapCulling, StaticSetKeepsItsTrianglesAndEveryDynamicOne) {
-  // 600 static triangles (3 chunks, the last partial) and 40 dynamic ones
-  // numbered from 600: word 18 of the set holds static 576..599 and would
-  // hold dynamic 600..607 if the set were read past the static triangles.
+  // 2K + 24 static triangles (3 chunks, the last partial) and 40 dynamic
+  // ones numbered after them: the set's last word holds the last 24 static
+  // triangles and would hold dynamic ones if it were read past the static
+  // triangles.
+  static_assert(K >= 40 && K % 32 == 0, "the layout below: 40 dynamic triangles in one chunk");
+  const uint32_t n_static = 2 * K + 24;
   std::vector<TriangleChunk> chunks;
-  appendChunks(rowOfTriangles(600), 0, false, chunks);
-  appendChunks(rowOfTriangles(40), 600, true, chunks);
+  appendChunks(rowOfTriangles(n_static), 0, false, chunks);
+  appendChunks(rowOfTriangles(40), n_static, true, chunks);
   ASSERT_EQ(chunks.size(), 4u);
-  TriangleBits set(triangleBitWords(600), 0u);
-  for (uint32_t t : {3u, 4u, 5u, 300u, 599u}) set[t / 32] |= 1u << (t % 32);
+  TriangleBits set(triangleBitWords(n_static), 0u);
+  for (uint32_t t : {3u, 4u, 5u, K + 44, n_static - 1}) set[t / 32] |= 1u << (t % 32);
   std::vector<int32_t> firsts, counts;
   const glm::dvec3 no_lo(1), no_hi(0);
   const uint64_t n = visibleRanges(chunks, everything(), 4, no_lo, no_hi, &set, firsts, counts);
-  std::vector<uint32_t> expected = {3, 5, 300, 599};
-  for (uint32_t t = 600; t < 640; ++t) expected.push_back(t);
+  std::vector<uint32_t> expected = {3, 5, K + 44, n_static - 1};
+  for (uint32_t t = n_static; t < n_static + 40; ++t) expected.push_back(t);
   EXPECT_EQ(drawn(firsts, counts), expected);
   EXPECT_EQ(n, expected.size());
-  // 3 and 5 around the skipped 4 stay separate draws; 599 and the dynamic run merge.
+  // 3 and 5 around the skipped 4 stay separate draws; the last static one
+  // and the dynamic run merge.
   EXPECT_EQ(firsts.size(), 4u);
 
-  TriangleBits only_chunk_2(triangleBitWords(600), 0u);
-  only_chunk_2[520 / 32] |= 1u << (520 % 32);
+  TriangleBits only_chunk_2(triangleBitWords(n_static), 0u);
+  only_chunk_2[(2 * K + 8) / 32] |= 1u << ((2 * K + 8) % 32);
   EXPECT_FALSE(chunkInSet(chunks[0], &only_chunk_2));
   EXPECT_FALSE(chunkInSet(chunks[1], &only_chunk_2));
   EXPECT_TRUE(chunkInSet(chunks[2], &only_chunk_2));
@@ -65,19 +71,19 @@ TEST(IndexMapCulling, StaticSetKeepsItsTrianglesAndEveryDynamicOne) {
 }
 
 TEST(IndexMapCulling, AChunkDrawsTheSpanOfItsTrianglesInTheSet) {
-  // Kept 10, 20 and 100 of chunk 0, nothing of chunk 1: chunk 0 draws 10..100
-  // as one range (cheaper than three), chunk 1 nothing.
+  // Kept 10, 20 and K - 4 of chunk 0, nothing of the others: chunk 0 draws
+  // 10..K - 4 as one range (cheaper than three), the others nothing.
   std::vector<TriangleChunk> chunks;
-  appendChunks(rowOfTriangles(512), 0, false, chunks);
-  TriangleBits set(triangleBitWords(512), 0u);
-  for (uint32_t t : {10u, 20u, 100u}) set[t / 32] |= 1u << (t % 32);
+  appendChunks(rowOfTriangles(4 * K), 0, false, chunks);
+  TriangleBits set(triangleBitWords(4 * K), 0u);
+  for (uint32_t t : {10u, 20u, K - 4}) set[t / 32] |= 1u << (t % 32);
   std::vector<int32_t> firsts, counts;
   const uint64_t n = visibleRanges(chunks, everything(), 0xffffffffu, glm::dvec3(1), glm::dvec3(0), &set, firsts,
                                    counts);
   std::vector<uint32_t> expected;
-  for (uint32_t t = 10; t <= 100; ++t) expected.push_back(t);
+  for (uint32_t t = 10; t <= K - 4; ++t) expected.push_back(t);
   EXPECT_EQ(drawn(firsts, counts), expected);
-  EXPECT_EQ(n, 91u);
+  EXPECT_EQ(n, uint64_t(K - 13));
   EXPECT_EQ(firsts.size(), 1u);
 }
 

@@ -66,6 +66,11 @@ struct RuntimeSettings {
   /// on the 8 x 8 house a quarter fewer triangles than its bounding box.
   /// Emitters whose samples move keep the box. Off: box only.
   bool lit_set_culling = true;
+  /// Maps of samples with no lit set (moving ones, first maps) draw the
+  /// nearest geometry first and then only what it does not hide (two-pass
+  /// occlusion culling): same result, and from inside a room the rest of
+  /// a closed level is not drawn. Off: everything in the map's frustum.
+  bool occlusion_culling = true;
   uint64_t seed = 1;            ///< sample placement; same seed, same result
 
   /// Importance caching (thesis 5.9-5.10), used while a view is set
@@ -173,6 +178,7 @@ struct FrameStats {
   uint32_t samples_rendered = 0;     ///< point samples (one map each)
   uint32_t faces_rendered = 0;       ///< raster passes (a cube map is 6)
   uint64_t triangles_drawn = 0;      ///< triangles the raster passes submitted (after culling)
+  uint64_t triangles_hidden = 0;     ///< triangles occlusion culling found hidden and left out
   uint64_t texels_reduced = 0;
   uint32_t fallback_triangles = 0;   ///< small polygons credited by vertex visibility
   uint32_t bounce_rounds = 0;

@@ -16,7 +16,11 @@
 
 namespace svit::gl {
 
-inline constexpr uint32_t kChunkTriangles = 256;
+// Small enough that a run rarely spans two rooms' meshes (a room of the
+// sample house is about 270 triangles; with 256 every run did, and
+// occlusion culling could hide none), large enough that a big level's runs
+// stay few to test (Sponza: 4 k).
+inline constexpr uint32_t kChunkTriangles = 64;
 
 /// A run of triangles [first, first + count) and its world box, m.
 struct TriangleChunk {
@@ -61,6 +65,19 @@ struct Frustum {
 /// unit world vectors.
 Frustum faceFrustum(const glm::dvec3& eye, const glm::dvec3& right, const glm::dvec3& up, const glm::dvec3& forward,
                     double near_m, bool half_face, bool parallel, double half_extent_m, double far_m);
+
+/// Indices of the chunks that may meet `frustum` and the box [reach_lo,
+/// reach_hi] (lo > hi on an axis: no box) and hold a triangle of
+/// `static_set` (null: all), in index order.
+void candidateChunks(std::span<const TriangleChunk> chunks, const Frustum& frustum, const glm::dvec3& reach_lo,
+                     const glm::dvec3& reach_hi, const TriangleBits* static_set, std::vector<uint32_t>& out);
+
+/// Appends chunk `c`'s vertex ranges to `firsts`/`counts` (merged with the
+/// last where adjacent): triangle `skip` left out and, with `static_set`, a
+/// static chunk only from its first to its last triangle in the set.
+/// Returns the number of triangles appended.
+uint64_t appendChunkRanges(const TriangleChunk& c, uint32_t skip, const TriangleBits* static_set,
+                           std::vector<int32_t>& firsts, std::vector<int32_t>& counts);
 
 /// Vertex ranges (first vertex, vertex count) of the chunks that may meet
 /// `frustum` and the box [reach_lo, reach_hi] (lo > hi on an axis: no box),

@@ -28,6 +28,7 @@
 
 #include "gl_program.h"
 #include "index_map_culling.h"
+#include "index_map_occlusion.h"
 #include "index_map_layouts.h"
 #include "svit/gl_context.h"
 
@@ -57,7 +58,15 @@ constexpr GLuint kIdMapUnit = 0, kDepthMapUnit = 1;
 constexpr int kReduceRun = 16;         // texels per reduce invocation (index_map_reduce.comp kRun)
 constexpr int kLocalSize = 64;         // local_size_x of both compute shaders
 constexpr size_t kFallbackSamplesPerInvocation = 4;  // index_map_fallback.comp kSamplesPerInvocation
+constexpr uint32_t kFallbackRunTriangles = 256;      // triangles of one fallback item (four groups of 64)
 constexpr GLuint kMaxGroups = 65535;   // GL_MAX_COMPUTE_WORK_GROUP_COUNT guaranteed minimum
+// Occlusion culling: a face drawing at least this many chunks first draws
+// the nearest ones, until they hold this many triangles (the walls and
+// floor around the sample, in a closed level; a fixed number, so the first
+// pass does not grow with the level), then only what their depth does not
+// hide.
+constexpr size_t kOcclusionMinChunks = 8;
+constexpr uint64_t kOcclusionFirstTriangles = 1024;
 constexpr double kMaxMapBytes = 2.0 * 1024 * 1024 * 1024;
 
 // The std430 twin of SampleGpu in shaders/index_map_common.comp.
@@ -200,6 +209,21 @@ struct IndexMapRenderer::Impl {
   // Culling runs of both sets, dynamic ones numbered after the static set.
   std::vector<TriangleChunk> static_chunks, chunks;
   std::vector<int32_t> draw_firsts, draw_counts;  // scratch of one face's draw, grow-only
+  // Occlusion culling (index_map_occlusion.h): a face whose far chunks wait
+  // for the depth of its nearest ones.
+  struct PendingFace {
+    size_t sample = 0;
+    GLint layer = 0;
+    int first_row = 0;
+    FaceProjection face;
+    std::array<GLfloat, 9> view_from_world{};
+    std::vector<uint32_t> rest;  // chunk indices
+  };
+  std::vector<PendingFace> pending_faces;
+  std::vector<uint32_t> face_chunks, near_chunks;  // scratch, chunk indices
+  std::vector<uint8_t> batch_drawn;  // per (sample of the batch, chunk): drawn on some face
+  std::vector<float> depth_scratch;
+  DepthPyramid pyramid;
   uint32_t receiver_count = 0;
   // Sticky: a bad triangle set given to a setter, returned by every gather()
   // until a good set replaces it.
@@ -555,23 +579,45 @@ void IndexMapRenderer::Impl::render(std::span<const PreparedSample> batch, Gathe
   glViewport(0, 0, res, res);
   const GLuint clear_id[4] = {kNoReceiver, kNoTriangle, 0, 0};
   const GLfloat clear_depth = 0.0f;  // reversed depth: 0 = infinitely far
-  for (size_t b = 0; b < batch.size(); ++b) {
-    const PreparedSample& s = batch[b];
-    const bool parallel = s.layout == MapLayout::kParallel;
+  batch_drawn.assign(batch.size() * chunks.size(), 0);
+  pending_faces.clear();
+  auto useSample = [&](const PreparedSample& s) {
     glProgramUniform3f(program, 0, s.gpu.position_near[0], s.gpu.position_near[1], s.gpu.position_near[2]);
-    glProgramUniform1i(program, 2, parallel ? 1 : 0);
+    glProgramUniform1i(program, 2, s.layout == MapLayout::kParallel ? 1 : 0);
     glProgramUniform1f(program, 3, s.gpu.position_near[3]);
     glProgramUniform1f(program, 4, s.gpu.cube_x_far[3]);
     glProgramUniform1f(program, 5, s.gpu.cube_y_half[3]);
+  };
+  auto useLayer = [&](GLint layer, int first_row) {
+    glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, id_map, 0, layer);
+    glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, depth_map, 0, layer);
+    // Half faces: only the rows above the horizon are drawn, cleared and reduced.
+    glScissor(0, first_row, res, res - first_row);
+  };
+  // Draws the listed chunks for sample b, never its own triangle (the
+  // ranges split around it).
+  auto draw = [&](size_t b, std::span<const uint32_t> list) {
+    const PreparedSample& s = batch[b];
+    draw_firsts.clear();
+    draw_counts.clear();
+    for (uint32_t i : list) {
+      batch_drawn[b * chunks.size() + i] = 1;
+      stats.triangles_drawn += appendChunkRanges(chunks[i], s.gpu.info[3], s.static_triangles, draw_firsts, draw_counts);
+    }
+    if (!draw_firsts.empty()) {
+      glMultiDrawArrays(GL_TRIANGLES, draw_firsts.data(), draw_counts.data(), GLsizei(draw_firsts.size()));
+    }
+  };
+  for (size_t b = 0; b < batch.size(); ++b) {
+    const PreparedSample& s = batch[b];
+    const bool parallel = s.layout == MapLayout::kParallel;
+    useSample(s);
     const LayoutFaces faces = layoutFaces(s.layout);
     for (int i = 0; i < faces.count; ++i) {
       const int face = faces.faces[size_t(i)];
       const GLint layer = GLint(b * kCubeFaceCount + size_t(face));
-      glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, id_map, 0, layer);
-      glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, depth_map, 0, layer);
-      // Half faces: only the rows above the horizon are drawn, cleared and reduced.
       const int first_row = firstRow(s.layout, face, res);
-      glScissor(0, first_row, res, res - first_row);
+      useLayer(layer, first_row);
       glClearBufferuiv(GL_COLOR, 0, clear_id);
       glClearBufferfv(GL_DEPTH, 0, &clear_depth);
       const FaceBasis basis = cubeFaceBasis(face);
@@ -581,22 +627,58 @@ void IndexMapRenderer::Impl::render(std::span<const PreparedSample> batch, Gathe
       const Frustum frustum = faceFrustum(eye, rows[0], rows[1], rows[2], s.gpu.position_near[3],
                                           isHalfFace(s.layout, face), parallel, s.gpu.cube_y_half[3],
                                           s.gpu.cube_x_far[3]);
-      GLfloat view_from_world[9];
+      PendingFace pending;
       for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) view_from_world[r * 3 + c] = GLfloat(rows[r][c]);
+        for (int c = 0; c < 3; ++c) pending.view_from_world[size_t(r * 3 + c)] = GLfloat(rows[r][c]);
       }
-      glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, view_from_world);  // row-major rows
-      // Only the runs that may meet the face, and never the sample's own
-      // triangle (the ranges split around it).
-      stats.triangles_drawn += visibleRanges(chunks, frustum, s.gpu.info[3], s.reach_lo, s.reach_hi,
-                                             s.static_triangles, draw_firsts, draw_counts);
-      if (!draw_firsts.empty()) {
-        glMultiDrawArrays(GL_TRIANGLES, draw_firsts.data(), draw_counts.data(), GLsizei(draw_firsts.size()));
+      glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, pending.view_from_world.data());  // row-major rows
+      candidateChunks(chunks, frustum, s.reach_lo, s.reach_hi, s.static_triangles, face_chunks);
+      // Occlusion culling where it can spare much: perspective faces
+      // drawing many chunks, and not those with a lit set (already only
+      // what the sample saw).
+      const bool occlusion = settings.occlusion_culling && !parallel && !s.static_triangles &&
+                             face_chunks.size() >= kOcclusionMinChunks;
+      if (occlusion) {
+        splitNearest(chunks, face_chunks, eye, kOcclusionFirstTriangles, near_chunks, pending.rest);
+        draw(b, near_chunks);
+        pending.sample = b;
+        pending.layer = layer;
+        pending.first_row = first_row;
+        pending.face = {eye, rows[0], rows[1], rows[2], 1.0, 1.0, double(s.gpu.position_near[3])};
+        pending_faces.push_back(std::move(pending));
+      } else {
+        draw(b, face_chunks);
       }
       ++stats.faces_rendered;
       stats.texels += uint64_t(res) * uint64_t(res - first_row);
       batch_layers.push_back({uint32_t(b), uint32_t(face), uint32_t(first_row), uint32_t(layer)});
     }
+  }
+  if (pending_faces.empty()) return;
+  // Second pass: what the nearest chunks left in view. One read-back of the
+  // faces' depth (a sync per batch, not per face).
+  depth_scratch.resize(size_t(res) * size_t(res));
+  size_t current = batch.size();
+  for (const PendingFace& p : pending_faces) {
+    glGetTextureSubImage(depth_map, 0, 0, 0, p.layer, res, res, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
+                         GLsizei(depth_scratch.size() * sizeof(float)), depth_scratch.data());
+    buildDepthPyramid(depth_scratch, res, res, p.first_row, pyramid);
+    face_chunks.clear();
+    for (uint32_t i : p.rest) {
+      if (chunkHidden(chunks[i], p.face, pyramid)) {
+        stats.triangles_hidden += chunks[i].count;
+      } else {
+        face_chunks.push_back(i);
+      }
+    }
+    if (face_chunks.empty()) continue;
+    if (p.sample != current) {
+      useSample(batch[p.sample]);
+      current = p.sample;
+    }
+    useLayer(p.layer, p.first_row);
+    glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, p.view_from_world.data());
+    draw(p.sample, face_chunks);
   }
 }
 
@@ -620,23 +702,28 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
   const bool fallback_on = settings.small_polygon_fallback;
   if (fallback_on) {
     // Work items: (first triangle, count, first sample) for each run of
-    // kFallbackSamplesPerInvocation samples and each chunk one of them may
-    // have drawn (a superset of the drawn ones: reach and static set, no
-    // frustum), so the pass costs what the samples reach, not the level. A
-    // triangle left out of a sample's set is tested against a map without
-    // it: hidden behind what the map drew (why it was left out), so it is
-    // credited nothing.
+    // kFallbackSamplesPerInvocation samples and each chunk one of them drew
+    // on some face, so the pass costs what the samples see, not the level.
+    // A triangle of a chunk a sample did not draw is credited nothing by it
+    // anyway: outside every face (no vertex lands in the map), or hidden
+    // behind what the map drew (left out of its set, or occlusion-culled).
     batch_runs.clear();
     for (size_t first = 0; first < batch.size(); first += kFallbackSamplesPerInvocation) {
       const size_t end = std::min(batch.size(), first + kFallbackSamplesPerInvocation);
-      for (const TriangleChunk& c : chunks) {
+      for (size_t k = 0; k < chunks.size(); ++k) {
         bool any = false;
-        for (size_t i = first; i < end && !any; ++i) {
-          const PreparedSample& s = batch[i];
-          any = chunkInSet(c, s.static_triangles) && chunkMeetsBox(c, s.reach_lo, s.reach_hi);
-        }
+        for (size_t i = first; i < end && !any; ++i) any = batch_drawn[i * chunks.size() + k] != 0;
         if (!any) continue;
-        batch_runs.insert(batch_runs.end(), {c.first, c.count, uint32_t(first), 0u});
+        // Adjacent chunks share an item up to kFallbackRunTriangles (one
+        // item is four work groups, and llvmpipe pays per group).
+        const size_t last = batch_runs.size() - 4;
+        if (!batch_runs.empty() && batch_runs[last + 2] == uint32_t(first) &&
+            batch_runs[last] + batch_runs[last + 1] == chunks[k].first &&
+            batch_runs[last + 1] + chunks[k].count <= kFallbackRunTriangles) {
+          batch_runs[last + 1] += chunks[k].count;
+        } else {
+          batch_runs.insert(batch_runs.end(), {chunks[k].first, chunks[k].count, uint32_t(first), 0u});
+        }
       }
     }
     if (batch_runs.size() > runs_capacity) {
@@ -659,7 +746,8 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
     glProgramUniform1ui(p, 8, GLuint(batch_runs.size() / 4));
     // Items over x (four groups of 64 per run of <= 256 triangles; <= 65535
     // groups) and z.
-    static_assert(kChunkTriangles == 4 * kLocalSize, "index_map_fallback.comp maps four groups to a run");
+    static_assert(kFallbackRunTriangles == 4 * kLocalSize, "index_map_fallback.comp maps four groups to a run");
+    static_assert(kChunkTriangles <= kFallbackRunTriangles, "a chunk fits one fallback item");
     const GLuint groups = GLuint(batch_runs.size() / 4) * 4;
     const GLuint x = std::min(groups, kMaxGroups);
     if (groups > 0) glDispatchCompute(x, 1, (groups + x - 1) / x);

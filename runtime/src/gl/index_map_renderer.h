@@ -93,6 +93,10 @@ struct IndexMapSettings {
   bool edge_taps = true;              ///< vertex tests: half-texel shrink toward the centroid + 3x3 id taps
   bool neighbour_ids = true;          ///< vertex tests: a tap showing a triangle sharing the vertex counts
   double layout_miss_tolerance = 1e-3;  ///< chooseLayout: largest share of the lobe a layout may miss
+  /// Perspective faces draw their nearest chunks first and then only what
+  /// those do not hide (index_map_occlusion.h): same maps and credits, far
+  /// fewer triangles in a closed level. Off: every chunk in the frustum.
+  bool occlusion_culling = true;
 };
 
 /// What one gather did.
@@ -100,6 +104,7 @@ struct GatherStats {
   uint32_t samples = 0;
   uint32_t faces_rendered = 0;        ///< raster passes (a cube = 6)
   uint64_t triangles_drawn = 0;       ///< triangles submitted over all faces (after culling)
+  uint64_t triangles_hidden = 0;      ///< triangles occlusion culling left out (whole chunks)
   uint64_t texels = 0;                ///< texels reduced
   uint32_t fallback_triangles = 0;    ///< (sample, triangle) pairs credited by vertex visibility
   uint32_t buffer_allocations = 0;    ///< GL buffer (re)allocations since the previous gather (0 when steady)

@@ -44,6 +44,7 @@ Status Runtime::Impl::ensureRenderer() {
   map_settings.small_polygon_fallback = settings.small_polygon_fallback;
   map_settings.edge_taps = settings.edge_taps;
   map_settings.neighbour_ids = settings.neighbour_ids;
+  map_settings.occlusion_culling = settings.occlusion_culling;
   Expected<std::unique_ptr<rt::IndexMapRenderer>> created = rt::IndexMapRenderer::create(map_settings);
   if (!created.ok()) return created.status();
   renderer = std::move(created).value();
@@ -257,6 +258,7 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
     stats.samples_rendered += g.samples;
     stats.faces_rendered += g.faces_rendered;
     stats.triangles_drawn += g.triangles_drawn;
+    stats.triangles_hidden += g.triangles_hidden;
     stats.texels_reduced += g.texels;
     stats.fallback_triangles += g.fallback_triangles;
     for (size_t i = begin; i < end; ++i) {
