@@ -14,9 +14,13 @@
 //  3. a lamp of the camera's room switched off: the irradiance under it the
 //     very next frame against the settled value.
 // usage: bench_importance LEVEL.json BAKE_DIR [--budget SAMPLES] [--stop-frames N] [--json OUT] [--no-reference]
-//                         [--moving all|walk] [--no-lit-set]
+//                         [--moving all|walk] [--no-lit-set] [--no-occlusion]
 // (--no-reference: caching alone, for its per-stage times; no error figures;
-// --no-lit-set: RuntimeSettings::lit_set_culling off, maps culled by boxes).
+// --no-lit-set: RuntimeSettings::lit_set_culling off, maps culled by boxes;
+// --no-occlusion: RuntimeSettings::occlusion_culling off).
+// Both runtimes shade as svit-walk does, from the patch delta buffer
+// (RuntimeSettings::delta_textures off: the lightmap-space delta pages are
+// for hosts that sample them, and cost a pass over the atlas per update).
 
 #include <GLFW/glfw3.h>
 
@@ -103,12 +107,15 @@ Mat4 yRotated(const Mat4& placed, float angle) {
   return out;
 }
 
-bool lit_set_culling = true;  // --no-lit-set
+bool lit_set_culling = true;    // --no-lit-set
+bool occlusion_culling = true;  // --no-occlusion
 
 std::unique_ptr<Runtime> makeRuntime(const Scene& scene, const BakeData& bake, const std::string& dir, int rooms,
                                      bool refresh_all, int budget) {
   RuntimeSettings settings;
   settings.lit_set_culling = lit_set_culling;
+  settings.occlusion_culling = occlusion_culling;
+  settings.delta_textures = false;
   // Equal resolution per room whatever the house's size.
   settings.target_patches = 128 * rooms;
   settings.target_shooters = 16 * rooms;
@@ -152,6 +159,10 @@ int main(int argc, char** argv) {
     }
     if (!std::strcmp(argv[i], "--no-lit-set")) {
       lit_set_culling = false;
+      continue;
+    }
+    if (!std::strcmp(argv[i], "--no-occlusion")) {
+      occlusion_culling = false;
       continue;
     }
     if (!std::strcmp(argv[i], "--budget") && i + 1 < argc) {
@@ -334,6 +345,7 @@ int main(int argc, char** argv) {
 
   if (!json_path.empty()) {
     nlohmann::json out = {{"level", level_path}, {"rooms", rooms}, {"moving", moving}, {"lit_set_culling", lit_set_culling},
+                           {"occlusion_culling", occlusion_culling},
                           {"moving_tables", table_ids.size()}, {"lamps", scene.lights.size()}, {"gl", renderer},
                           {"budget_samples", budget}, {"frames", frames}, {"refresh_all_ms", mean_all},
                           {"caching_ms", mean_cached}, {"caching_stages", stages}, {"cost_ratio", mean_all > 0 ? mean_cached / mean_all : 0.0},

@@ -1,5 +1,6 @@
 #include "bounce_solver.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace svit::gl {
@@ -19,18 +20,25 @@ double SparseShares::total() const {
 BounceResult bounceDeltas(const std::vector<Receiver>& receivers, const std::vector<glm::dvec3>& first,
                           const std::vector<int32_t>& group_of,
                           const std::vector<const SparseShares*>& group_shares, const BounceSettings& settings) {
-  const size_t n = receivers.size();
+  const size_t n = receivers.size(), groups = group_shares.size();
   BounceResult result;
   result.received.assign(n, glm::dvec3(0.0));
-  result.wanted.assign(group_shares.size(), 0.0);
-  std::vector<glm::dvec3> incoming = first, next(n), group_out(group_shares.size());
+  result.wanted.assign(groups, 0.0);
+  // Sparse rounds: only the receivers with flux this round and the groups
+  // they feed are visited, so a change in one room costs that room, not the
+  // level. `incoming` is zero outside `active`, `next` outside `next_active`.
+  std::vector<glm::dvec3> incoming = first, next(n, glm::dvec3(0.0)), group_out(groups, glm::dvec3(0.0));
+  std::vector<uint32_t> active, next_active, active_groups;
+  std::vector<char> in_next(n, 0), in_groups(groups, 0);
+  for (size_t r = 0; r < n; ++r) {
+    if (first[r] != glm::dvec3(0.0)) active.push_back(uint32_t(r));
+  }
   glm::dvec3 unshot(0.0);
   double reflected_total = 0, first_round = -1;
   for (int round = 0;; ++round) {
     // Receive this round, then reflect.
     double round_abs = 0;
-    std::fill(next.begin(), next.end(), glm::dvec3(0.0));
-    for (size_t r = 0; r < n; ++r) {
+    for (uint32_t r : active) {
       if (!(receivers[r].area_m2 > 0)) continue;
       result.received[r] += incoming[r];
       const Rgb& rho = receivers[r].albedo;
@@ -41,18 +49,26 @@ BounceResult bounceDeltas(const std::vector<Receiver>& receivers, const std::vec
     if (first_round < 0) first_round = round_abs;
     const bool last = round >= settings.max_bounces || round_abs <= settings.stop_share * first_round ||
                       !(round_abs > 0);
-    std::fill(group_out.begin(), group_out.end(), glm::dvec3(0.0));
-    for (size_t r = 0; r < n; ++r) {
+    for (uint32_t r : active) {
       const glm::dvec3& out = incoming[r];
       if (out == glm::dvec3(0.0)) continue;
       if (group_of[r] < 0) {
         unshot += out;
         continue;
       }
-      group_out[size_t(group_of[r])] += out;
+      const size_t g = size_t(group_of[r]);
+      if (!in_groups[g]) {
+        in_groups[g] = 1;
+        active_groups.push_back(uint32_t(g));
+      }
+      group_out[g] += out;
     }
-    for (size_t g = 0; g < group_out.size(); ++g) {
-      const glm::dvec3& out = group_out[g];
+    std::sort(active_groups.begin(), active_groups.end());  // the dense solver's order
+    next_active.clear();
+    for (uint32_t g : active_groups) {
+      const glm::dvec3 out = group_out[g];
+      group_out[g] = glm::dvec3(0.0);
+      in_groups[g] = 0;
       if (out == glm::dvec3(0.0)) continue;
       const SparseShares* shares = group_shares[g];
       if (last || shares == nullptr) {
@@ -62,11 +78,22 @@ BounceResult bounceDeltas(const std::vector<Receiver>& receivers, const std::vec
       }
       // What a share misses (escapes, absorbing backs) is simply lost, as
       // in the bake.
-      for (size_t i = 0; i < shares->receivers.size(); ++i) next[shares->receivers[i]] += out * double(shares->shares[i]);
+      for (size_t i = 0; i < shares->receivers.size(); ++i) {
+        const uint32_t r = shares->receivers[i];
+        if (!in_next[r]) {
+          in_next[r] = 1;
+          next_active.push_back(r);
+        }
+        next[r] += out * double(shares->shares[i]);
+      }
     }
+    active_groups.clear();
     result.rounds = round + 1;
     if (last) break;
+    for (uint32_t r : active) incoming[r] = glm::dvec3(0.0);
     std::swap(incoming, next);
+    std::swap(active, next_active);
+    for (uint32_t r : active) in_next[r] = 0;
   }
   result.unshot_share = reflected_total > 0 ? absLum(unshot) / reflected_total : 0.0;
   if (settings.ambient && unshot != glm::dvec3(0.0)) {

@@ -948,9 +948,32 @@ Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int h
       frustum.offset = {0, 0, 0, 0, double(view.near_m), double(view.near_m)};
       frustum.count = 5;
       const glm::dvec3 no_box_lo(1.0), no_box_hi(0.0);
-      visibleRanges(m.chunks, frustum, 0xffffffffu, no_box_lo, no_box_hi, nullptr, m.draw_firsts, m.draw_counts);
-      if (!m.draw_firsts.empty()) {
-        glMultiDrawArrays(GL_TRIANGLES, m.draw_firsts.data(), m.draw_counts.data(), GLsizei(m.draw_firsts.size()));
+      auto draw = [&](std::span<const uint32_t> list) {
+        m.draw_firsts.clear();
+        m.draw_counts.clear();
+        for (uint32_t i : list) appendChunkRanges(m.chunks[i], kNoTriangle, nullptr, m.draw_firsts, m.draw_counts);
+        if (!m.draw_firsts.empty()) {
+          glMultiDrawArrays(GL_TRIANGLES, m.draw_firsts.data(), m.draw_counts.data(), GLsizei(m.draw_firsts.size()));
+        }
+      };
+      candidateChunks(m.chunks, frustum, no_box_lo, no_box_hi, nullptr, m.face_chunks);
+      if (!m.settings.occlusion_culling || m.face_chunks.size() < kOcclusionMinChunks) {
+        draw(m.face_chunks);
+      } else {
+        // As the maps' faces: the nearest chunks, then what they leave in view.
+        std::vector<uint32_t> rest;
+        splitNearest(m.chunks, m.face_chunks, frustum.eye, kOcclusionFirstTriangles, m.near_chunks, rest);
+        draw(m.near_chunks);
+        m.depth_scratch.resize(size_t(width) * size_t(height));
+        glGetTextureImage(m.view_depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                          GLsizei(m.depth_scratch.size() * sizeof(float)), m.depth_scratch.data());
+        buildDepthPyramid(m.depth_scratch, width, height, 0, m.pyramid);
+        const FaceProjection face{frustum.eye, r, u, f, 1.0 / tx, 1.0 / ty, double(view.near_m)};
+        m.face_chunks.clear();
+        for (uint32_t i : rest) {
+          if (!chunkHidden(m.chunks[i], face, m.pyramid)) m.face_chunks.push_back(i);
+        }
+        draw(m.face_chunks);
       }
     }
   }

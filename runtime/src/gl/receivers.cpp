@@ -1,6 +1,7 @@
 #include "receivers.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <glm/glm.hpp>
 
@@ -24,6 +25,28 @@ void binObjectTriangles(DynamicObject& object) {
     const glm::vec3 n = glm::cross(b - a, c - a), m = glm::abs(n);
     const int axis = m.x >= m.y && m.x >= m.z ? 0 : (m.y >= m.z ? 1 : 2);
     object.shooter_bin[t] = uint8_t(axis * 2 + (n[axis] < 0 ? 1 : 0));
+  }
+  // Flat faces, in object space (an affine placement keeps coplanar
+  // triangles coplanar): same normal within 0.8 degrees, same plane offset
+  // within 1e-4 of it.
+  const size_t count = object.albedo.size();
+  object.flat_face.resize(count);
+  std::vector<glm::dvec4> planes(count);
+  for (size_t t = 0; t < count; ++t) {
+    const glm::dvec3 a(toGlm(object.object_positions[t * 3])), b(toGlm(object.object_positions[t * 3 + 1])),
+        c(toGlm(object.object_positions[t * 3 + 2]));
+    const glm::dvec3 cross = glm::cross(b - a, c - a);
+    const double length = glm::length(cross);
+    const glm::dvec3 n = length > 0 ? cross / length : glm::dvec3(0.0);
+    planes[t] = glm::dvec4(n, glm::dot(n, (a + b + c) / 3.0));
+    object.flat_face[t] = uint32_t(t);
+    if (count > kMaxFlatFaceTriangles || length == 0) continue;
+    for (size_t u = 0; u < t; ++u) {
+      const glm::dvec4& p = planes[u];
+      if (glm::dot(glm::dvec3(p), n) < 0.9999 || std::abs(p.w - planes[t].w) > 1e-4 * (1.0 + std::abs(p.w))) continue;
+      object.flat_face[t] = object.flat_face[u];
+      break;
+    }
   }
 }
 

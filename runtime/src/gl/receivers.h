@@ -28,6 +28,9 @@ struct DynamicObject {
   std::vector<Rgb> albedo;             ///< per triangle
   std::vector<Rgb> emission;           ///< per triangle, cd/m2
   std::vector<uint8_t> shooter_bin;    ///< per triangle: dominant axis of its object-space normal, 0..5
+  /// Per triangle: the first triangle of its flat face (coplanar ones show
+  /// one averaged delta); itself on meshes over kMaxFlatFaceTriangles.
+  std::vector<uint32_t> flat_face;
   bool double_sided = false;
   Mat4 world_from_object;
   bool visible = true;
@@ -37,8 +40,12 @@ struct DynamicObject {
   Aabb bounds;                        ///< of world_positions (empty when hidden)
 };
 
-/// Fills shooter_bin from object_positions.
+/// Fills shooter_bin and flat_face from object_positions.
 void binObjectTriangles(DynamicObject& object);
+
+/// Meshes with more triangles keep a delta per triangle (grouping is
+/// quadratic, once per object).
+inline constexpr size_t kMaxFlatFaceTriangles = 512;
 
 /// Recomputes world_positions and bounds of `object` from its transform.
 void placeObject(DynamicObject& object);

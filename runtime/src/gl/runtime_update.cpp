@@ -387,27 +387,23 @@ void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint3
   // A flat face of an object made of several triangles shows one value:
   // average coplanar triangles (the per-triangle estimates come from few
   // samples each and would otherwise differ across a face's diagonal).
+  // Linear in the triangles: the faces are known from binObjectTriangles.
+  std::vector<glm::dvec3> face_sum;
+  std::vector<double> face_area;
   for (const rt::DynamicObject& object : objects) {
     const size_t count = object.albedo.size();
-    if (count > 512 || !object.visible || object.removed) continue;  // O(count^2); big meshes keep their own
-    std::vector<glm::dvec3> averaged(count);
+    if (!object.visible || object.removed || object.flat_face.size() != count) continue;
+    face_sum.assign(count, glm::dvec3(0.0));
+    face_area.assign(count, 0.0);
     for (size_t t = 0; t < count; ++t) {
-      const rt::Receiver& a = receivers[object.first_receiver + t];
-      const glm::dvec3 na(a.normal.x, a.normal.y, a.normal.z);
-      const double da = glm::dot(na, glm::dvec3(a.centroid.x, a.centroid.y, a.centroid.z));
-      glm::dvec3 sum(0.0);
-      double area = 0;
-      for (size_t u = 0; u < count; ++u) {
-        const rt::Receiver& b = receivers[object.first_receiver + u];
-        const glm::dvec3 nb(b.normal.x, b.normal.y, b.normal.z);
-        const double db = glm::dot(nb, glm::dvec3(b.centroid.x, b.centroid.y, b.centroid.z));
-        if (glm::dot(na, nb) < 0.9999 || std::abs(da - db) > 1e-4 * (1.0 + std::abs(da))) continue;
-        sum += delta_total[object.first_receiver + u] * double(b.area_m2);
-        area += b.area_m2;
-      }
-      averaged[t] = area > 0 ? sum / area : delta_total[object.first_receiver + t];
+      const double area = receivers[object.first_receiver + t].area_m2;
+      face_sum[object.flat_face[t]] += delta_total[object.first_receiver + t] * area;
+      face_area[object.flat_face[t]] += area;
     }
-    for (size_t t = 0; t < count; ++t) delta_total[object.first_receiver + t] = averaged[t];
+    for (size_t t = 0; t < count; ++t) {
+      const uint32_t f = object.flat_face[t];
+      if (face_area[f] > 0) delta_total[object.first_receiver + t] = face_sum[f] / face_area[f];
+    }
   }
   for (size_t g = 0; g < result.wanted.size(); ++g) {
     if (result.wanted[g] > 0) wanted.push_back({result.wanted[g], uint32_t(g)});
