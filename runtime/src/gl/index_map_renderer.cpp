@@ -61,12 +61,17 @@ constexpr size_t kFallbackSamplesPerInvocation = 4;  // index_map_fallback.comp 
 constexpr uint32_t kFallbackRunTriangles = 256;      // triangles of one fallback item (four groups of 64)
 constexpr GLuint kMaxGroups = 65535;   // GL_MAX_COMPUTE_WORK_GROUP_COUNT guaranteed minimum
 // Occlusion culling: a face drawing at least this many chunks first draws
-// the nearest ones, until they hold this many triangles (the walls and
-// floor around the sample, in a closed level; a fixed number, so the first
-// pass does not grow with the level), then only what their depth does not
-// hide.
+// the nearest ones, until they hold an eighth of its triangles but at least
+// 256 and at most 1,024 (the walls and floor around the sample, in a closed
+// level; bounded, so a pass does not grow with the level), then in rounds
+// the nearest of what their depth does not hide.
 constexpr size_t kOcclusionMinChunks = 8;
-constexpr uint64_t kOcclusionFirstTriangles = 1024;
+constexpr int kOcclusionRounds = 3;  // test-and-draw rounds after the first pass
+uint64_t occlusionFirstTriangles(std::span<const TriangleChunk> chunks, std::span<const uint32_t> candidates) {
+  uint64_t total = 0;
+  for (uint32_t i : candidates) total += chunks[i].count;
+  return std::clamp<uint64_t>(total / 8, 256, 1024);
+}
 constexpr double kMaxMapBytes = 2.0 * 1024 * 1024 * 1024;
 
 // The std430 twin of SampleGpu in shaders/index_map_common.comp.
@@ -639,7 +644,8 @@ void IndexMapRenderer::Impl::render(std::span<const PreparedSample> batch, Gathe
       const bool occlusion = settings.occlusion_culling && !parallel && !s.static_triangles &&
                              face_chunks.size() >= kOcclusionMinChunks;
       if (occlusion) {
-        splitNearest(chunks, face_chunks, eye, kOcclusionFirstTriangles, near_chunks, pending.rest);
+        splitNearest(chunks, face_chunks, eye, occlusionFirstTriangles(chunks, face_chunks), near_chunks,
+                     pending.rest);
         draw(b, near_chunks);
         pending.sample = b;
         pending.layer = layer;
@@ -654,31 +660,41 @@ void IndexMapRenderer::Impl::render(std::span<const PreparedSample> batch, Gathe
       batch_layers.push_back({uint32_t(b), uint32_t(face), uint32_t(first_row), uint32_t(layer)});
     }
   }
-  if (pending_faces.empty()) return;
-  // Second pass: what the nearest chunks left in view. One read-back of the
-  // faces' depth (a sync per batch, not per face).
+  // Then rounds: each reads back the faces' depth (one sync per batch, not
+  // per face), leaves out what it hides, and draws the nearest of the rest
+  // (the last round: all of it), so the occluders build up front to back.
   depth_scratch.resize(size_t(res) * size_t(res));
   size_t current = batch.size();
-  for (const PendingFace& p : pending_faces) {
-    glGetTextureSubImage(depth_map, 0, 0, 0, p.layer, res, res, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
-                         GLsizei(depth_scratch.size() * sizeof(float)), depth_scratch.data());
-    buildDepthPyramid(depth_scratch, res, res, p.first_row, pyramid);
-    face_chunks.clear();
-    for (uint32_t i : p.rest) {
-      if (chunkHidden(chunks[i], p.face, pyramid)) {
-        stats.triangles_hidden += chunks[i].count;
-      } else {
-        face_chunks.push_back(i);
+  for (int round = 1; round <= kOcclusionRounds && !pending_faces.empty(); ++round) {
+    for (PendingFace& p : pending_faces) {
+      glGetTextureSubImage(depth_map, 0, 0, 0, p.layer, res, res, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
+                           GLsizei(depth_scratch.size() * sizeof(float)), depth_scratch.data());
+      buildDepthPyramid(depth_scratch, res, res, p.first_row, pyramid);
+      face_chunks.clear();
+      for (uint32_t i : p.rest) {
+        if (chunkHidden(chunks[i], p.face, pyramid)) {
+          stats.triangles_hidden += chunks[i].count;
+        } else {
+          face_chunks.push_back(i);
+        }
       }
+      if (round == kOcclusionRounds) {
+        p.rest.clear();
+        near_chunks.swap(face_chunks);
+      } else {
+        splitNearest(chunks, face_chunks, p.face.eye, occlusionFirstTriangles(chunks, face_chunks), near_chunks,
+                     p.rest);
+      }
+      if (near_chunks.empty()) continue;
+      if (p.sample != current) {
+        useSample(batch[p.sample]);
+        current = p.sample;
+      }
+      useLayer(p.layer, p.first_row);
+      glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, p.view_from_world.data());
+      draw(p.sample, near_chunks);
     }
-    if (face_chunks.empty()) continue;
-    if (p.sample != current) {
-      useSample(batch[p.sample]);
-      current = p.sample;
-    }
-    useLayer(p.layer, p.first_row);
-    glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, p.view_from_world.data());
-    draw(p.sample, face_chunks);
+    std::erase_if(pending_faces, [](const PendingFace& p) { return p.rest.empty(); });
   }
 }
 
@@ -962,7 +978,8 @@ Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int h
       } else {
         // As the maps' faces: the nearest chunks, then what they leave in view.
         std::vector<uint32_t> rest;
-        splitNearest(m.chunks, m.face_chunks, frustum.eye, kOcclusionFirstTriangles, m.near_chunks, rest);
+        splitNearest(m.chunks, m.face_chunks, frustum.eye, occlusionFirstTriangles(m.chunks, m.face_chunks),
+                     m.near_chunks, rest);
         draw(m.near_chunks);
         m.depth_scratch.resize(size_t(width) * size_t(height));
         glGetTextureImage(m.view_depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
