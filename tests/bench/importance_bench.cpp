@@ -14,10 +14,13 @@
 //  3. a lamp of the camera's room switched off: the irradiance under it the
 //     very next frame against the settled value.
 // usage: bench_importance LEVEL.json BAKE_DIR [--budget SAMPLES] [--stop-frames N] [--json OUT] [--no-reference]
-//                         [--moving all|walk] [--no-lit-set] [--no-occlusion]
+//                         [--moving all|walk] [--no-lit-set] [--no-occlusion] [--also-budgets N,N,...]
 // (--no-reference: caching alone, for its per-stage times; no error figures;
 // --no-lit-set: RuntimeSettings::lit_set_culling off, maps culled by boxes;
-// --no-occlusion: RuntimeSettings::occlusion_culling off).
+// --no-occlusion: RuntimeSettings::occlusion_culling off; --also-budgets:
+// more caching runtimes with these budgets walk alongside, each with its
+// cost and its error against the same refresh-all, so costs compare at
+// equal accuracy).
 // Both runtimes shade as svit-walk does, from the patch delta buffer
 // (RuntimeSettings::delta_textures off: the lightmap-space delta pages are
 // for hosts that sample them, and cost a pass over the atlas per update).
@@ -152,6 +155,7 @@ int main(int argc, char** argv) {
   std::string json_path;
   bool reference = true;
   std::string moving = "all";
+  std::vector<int> also_budgets;
   for (int i = 3; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--no-reference")) {
       reference = false;
@@ -169,6 +173,17 @@ int main(int argc, char** argv) {
       budget = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--stop-frames") && i + 1 < argc) {
       stop_frames = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--also-budgets") && i + 1 < argc) {
+      for (const char* p = argv[++i]; *p;) {
+        char* end = nullptr;
+        const long v = std::strtol(p, &end, 10);
+        if (end == p || v < 1) {
+          std::fprintf(stderr, "bench_importance: --also-budgets takes positive sample counts, as 32,24,16\n");
+          return 2;
+        }
+        also_budgets.push_back(int(v));
+        p = *end == ',' ? end + 1 : end;
+      }
     } else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) {
       json_path = argv[++i];
     } else if (!std::strcmp(argv[i], "--moving") && i + 1 < argc) {
@@ -211,6 +226,13 @@ int main(int argc, char** argv) {
   // ---- 1. the walk: refresh-all against caching, side by side ----
   std::unique_ptr<Runtime> all = reference ? makeRuntime(scene, bake, bake_dir, rooms, true, budget) : nullptr;
   std::unique_ptr<Runtime> cached = makeRuntime(scene, bake, bake_dir, rooms, false, budget);
+  struct OtherBudget {
+    int budget;
+    std::unique_ptr<Runtime> runtime;
+    double time = 0, samples = 0, error_sum = 0;
+  };
+  std::vector<OtherBudget> others;
+  for (int b : also_budgets) others.push_back({b, makeRuntime(scene, bake, bake_dir, rooms, false, b)});
   const std::vector<Room> walk = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   std::vector<std::pair<ObjectId, Mat4>> table_ids;
   for (const std::string& name : tables) {
@@ -226,6 +248,7 @@ int main(int argc, char** argv) {
   // Both start settled on the level as placed (a loading screen's work).
   if (all) all->update(0);
   settle(*cached, budget);
+  for (OtherBudget& o : others) settle(*o.runtime, o.budget);
   double time_all = 0, time_cached = 0, error_sum = 0, samples_all = 0, samples_cached = 0;
   double stage_maps = 0, stage_reduction = 0, stage_bounce = 0, stage_upload = 0, stage_view = 0, triangles = 0;
   int frames = 0;
@@ -233,11 +256,13 @@ int main(int argc, char** argv) {
   for (size_t stop = 0; stop < walk.size(); ++stop) {
     const Room room = walk[stop], next = walk[(stop + 1) % walk.size()];
     BENCH_CHECK(cached->setView(viewTowards(room, next)).ok(), "setView");
+    for (OtherBudget& o : others) BENCH_CHECK(o.runtime->setView(viewTowards(room, next)).ok(), "setView");
     for (int f = 0; f < stop_frames; ++f, ++frames) {
       const float dx = 0.3f * std::sin(0.7f * float(frames + 1));
       for (auto& [id, placed] : table_ids) {
         if (all) BENCH_CHECK(all->setObjectTransform(id, slid(placed, dx)).ok(), "move");
         BENCH_CHECK(cached->setObjectTransform(id, slid(placed, dx)).ok(), "move");
+        for (OtherBudget& o : others) BENCH_CHECK(o.runtime->setObjectTransform(id, slid(placed, dx)).ok(), "move");
       }
       const FrameStats a = all ? all->update(0) : FrameStats{};
       const FrameStats c = cached->update(0);
@@ -251,6 +276,19 @@ int main(int argc, char** argv) {
         ref += ea;
       }
       const double error = ref > 0 ? diff / ref : 0;
+      for (OtherBudget& o : others) {
+        const FrameStats stats = o.runtime->update(0);
+        BENCH_CHECK(stats.error.empty(), stats.error);
+        o.time += stats.total_ms;
+        o.samples += stats.samples_rendered;
+        double other_diff = 0;
+        for (const auto& [p, n] : roomProbes(room)) {
+          if (!all) break;
+          const double ea = lum(all->irradianceAt(p, n)), eo = lum(o.runtime->irradianceAt(p, n));
+          if (std::isfinite(ea) && std::isfinite(eo)) other_diff += std::abs(eo - ea);
+        }
+        o.error_sum += ref > 0 ? other_diff / ref : 0;
+      }
       time_all += a.total_ms;
       time_cached += c.total_ms;
       stage_maps += c.maps_ms;
@@ -288,6 +326,14 @@ int main(int argc, char** argv) {
               frames, mean_all, samples_all / frames, mean_cached, samples_cached / frames,
               mean_all > 0 ? mean_cached / mean_all : 0.0,
               100 * mean_error);
+  nlohmann::json other_log = nlohmann::json::array();
+  for (OtherBudget& o : others) {
+    std::printf("budget %d: caching %.1f ms (%.0f samples) per frame, error in the camera's room vs refresh-all %.2f%%\n",
+                o.budget, o.time / frames, o.samples / frames, 100 * o.error_sum / frames);
+    other_log.push_back({{"budget_samples", o.budget}, {"caching_ms", o.time / frames},
+                         {"caching_samples", o.samples / frames}, {"mean_error", o.error_sum / frames}});
+    o.runtime.reset();
+  }
   all.reset();
 
   // ---- 2. a door next to the camera's room opens ----
@@ -351,7 +397,8 @@ int main(int argc, char** argv) {
                           {"caching_ms", mean_cached}, {"caching_stages", stages}, {"cost_ratio", mean_all > 0 ? mean_cached / mean_all : 0.0},
                           {"refresh_all_samples", samples_all / frames}, {"caching_samples", samples_cached / frames},
                           {"mean_error", mean_error}, {"door_frames", door_frames}, {"lamp_off_lit", lit},
-                          {"lamp_off_next_frame", next_frame}, {"lamp_off_settled", settled}, {"walk", frame_log}};
+                          {"lamp_off_next_frame", next_frame}, {"lamp_off_settled", settled}, {"walk", frame_log},
+                          {"other_budgets", other_log}};
     std::ofstream(json_path) << out.dump(1) << "\n";
   }
   runtime.reset();

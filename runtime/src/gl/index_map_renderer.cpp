@@ -222,7 +222,8 @@ struct IndexMapRenderer::Impl {
     int first_row = 0;
     FaceProjection face;
     std::array<GLfloat, 9> view_from_world{};
-    std::vector<uint32_t> rest;  // chunk indices
+    std::vector<uint32_t> rest;  // chunk indices not drawn nor hidden yet
+    std::vector<uint32_t> next;  // chunk indices this round draws
   };
   std::vector<PendingFace> pending_faces;
   std::vector<uint32_t> face_chunks, near_chunks;  // scratch, chunk indices
@@ -666,6 +667,8 @@ void IndexMapRenderer::Impl::render(std::span<const PreparedSample> batch, Gathe
   depth_scratch.resize(size_t(res) * size_t(res));
   size_t current = batch.size();
   for (int round = 1; round <= kOcclusionRounds && !pending_faces.empty(); ++round) {
+    // Every face's test first, then every face's draw: a read-back after a
+    // draw would wait for it, face by face.
     for (PendingFace& p : pending_faces) {
       glGetTextureSubImage(depth_map, 0, 0, 0, p.layer, res, res, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
                            GLsizei(depth_scratch.size() * sizeof(float)), depth_scratch.data());
@@ -680,19 +683,20 @@ void IndexMapRenderer::Impl::render(std::span<const PreparedSample> batch, Gathe
       }
       if (round == kOcclusionRounds) {
         p.rest.clear();
-        near_chunks.swap(face_chunks);
+        p.next.swap(face_chunks);
       } else {
-        splitNearest(chunks, face_chunks, p.face.eye, occlusionFirstTriangles(chunks, face_chunks), near_chunks,
-                     p.rest);
+        splitNearest(chunks, face_chunks, p.face.eye, occlusionFirstTriangles(chunks, face_chunks), p.next, p.rest);
       }
-      if (near_chunks.empty()) continue;
+    }
+    for (PendingFace& p : pending_faces) {
+      if (p.next.empty()) continue;
       if (p.sample != current) {
         useSample(batch[p.sample]);
         current = p.sample;
       }
       useLayer(p.layer, p.first_row);
       glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, p.view_from_world.data());
-      draw(p.sample, near_chunks);
+      draw(p.sample, p.next);
     }
     std::erase_if(pending_faces, [](const PendingFace& p) { return p.rest.empty(); });
   }
