@@ -157,6 +157,8 @@ struct Runtime::Impl {
   std::vector<int32_t> receiverGroups() const;
   double emitterScale(const Emitter& e) const;
   bool reaches(const Emitter& e, const Aabb& box) const;
+  /// Whether a dynamic object's facing emitter has emissive triangles.
+  bool facingEmits(const Emitter& e) const;
   bool reachesAnyObject(const Emitter& e) const;
   /// A static patch without static-level maps that lit-set culling will
   /// give them before its next maps (gatherShares).

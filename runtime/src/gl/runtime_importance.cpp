@@ -108,6 +108,15 @@ bool Runtime::Impl::wantsLitSetMaps(const Emitter& e) const {
   return settings.lit_set_culling && e.kind == EmitterKind::kStaticPatch && !e.has_baseline;
 }
 
+bool Runtime::Impl::facingEmits(const Emitter& e) const {
+  const rt::DynamicObject& object = objects[e.index / kObjectShooters];
+  for (size_t t = 0; t < object.emission.size(); ++t) {
+    const Rgb& c = object.emission[t];
+    if (object.shooter_bin[t] == e.index % kObjectShooters && (c.r > 0 || c.g > 0 || c.b > 0)) return true;
+  }
+  return false;
+}
+
 bool Runtime::Impl::reachesAnyObject(const Emitter& e) const {
   for (const rt::DynamicObject& object : objects) {
     if (object.visible && !object.removed && reaches(e, object.bounds)) return true;
@@ -222,7 +231,10 @@ rt::ImportanceQuery Runtime::Impl::importanceQuery(const Emitter& e, bool curren
       q.shares.push_back(&e.bake_shares);
     }
   }
+  // With nothing cached, a shooter counts what its group passes on (a
+  // group with no shares borrows from the emitters lighting it).
   if (e.kind == EmitterKind::kStaticPatch) q.own_group = int32_t(e.index);
+  if (e.kind == EmitterKind::kDynamicObject) q.own_group = int32_t(static_groups + e.index);
   return q;
 }
 
@@ -257,9 +269,13 @@ std::vector<rt::RefreshCandidate> Runtime::Impl::refreshCandidates() {
     c.queued_interval = e.queued_interval;
     c.settled_importance = e.settled_importance;
     // Switched or dimmed with nothing cached to scale, or new light: shows
-    // in the very next frame whatever its importance.
+    // in the very next frame whatever its importance. A new facing of an
+    // object that only reflects is not a light: it goes by importance (on
+    // the 8 x 8 house, 72 such facings made frame 1 render 85 samples
+    // against a budget of 48).
     c.urgent = (emitterScale(e) != 1.0 && e.needs_baseline && !e.has_baseline) ||
-               ((e.kind == EmitterKind::kRuntimeLight || e.kind == EmitterKind::kDynamicObject) && !e.has_current);
+               (e.kind == EmitterKind::kRuntimeLight && !e.has_current) ||
+               (e.kind == EmitterKind::kDynamicObject && !e.has_current && facingEmits(e));
     candidates.push_back(c);
   }
   return candidates;

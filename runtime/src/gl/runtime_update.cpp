@@ -622,6 +622,9 @@ FrameStats Runtime::Impl::update(double budget_ms) {
     }
     double left = budget;
     for (const EmitterRefresh& r : stats.refreshes) left -= double(std::max<size_t>(emitters[r.emitter].samples.size(), 1));
+    // No budget left: the wanted shooters wait for the scheduler (by
+    // importance) instead of one each pass and a solve again for it.
+    if (!stats.refreshes.empty() && left <= 0) break;
     const std::vector<rt::RefreshDecision> chosen =
         rt::scheduleRefreshes(bounce_candidates, frame, 0.0, 1, stats.refreshes.empty() ? budget : left);
     if (chosen.empty()) break;
