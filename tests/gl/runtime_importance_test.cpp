@@ -11,6 +11,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <utility>
 
 #include <glm/glm.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -420,6 +421,17 @@ MoveResult moveTableAndSettle(bool lit_set_culling, bool occlusion_culling = tru
   return out;
 }
 
+// The largest |delta| of `reference` and the worst |difference| of `other`
+// from it, in lux (luminance of the patch deltas).
+std::pair<double, double> largestAndWorstDifference(const MoveResult& reference, const MoveResult& other) {
+  double largest = 0, worst = 0;
+  for (size_t i = 0; i < reference.deltas.size(); ++i) {
+    largest = std::max(largest, double(std::abs(luminance(reference.deltas[i]))));
+    worst = std::max(worst, double(std::abs(luminance(reference.deltas[i]) - luminance(other.deltas[i]))));
+  }
+  return {largest, worst};
+}
+
 TEST(RuntimeImportance, LitSetCullingDrawsLessAndChangesNothing) {
   // An emitter's later maps draw only the static runs its static-level maps
   // showed: the same result (objects only hide surfaces) for less drawing.
@@ -429,11 +441,7 @@ TEST(RuntimeImportance, LitSetCullingDrawsLessAndChangesNothing) {
   ASSERT_EQ(box.deltas.size(), lit.deltas.size());
   ASSERT_GT(box.samples, 0u);
   EXPECT_EQ(box.samples, lit.samples);
-  double largest = 0, worst = 0;
-  for (size_t i = 0; i < box.deltas.size(); ++i) {
-    largest = std::max(largest, double(std::abs(luminance(box.deltas[i]))));
-    worst = std::max(worst, double(std::abs(luminance(box.deltas[i]) - luminance(lit.deltas[i]))));
-  }
+  const auto [largest, worst] = largestAndWorstDifference(box, lit);
   std::printf("lit set: %llu triangles drawn against %llu by boxes (%u samples); largest delta %.4g lux, worst "
               "difference %.3g lux\n",
               (unsigned long long)lit.triangles_drawn, (unsigned long long)box.triangles_drawn, lit.samples, largest,
@@ -456,11 +464,7 @@ TEST(RuntimeImportance, OcclusionCullingDrawsLessAndChangesNothing) {
   ASSERT_GT(all.samples, 0u);
   EXPECT_EQ(all.samples, culled.samples);
   EXPECT_EQ(all.triangles_hidden, 0u);
-  double largest = 0, worst = 0;
-  for (size_t i = 0; i < all.deltas.size(); ++i) {
-    largest = std::max(largest, double(std::abs(luminance(all.deltas[i]))));
-    worst = std::max(worst, double(std::abs(luminance(all.deltas[i]) - luminance(culled.deltas[i]))));
-  }
+  const auto [largest, worst] = largestAndWorstDifference(all, culled);
   std::printf("occlusion: %llu triangles drawn against %llu (%llu hidden; %u samples); largest delta %.4g lux, worst "
               "difference %.3g lux\n",
               (unsigned long long)culled.triangles_drawn, (unsigned long long)all.triangles_drawn,
