@@ -363,6 +363,34 @@ struct IndexMapRenderer::Impl {
     for (size_t i = 0; i < n; ++i) receivers_out.insert(receivers_out.end(), {t.front_receiver[i], t.back_receiver[i]});
   }
 
+  // Draws the listed chunks' ranges (appendChunkRanges: `skip` left out,
+  // static chunks limited to `static_set`'s spans); returns the triangles.
+  uint64_t drawChunks(std::span<const uint32_t> list, uint32_t skip, const TriangleBits* static_set) {
+    draw_firsts.clear();
+    draw_counts.clear();
+    uint64_t triangles = 0;
+    for (uint32_t i : list) triangles += appendChunkRanges(chunks[i], skip, static_set, draw_firsts, draw_counts);
+    if (!draw_firsts.empty()) {
+      glMultiDrawArrays(GL_TRIANGLES, draw_firsts.data(), draw_counts.data(), GLsizei(draw_firsts.size()));
+    }
+    return triangles;
+  }
+
+  // The chunks of `rest` that `pyramid` (built from the face's depth) does
+  // not hide, into `kept`; returns the triangles hidden.
+  uint64_t keepUnhidden(std::span<const uint32_t> rest, const FaceProjection& face, std::vector<uint32_t>& kept) const {
+    kept.clear();
+    uint64_t hidden = 0;
+    for (uint32_t i : rest) {
+      if (chunkHidden(chunks[i], face, pyramid)) {
+        hidden += chunks[i].count;
+      } else {
+        kept.push_back(i);
+      }
+    }
+    return hidden;
+  }
+
   Status validate(std::span<const PointSample> list, uint32_t slot_count) const;
   PreparedSample prepare(const PointSample& s, uint32_t batch_index, const Aabb& bounds, double diagonal) const;
   void render(std::span<const PreparedSample> batch, GatherStats& stats);
@@ -603,16 +631,8 @@ void IndexMapRenderer::Impl::render(std::span<const PreparedSample> batch, Gathe
   // Draws the listed chunks for sample b, never its own triangle (the
   // ranges split around it).
   auto draw = [&](size_t b, std::span<const uint32_t> list) {
-    const PreparedSample& s = batch[b];
-    draw_firsts.clear();
-    draw_counts.clear();
-    for (uint32_t i : list) {
-      batch_drawn[b * chunks.size() + i] = 1;
-      stats.triangles_drawn += appendChunkRanges(chunks[i], s.gpu.info[3], s.static_triangles, draw_firsts, draw_counts);
-    }
-    if (!draw_firsts.empty()) {
-      glMultiDrawArrays(GL_TRIANGLES, draw_firsts.data(), draw_counts.data(), GLsizei(draw_firsts.size()));
-    }
+    for (uint32_t i : list) batch_drawn[b * chunks.size() + i] = 1;
+    stats.triangles_drawn += drawChunks(list, batch[b].gpu.info[3], batch[b].static_triangles);
   };
   for (size_t b = 0; b < batch.size(); ++b) {
     const PreparedSample& s = batch[b];
@@ -673,14 +693,7 @@ void IndexMapRenderer::Impl::render(std::span<const PreparedSample> batch, Gathe
       glGetTextureSubImage(depth_map, 0, 0, 0, p.layer, res, res, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
                            GLsizei(depth_scratch.size() * sizeof(float)), depth_scratch.data());
       buildDepthPyramid(depth_scratch, res, res, p.first_row, pyramid);
-      face_chunks.clear();
-      for (uint32_t i : p.rest) {
-        if (chunkHidden(chunks[i], p.face, pyramid)) {
-          stats.triangles_hidden += chunks[i].count;
-        } else {
-          face_chunks.push_back(i);
-        }
-      }
+      stats.triangles_hidden += keepUnhidden(p.rest, p.face, face_chunks);
       if (round == kOcclusionRounds) {
         p.rest.clear();
         p.next.swap(face_chunks);
@@ -968,14 +981,7 @@ Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int h
       frustum.offset = {0, 0, 0, 0, double(view.near_m), double(view.near_m)};
       frustum.count = 5;
       const glm::dvec3 no_box_lo(1.0), no_box_hi(0.0);
-      auto draw = [&](std::span<const uint32_t> list) {
-        m.draw_firsts.clear();
-        m.draw_counts.clear();
-        for (uint32_t i : list) appendChunkRanges(m.chunks[i], kNoTriangle, nullptr, m.draw_firsts, m.draw_counts);
-        if (!m.draw_firsts.empty()) {
-          glMultiDrawArrays(GL_TRIANGLES, m.draw_firsts.data(), m.draw_counts.data(), GLsizei(m.draw_firsts.size()));
-        }
-      };
+      auto draw = [&](std::span<const uint32_t> list) { m.drawChunks(list, kNoTriangle, nullptr); };
       candidateChunks(m.chunks, frustum, no_box_lo, no_box_hi, nullptr, m.face_chunks);
       if (!m.settings.occlusion_culling || m.face_chunks.size() < kOcclusionMinChunks) {
         draw(m.face_chunks);
@@ -990,10 +996,7 @@ Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int h
                           GLsizei(m.depth_scratch.size() * sizeof(float)), m.depth_scratch.data());
         buildDepthPyramid(m.depth_scratch, width, height, 0, m.pyramid);
         const FaceProjection face{frustum.eye, r, u, f, 1.0 / tx, 1.0 / ty, double(view.near_m)};
-        m.face_chunks.clear();
-        for (uint32_t i : rest) {
-          if (!chunkHidden(m.chunks[i], face, m.pyramid)) m.face_chunks.push_back(i);
-        }
+        m.keepUnhidden(rest, face, m.face_chunks);
         draw(m.face_chunks);
       }
     }
