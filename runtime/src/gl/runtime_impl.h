@@ -51,6 +51,7 @@ struct Emitter {
   int sample_count = 1;
   std::vector<rt::PointSample> samples;
   rt::SparseShares current, baseline;
+  uint64_t current_revision = 0;  ///< Impl::shares_revisions when `current` was last set
   bool has_current = false, has_baseline = false;
   bool stale = true;           ///< current out of date (something moved in its region)
   bool samples_stale = true;   ///< the emitter itself moved
@@ -113,6 +114,8 @@ struct Runtime::Impl {
 
   std::vector<Emitter> emitters;
   std::vector<uint32_t> group_emitter;  ///< per group: its emitter or kInvalidId
+  uint64_t shares_revisions = 0;         ///< counts every setting of an Emitter::current
+  rt::BounceSolver bounce_solver;        ///< keeps the last frame's rounds (bounce_solver.h)
 
   // Results, per receiver.
   std::vector<glm::dvec3> delta_total;    ///< irradiance delta incl. runtime lights' direct light, lux

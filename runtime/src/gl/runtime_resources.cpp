@@ -92,6 +92,7 @@ std::vector<ResourceUse> Runtime::resources() const {
     caches.cpu_bytes += vectorBytes(e.samples) + sharesBytes(e.current) + sharesBytes(e.baseline) + sharesBytes(e.bake_shares);
     cached += e.has_current ? 1u : 0u;
   }
+  caches.cpu_bytes += r.bounce_solver.bytes();  // the last frame's bounce rounds and the shares they went through
   caches.reason = caches.allocated ? std::to_string(r.emitters.size()) + " emitters, " + std::to_string(cached) +
                                          " with maps cached"
                                    : (r.have_content ? "no update() yet" : no_content);

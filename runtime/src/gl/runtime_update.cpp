@@ -295,6 +295,7 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
         grow(e.region, region);
       } else {
         e.current = std::move(sparse);
+        e.current_revision = ++shares_revisions;
         e.has_current = true;
         e.stale = false;
         e.refreshed_frame = frame;
@@ -368,15 +369,18 @@ void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint3
   const auto t0 = Clock::now();
   const std::vector<int32_t> group_of = receiverGroups();
   std::vector<const rt::SparseShares*> shooters(group_emitter.size(), nullptr);
+  std::vector<uint64_t> revisions(group_emitter.size(), 0);
   for (size_t g = 0; g < group_emitter.size(); ++g) {
     const uint32_t id = group_emitter[g];
-    if (id != kInvalidId && emitters[id].has_current) shooters[g] = &emitters[id].current;
+    if (id == kInvalidId || !emitters[id].has_current) continue;
+    shooters[g] = &emitters[id].current;
+    revisions[g] = emitters[id].current_revision;
   }
   rt::BounceSettings bounce;
   bounce.max_bounces = settings.max_bounces;
   bounce.stop_share = settings.bounce_stop_share;
   bounce.ambient = settings.ambient_compensation;
-  const rt::BounceResult result = rt::bounceDeltas(receivers, first, group_of, shooters, bounce);
+  const rt::BounceResult& result = bounce_solver.solve(receivers, first, group_of, shooters, revisions, bounce);
   stats.bounce_rounds = uint32_t(result.rounds);
   stats.unshot_share = result.unshot_share;
   for (size_t r = 0; r < n; ++r) {
@@ -534,6 +538,7 @@ FrameStats Runtime::Impl::update(double budget_ms) {
     if (!e.needs_baseline || !e.stale || needsMaps(e)) continue;
     e.has_current = e.has_baseline;
     e.current = e.has_baseline ? e.baseline : rt::SparseShares{};
+    e.current_revision = ++shares_revisions;
     e.stale = false;
     e.waiting = false;
   }
@@ -576,6 +581,7 @@ FrameStats Runtime::Impl::update(double budget_ms) {
     e.touched = reachesAnyObject(e);  // its reach is known now
     if (!e.touched) {
       e.current = e.baseline;
+      e.current_revision = ++shares_revisions;
       e.has_current = true;
       e.stale = false;
       e.refreshed_frame = frame;
