@@ -28,11 +28,21 @@ double SparseShares::total() const {
   return sum;
 }
 
+void SparseShares::indexBlocks() {
+  blocks.clear();
+  for (uint32_t r : receivers) {
+    const uint32_t block = r / kShareBlockReceivers;
+    if (blocks.empty() || blocks.back() != block) blocks.push_back(block);
+  }
+}
+
 size_t BounceSolver::bytes() const {
   size_t vectors = first_.capacity() + delta_in_.capacity() + next_in_.capacity() + delta_group_.capacity();
   for (const Round& round : rounds_) vectors += round.in.capacity() + round.out.capacity() + round.group_out.capacity();
   size_t bytes = vectors * sizeof(glm::dvec3) + terms_.capacity() * sizeof(ReceiverTerms);
-  for (const SparseShares& s : shot_with_) bytes += s.receivers.capacity() * sizeof(uint32_t) + s.shares.capacity() * sizeof(float);
+  for (const SparseShares& s : shot_with_) {
+    bytes += (s.receivers.capacity() + s.blocks.capacity()) * sizeof(uint32_t) + s.shares.capacity() * sizeof(float);
+  }
   return bytes;
 }
 

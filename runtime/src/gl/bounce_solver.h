@@ -22,11 +22,21 @@
 
 namespace svit::gl {
 
+/// Receivers per block of SparseShares::blocks.
+constexpr uint32_t kShareBlockReceivers = 64;
+
 /// Which receivers one emitter lights and with what share of its flux.
 struct SparseShares {
   std::vector<uint32_t> receivers;  ///< ascending
   std::vector<float> shares;        ///< same length, each in (0, 1]
+  /// Ascending distinct receivers[i] / kShareBlockReceivers: where the
+  /// shares land, coarsely, so that a pass over every emitter's shares can
+  /// skip those landing nowhere it looks (emitter_importance.h). Empty with
+  /// receivers: not indexed, never skipped.
+  std::vector<uint32_t> blocks;
   double total() const;
+  /// Sets `blocks` from `receivers`.
+  void indexBlocks();
 };
 
 struct BounceSettings {

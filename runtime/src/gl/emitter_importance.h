@@ -2,7 +2,7 @@
 // Importance of emitters for a view (thesis 5.9-5.10), from their cached
 // form factors: how much of the image an emitter's light accounts for, so
 // the scheduler can refresh the ones that matter. CPU only, over per-patch
-// sums: O(cached shares).
+// sums: O(cached shares landing where the view looks).
 //
 // The view weight of a receiver is pixels x reflectance / area: irradiance
 // E on it shows as E x that many "pixel-lux" of exitance. An emitter of
@@ -37,12 +37,24 @@ struct ImportanceQuery {
   int32_t own_group = -1;  ///< a static patch group: its borrowed V when it has no shares
 };
 
+/// What the groups' light shows, and where a pass over share sets must
+/// look (per block of kShareBlockReceivers receivers): share sets landing
+/// in no such block add exactly zero and are skipped, so a view costs what
+/// it sees, not the level.
+struct GroupView {
+  std::vector<double> per_lumen;        ///< per group: what its light shows per lumen
+  std::vector<char> weighted_blocks;    ///< per block: holds a receiver of view weight != 0
+  std::vector<char> reflecting_blocks;  ///< per block: holds a receiver whose group's per_lumen != 0
+};
+
 /// Per group: what its light shows per lumen (its own shares, or borrowed
 /// from the queries lighting it).
-std::vector<double> groupView(const ViewWeights& view, const std::vector<ImportanceQuery>& queries);
+GroupView groupView(const ViewWeights& view, const std::vector<ImportanceQuery>& queries);
 
-/// Importance (flux x pixel weight: lm/m2 x pixels) of one query, given groupView().
-double importanceOf(const ViewWeights& view, const std::vector<double>& group_view, const ImportanceQuery& query);
+/// Importance (flux x pixel weight: lm/m2 x pixels) of one query, given
+/// groupView(); the same, bit for bit, whether the shares are indexed
+/// (SparseShares::blocks) or not.
+double importanceOf(const ViewWeights& view, const GroupView& group_view, const ImportanceQuery& query);
 
 /// Importance of each query, in order (groupView + importanceOf).
 std::vector<double> emitterImportance(const ViewWeights& view, const std::vector<ImportanceQuery>& queries);

@@ -143,7 +143,7 @@ struct Runtime::Impl {
   RuntimeView view;
   std::vector<uint32_t> view_pixels;  ///< per receiver, from the last view pass
   rt::ViewWeights view_weights;       ///< the last view pass's weights (group shares: this update only)
-  std::vector<double> group_view;     ///< per group, what its light shows per lumen, last view
+  rt::GroupView group_view;           ///< what the groups' light shows, last view
   double top_importance = 0;          ///< the most important emitter's, last view
 
   // GL (created only when the level has runtime content).

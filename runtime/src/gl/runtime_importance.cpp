@@ -43,6 +43,7 @@ void Runtime::Impl::initBakeShares(Emitter& e) const {
       e.bake_shares.shares.push_back(share);
     }
   }
+  e.bake_shares.indexBlocks();
   // Reach: what the bake saw it light, and the light itself. The sun and
   // the sky reach everything.
   if (be.kind == BakeEmitter::Kind::kSun || be.kind == BakeEmitter::Kind::kSky) {

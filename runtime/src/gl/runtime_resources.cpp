@@ -34,7 +34,9 @@ uint64_t patchBytes(const rt::RuntimePatches& p) {
          vectorBytes(p.element_n) + vectorBytes(p.element_first_slot) + vectorBytes(p.slots);
 }
 
-uint64_t sharesBytes(const rt::SparseShares& s) { return vectorBytes(s.receivers) + vectorBytes(s.shares); }
+uint64_t sharesBytes(const rt::SparseShares& s) {
+  return vectorBytes(s.receivers) + vectorBytes(s.shares) + vectorBytes(s.blocks);
+}
 
 }  // namespace
 

@@ -280,6 +280,7 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
           grow(region, receivers[r].centroid);
         }
       }
+      sparse.indexBlocks();
       if (e.samples.empty() || e.samples.front().lobe == rt::Lobe::kParallel) {
         // Parallel light crosses the whole window: any change anywhere matters.
         region = Aabb{{-3e38f, -3e38f, -3e38f}, {3e38f, 3e38f, 3e38f}};
