@@ -170,7 +170,7 @@ struct EmitterRefresh {
 struct FrameStats {
   double maps_ms = 0;       ///< rendering index maps
   double reduction_ms = 0;  ///< GPU reduction + read-back of per-patch sums
-  double bounce_ms = 0;     ///< CPU bounce rounds and ambient
+  double bounce_ms = 0;     ///< CPU: the emitters' deltas summed, bounce rounds and ambient
   double upload_ms = 0;     ///< delta buffer upload for shading
   double total_ms = 0;
   uint32_t emitters_refreshed = 0;   ///< emitters whose maps were rendered this frame

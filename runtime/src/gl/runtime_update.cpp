@@ -313,6 +313,7 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
 }
 
 void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint32_t>>& wanted) {
+  const auto t0 = Clock::now();
   const size_t n = receivers.size();
   std::vector<glm::dvec3> first(n, glm::dvec3(0.0)), direct(n, glm::dvec3(0.0));
   auto add = [&](std::vector<glm::dvec3>& to, const rt::SparseShares& shares, const glm::dvec3& flux) {
@@ -367,7 +368,6 @@ void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint3
       }
     }
   }
-  const auto t0 = Clock::now();
   const std::vector<int32_t> group_of = receiverGroups();
   std::vector<const rt::SparseShares*> shooters(group_emitter.size(), nullptr);
   std::vector<uint64_t> revisions(group_emitter.size(), 0);
