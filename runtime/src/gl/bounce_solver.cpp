@@ -38,7 +38,9 @@ void SparseShares::indexBlocks() {
 
 size_t BounceSolver::bytes() const {
   size_t vectors = first_.capacity() + delta_in_.capacity() + next_in_.capacity() + delta_group_.capacity();
-  for (const Round& round : rounds_) vectors += round.in.capacity() + round.out.capacity() + round.group_out.capacity();
+  for (const Round& round : rounds_) {
+    vectors += round.in.capacity() + round.out.capacity() + round.group_out.capacity() + round.shot.capacity();
+  }
   size_t bytes = vectors * sizeof(glm::dvec3) + terms_.capacity() * sizeof(ReceiverTerms);
   for (const SparseShares& s : shot_with_) {
     bytes += (s.receivers.capacity() + s.blocks.capacity()) * sizeof(uint32_t) + s.shares.capacity() * sizeof(float);
@@ -82,6 +84,7 @@ void BounceSolver::grow(size_t receivers, size_t groups) {
     round.in.resize(receivers, zero);
     round.out.resize(receivers, zero);
     round.group_out.resize(groups, zero);
+    round.shot.resize(groups, zero);
   }
   shot_with_.resize(groups);
   shot_none_.resize(groups, 1);
@@ -101,7 +104,8 @@ const BounceResult& BounceSolver::solve(const std::vector<Receiver>& receivers, 
   // (instead of the residues of taking every delta back).
   const bool none = std::all_of(first.begin(), first.end(), [](const glm::dvec3& f) { return f == glm::dvec3(0.0); });
   from_nothing_ = none || rounds_.empty() || n < first_.size() || groups < shot_none_.size() ||
-                  settings.max_bounces != settings_.max_bounces || settings.stop_share != settings_.stop_share;
+                  settings.max_bounces != settings_.max_bounces || settings.stop_share != settings_.stop_share ||
+                  settings.min_shot_share != settings_.min_shot_share;
   settings_ = settings;
   work_ = 0;
   if (from_nothing_) {
@@ -158,6 +162,7 @@ bool BounceSolver::resolve(const std::vector<Receiver>& receivers, const std::ve
       fresh.in.assign(n, glm::dvec3(0.0));
       fresh.out.assign(n, glm::dvec3(0.0));
       fresh.group_out.assign(groups, glm::dvec3(0.0));
+      fresh.shot.assign(groups, glm::dvec3(0.0));
       rounds_.push_back(std::move(fresh));
     }
     Round& round = rounds_[k];
@@ -195,7 +200,11 @@ bool BounceSolver::resolve(const std::vector<Receiver>& receivers, const std::ve
     round.last = last;
     // Shoot the groups' change; a group whose shares changed takes back
     // what its old shares carried and shoots all it reflects through the
-    // new. In the dense solver's order (ascending groups).
+    // new. A change too small to be worth shooting (min_shot_share) stays
+    // with the group and goes unshot until it adds up, so a room's change
+    // does not ripple through every doorway of the level at 1e-9 of its
+    // size. In the dense solver's order (ascending groups).
+    const double min_shot = settings_.min_shot_share * rounds_[0].abs_out;
     for (uint32_t g : reshot) mark(g, group_mark_, group_list_);
     std::sort(group_list_.begin(), group_list_.end());
     for (uint32_t g : group_list_) {
@@ -204,14 +213,22 @@ bool BounceSolver::resolve(const std::vector<Receiver>& receivers, const std::ve
       delta_group_[g] = glm::dvec3(0.0);
       round.group_out[g] = out;
       mark(g, wanted_mark_, wanted_list_);
+      const glm::dvec3 old_shot = round.shot[g];
+      glm::dvec3 shot = old_shot;
+      const SparseShares* shares = group_shares[g];
       if (last) {
-        unshot_ += out - old_out;
-      } else if (!sharesChanged(g)) {
-        shoot(group_shares[g], out - old_out);
-      } else {
-        shoot(shot_none_[g] ? nullptr : &shot_with_[g], -old_out);
-        shoot(group_shares[g], out);
+        shot = glm::dvec3(0.0);
+      } else if (sharesChanged(g)) {
+        if (!shot_none_[g]) shoot(shot_with_[g], -old_shot);
+        shot = shares ? out : glm::dvec3(0.0);
+        if (shares) shoot(*shares, shot);
+      } else if (shares && absLum(out - old_shot) > min_shot) {
+        shoot(*shares, out - old_shot);
+        shot = out;
       }
+      // Unshot: all a group reflects minus what went through its shares.
+      unshot_ += (out - shot) - (old_out - old_shot);
+      round.shot[g] = shot;
     }
     group_list_.clear();
     if (last) break;
@@ -232,20 +249,16 @@ bool BounceSolver::resolve(const std::vector<Receiver>& receivers, const std::ve
   return true;
 }
 
-void BounceSolver::shoot(const SparseShares* shares, const glm::dvec3& flux) {
+void BounceSolver::shoot(const SparseShares& shares, const glm::dvec3& flux) {
   if (flux == glm::dvec3(0.0)) return;
-  if (shares == nullptr) {
-    unshot_ += flux;
-    return;
-  }
   // What a share misses (escapes, absorbing backs) is simply lost, as in
   // the bake.
-  for (size_t i = 0; i < shares->receivers.size(); ++i) {
-    const uint32_t r = shares->receivers[i];
+  for (size_t i = 0; i < shares.receivers.size(); ++i) {
+    const uint32_t r = shares.receivers[i];
     mark(r, next_mark_, next_list_);
-    next_in_[r] += flux * double(shares->shares[i]);
+    next_in_[r] += flux * double(shares.shares[i]);
   }
-  work_ += shares->receivers.size();
+  work_ += shares.receivers.size();
 }
 
 void BounceSolver::finish(const std::vector<Receiver>& receivers, const std::vector<const SparseShares*>& group_shares) {

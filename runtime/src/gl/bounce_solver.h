@@ -42,6 +42,10 @@ struct SparseShares {
 struct BounceSettings {
   int max_bounces = 4;
   double stop_share = 0.005;  ///< stop when a round's |flux| falls below this share of the first's
+  /// A group shoots a change of its reflected flux only above this share of
+  /// the first round's |flux|; smaller ones go unshot (ambient) until they
+  /// add up. 0: shoot every change (exact).
+  double min_shot_share = 1e-6;
   bool ambient = true;
 };
 
@@ -62,9 +66,12 @@ struct BounceResult {
 /// that changes whenever those shares do (the solver keeps a copy of the
 /// shares it shot with, to take back what they carried). Receivers of zero
 /// area take no part. Receivers and groups may be appended between solves,
-/// never removed. The result equals a solve from nothing up to rounding
-/// (relative 1e-12 over thousands of solves); a change of settings, or a
-/// round that stops being the last (or becomes it), solves from nothing.
+/// never removed. With min_shot_share 0 the result equals a solve from
+/// nothing up to rounding (relative 1e-12 over thousands of solves); above,
+/// it differs by the changes left unshot, at most min_shot_share of the
+/// first round per group and round, spread as ambient. A change of
+/// settings, or a round that stops being the last (or becomes it), solves
+/// from nothing.
 /// Thread-safe: no.
 class BounceSolver {
  public:
@@ -83,6 +90,7 @@ class BounceSolver {
   struct Round {
     std::vector<glm::dvec3> in, out;  ///< per receiver: received, reflected
     std::vector<glm::dvec3> group_out;  ///< per group: reflected by its members
+    std::vector<glm::dvec3> shot;       ///< per group: what of it went through its shares
     double abs_out = 0;  ///< sum of |out| (luminance)
     bool last = false;   ///< everything reflected goes unshot
   };
@@ -98,7 +106,7 @@ class BounceSolver {
   bool resolve(const std::vector<Receiver>& receivers, const std::vector<glm::dvec3>& first,
                const std::vector<int32_t>& group_of, const std::vector<const SparseShares*>& group_shares,
                const std::vector<uint64_t>& group_revisions);
-  void shoot(const SparseShares* shares, const glm::dvec3& flux);
+  void shoot(const SparseShares& shares, const glm::dvec3& flux);
   void finish(const std::vector<Receiver>& receivers, const std::vector<const SparseShares*>& group_shares);
 
   BounceSettings settings_;
