@@ -110,7 +110,7 @@ ViewWeights twoRooms() {
 }
 
 TEST(EmitterImportance, DirectLightOnVisiblePixels) {
-  SparseShares here{{0, 1}, {0.25f, 0.25f}, {}}, there{{2, 3}, {0.5f, 0.5f}, {}};
+  SparseShares here{{0, 1}, {0.25f, 0.25f}, {}, {}}, there{{2, 3}, {0.5f, 0.5f}, {}, {}};
   const std::vector<double> imp = emitterImportance(twoRooms(), {{100, {&here}, -1}, {100, {&there}, -1}});
   // 100 lm x (0.25 + 0.25) x 10 = 500, plus its light reflected by group 0,
   // whose V is borrowed from the emitter itself: 100 x 0.5 x 0.5 x 5 = 125.
@@ -121,7 +121,7 @@ TEST(EmitterImportance, DirectLightOnVisiblePixels) {
 TEST(EmitterImportance, ThroughASecondaryEmitterThatLightsTheView) {
   // The other room's lamp lights only receivers 2-3; their group 1 shoots
   // half its flux onto receiver 0 (a doorway).
-  SparseShares lamp{{2, 3}, {0.5f, 0.5f}, {}}, wall{{0}, {0.5f}, {}};
+  SparseShares lamp{{2, 3}, {0.5f, 0.5f}, {}, {}}, wall{{0}, {0.5f}, {}, {}};
   ViewWeights v = twoRooms();
   v.group_shares = {nullptr, &wall};
   const std::vector<double> imp = emitterImportance(v, {{100, {&lamp}, -1}});
@@ -130,7 +130,7 @@ TEST(EmitterImportance, ThroughASecondaryEmitterThatLightsTheView) {
 }
 
 TEST(EmitterImportance, AnOutOfDateCacheCountsItsLargerShareSet) {
-  SparseShares door_shut{{2}, {0.5f}, {}}, door_open{{0, 2}, {0.3f, 0.2f}, {}};
+  SparseShares door_shut{{2}, {0.5f}, {}, {}}, door_open{{0, 2}, {0.3f, 0.2f}, {}, {}};
   const std::vector<double> imp = emitterImportance(twoRooms(), {{10, {&door_shut, &door_open}, -1}});
   // At least what the open door's set puts on visible pixels directly: 10 lm x 0.3 x 10.
   EXPECT_GE(imp[0], 30.0 - 1e-9);
@@ -181,7 +181,7 @@ std::vector<double> everyShareImportance(const ViewWeights& v, const std::vector
   return out;
 }
 
-TEST(EmitterImportance, IndexedSharesSkipWhatTheViewCannotSeeBitForBit) {
+TEST(EmitterImportance, IndexedSharesSkipWhatTheViewCannotSee) {
   // 16 rooms of 100 receivers, groups of 5; the view sees part of room 3.
   // Half the groups have shares of their own, the rest borrow. Every
   // emitter lights its room, and some also a doorway into the next room.
@@ -235,12 +235,14 @@ TEST(EmitterImportance, IndexedSharesSkipWhatTheViewCannotSeeBitForBit) {
     for (size_t g = 1; g < groups.size(); g += 2) queries.push_back({5.0, {}, int32_t(g)});  // borrowing shooters
     return oracle ? everyShareImportance(view, queries) : emitterImportance(view, queries);
   };
-  const std::vector<double> plain = importance(false, true), indexed = importance(true, false);
-  ASSERT_EQ(plain.size(), indexed.size());
-  EXPECT_EQ(importance(false, false), plain);
+  const std::vector<double> oracle = importance(false, true), plain = importance(false, false),
+                            indexed = importance(true, false);
+  ASSERT_EQ(plain.size(), oracle.size());
+  EXPECT_EQ(indexed, plain);  // skipping adds exactly nothing
   int lit = 0, dark = 0;
   for (size_t i = 0; i < plain.size(); ++i) {
-    EXPECT_EQ(indexed[i], plain[i]) << "query " << i;
+    // One sum of direct and reflected value instead of two: rounding apart.
+    EXPECT_NEAR(plain[i], oracle[i], 1e-12 * oracle[i]) << "query " << i;
     (plain[i] > 0 ? lit : dark) += 1;
   }
   // Both kinds occur: rooms 2-4 matter (doorways), the rest add nothing.

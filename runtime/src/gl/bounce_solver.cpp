@@ -30,9 +30,12 @@ double SparseShares::total() const {
 
 void SparseShares::indexBlocks() {
   blocks.clear();
-  for (uint32_t r : receivers) {
-    const uint32_t block = r / kShareBlockReceivers;
-    if (blocks.empty() || blocks.back() != block) blocks.push_back(block);
+  block_begin.clear();
+  for (size_t i = 0; i < receivers.size(); ++i) {
+    const uint32_t block = receivers[i] / kShareBlockReceivers;
+    if (!blocks.empty() && blocks.back() == block) continue;
+    blocks.push_back(block);
+    block_begin.push_back(uint32_t(i));
   }
 }
 
@@ -43,7 +46,8 @@ size_t BounceSolver::bytes() const {
   }
   size_t bytes = vectors * sizeof(glm::dvec3) + terms_.capacity() * sizeof(ReceiverTerms);
   for (const SparseShares& s : shot_with_) {
-    bytes += (s.receivers.capacity() + s.blocks.capacity()) * sizeof(uint32_t) + s.shares.capacity() * sizeof(float);
+    bytes += (s.receivers.capacity() + s.blocks.capacity() + s.block_begin.capacity()) * sizeof(uint32_t) +
+             s.shares.capacity() * sizeof(float);
   }
   return bytes;
 }

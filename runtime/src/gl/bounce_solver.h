@@ -29,13 +29,14 @@ constexpr uint32_t kShareBlockReceivers = 64;
 struct SparseShares {
   std::vector<uint32_t> receivers;  ///< ascending
   std::vector<float> shares;        ///< same length, each in (0, 1]
-  /// Ascending distinct receivers[i] / kShareBlockReceivers: where the
-  /// shares land, coarsely, so that a pass over every emitter's shares can
-  /// skip those landing nowhere it looks (emitter_importance.h). Empty with
-  /// receivers: not indexed, never skipped.
-  std::vector<uint32_t> blocks;
+  /// The receivers in runs by block of kShareBlockReceivers ids: the
+  /// blocks (ascending, distinct) and where each one's run begins in
+  /// `receivers`, so that a pass over every emitter's shares visits only
+  /// the blocks it looks at (emitter_importance.h). Empty with receivers:
+  /// not indexed, every share visited.
+  std::vector<uint32_t> blocks, block_begin;
   double total() const;
-  /// Sets `blocks` from `receivers`.
+  /// Sets `blocks` and `block_begin` from `receivers`.
   void indexBlocks();
 };
 

@@ -7,13 +7,19 @@
 namespace svit::gl {
 namespace {
 
-/// Whether a share set may land in a marked block (not indexed: may).
-bool landsIn(const SparseShares& s, const std::vector<char>& blocks) {
-  if (s.blocks.empty()) return !s.receivers.empty();
-  for (uint32_t b : s.blocks) {
-    if (b < blocks.size() && blocks[b]) return true;
+/// Calls visit(i) for every share i of `s` whose receiver lies in a marked
+/// block (every share of a set not indexed), in ascending order.
+template <typename Visit>
+void forEachMarked(const SparseShares& s, const std::vector<char>& marks, Visit visit) {
+  if (s.blocks.empty()) {
+    for (size_t i = 0; i < s.receivers.size(); ++i) visit(i);
+    return;
   }
-  return false;
+  for (size_t k = 0; k < s.blocks.size(); ++k) {
+    if (s.blocks[k] >= marks.size() || !marks[s.blocks[k]]) continue;
+    const size_t end = k + 1 < s.blocks.size() ? s.block_begin[k + 1] : s.receivers.size();
+    for (size_t i = s.block_begin[k]; i < end; ++i) visit(i);
+  }
 }
 
 /// The blocks holding a receiver `holds` says yes to.
@@ -26,13 +32,12 @@ std::vector<char> blocksWhere(size_t receivers, Holds holds) {
   return blocks;
 }
 
-/// sum s_r w_r; a set landing in no weighted block is exactly zero.
+/// sum s_r w_r, over the weighted blocks only (elsewhere w_r = 0).
 double weighted(const SparseShares& s, const std::vector<double>& weight, const std::vector<char>& weighted_blocks) {
-  if (!landsIn(s, weighted_blocks)) return 0.0;
   double sum = 0;
-  for (size_t i = 0; i < s.receivers.size(); ++i) {
+  forEachMarked(s, weighted_blocks, [&](size_t i) {
     if (s.receivers[i] < weight.size()) sum += double(s.shares[i]) * weight[s.receivers[i]];
-  }
+  });
   return sum;
 }
 
@@ -56,8 +61,8 @@ GroupView groupView(const ViewWeights& view, const std::vector<ImportanceQuery>&
   };
   // Borrowed V: the flux-weighted mean direct view of the emitters lighting
   // a group that has no shares of its own. Only groups lit by a set of
-  // non-zero direct view borrow anything; the sets that light them (for
-  // the mean's weights) are visited in query order, the rest skipped.
+  // non-zero direct view borrow anything; only their receivers are visited
+  // (for the mean's weights, in query order).
   std::vector<double> direct;
   std::vector<char> borrows(groups, 0);
   for (const ImportanceQuery& q : queries) {
@@ -79,46 +84,38 @@ GroupView groupView(const ViewWeights& view, const std::vector<ImportanceQuery>&
   for (const ImportanceQuery& q : queries) {
     for (const SparseShares* s : q.shares) {
       const double d = direct[k++];
-      if (s == nullptr || (d == 0 && !landsIn(*s, borrowing_blocks))) continue;
-      for (size_t i = 0; i < s->receivers.size(); ++i) {
+      if (s == nullptr) continue;
+      forEachMarked(*s, borrowing_blocks, [&](size_t i) {
         const uint32_t r = s->receivers[i];
         const int32_t g = borrowerOf(r);
-        if (g < 0) continue;
+        if (g < 0) return;
         const double w = q.flux * double(s->shares[i]) * view.reflectance[r];
         borrowed[size_t(g)] += w * d;
         borrowed_weight[size_t(g)] += w;
-      }
+      });
     }
   }
   for (size_t g = 0; g < groups; ++g) {
     if (!has_own[g] && borrowed_weight[g] > 0) out.per_lumen[g] = borrowed[g] / borrowed_weight[g];
   }
-  out.reflecting_blocks = blocksWhere(n, [&](size_t r) {
-    const int32_t g = r < view.group_of.size() ? view.group_of[r] : -1;
-    return g >= 0 && size_t(g) < groups && out.per_lumen[size_t(g)] != 0;
-  });
+  out.value = view.weight;
+  for (size_t r = 0; r < n && r < view.group_of.size(); ++r) {
+    const int32_t g = view.group_of[r];
+    if (g >= 0 && size_t(g) < groups) out.value[r] += view.reflectance[r] * out.per_lumen[size_t(g)];
+  }
+  out.valued_blocks = blocksWhere(n, [&](size_t r) { return out.value[r] != 0; });
   return out;
 }
 
-double importanceOf(const ViewWeights& view, const GroupView& group_view, const ImportanceQuery& q) {
+double importanceOf(const GroupView& group_view, const ImportanceQuery& q) {
   const size_t groups = group_view.per_lumen.size();
   double best = 0;
   bool any = false;
   for (const SparseShares* s : q.shares) {
     if (s == nullptr) continue;
     any = true;
-    double per_flux = weighted(*s, view.weight, group_view.weighted_blocks);  // direct
-    if (landsIn(*s, group_view.reflecting_blocks)) {
-      for (size_t i = 0; i < s->receivers.size(); ++i) {
-        const uint32_t r = s->receivers[i];
-        if (r >= view.group_of.size()) continue;
-        const int32_t g = view.group_of[r];
-        if (g >= 0 && size_t(g) < groups) {
-          per_flux += double(s->shares[i]) * view.reflectance[r] * group_view.per_lumen[size_t(g)];
-        }
-      }
-    }
-    best = std::max(best, per_flux);
+    // Direct and through the groups it lights, in one sum (value).
+    best = std::max(best, weighted(*s, group_view.value, group_view.valued_blocks));
   }
   if (!any && q.own_group >= 0 && size_t(q.own_group) < groups) best = group_view.per_lumen[size_t(q.own_group)];
   return q.flux * best;
@@ -127,7 +124,7 @@ double importanceOf(const ViewWeights& view, const GroupView& group_view, const 
 std::vector<double> emitterImportance(const ViewWeights& view, const std::vector<ImportanceQuery>& queries) {
   const GroupView group_view = groupView(view, queries);
   std::vector<double> importance(queries.size(), 0.0);
-  for (size_t k = 0; k < queries.size(); ++k) importance[k] = importanceOf(view, group_view, queries[k]);
+  for (size_t k = 0; k < queries.size(); ++k) importance[k] = importanceOf(group_view, queries[k]);
   return importance;
 }
 

@@ -42,9 +42,12 @@ struct ImportanceQuery {
 /// in no such block add exactly zero and are skipped, so a view costs what
 /// it sees, not the level.
 struct GroupView {
-  std::vector<double> per_lumen;        ///< per group: what its light shows per lumen
-  std::vector<char> weighted_blocks;    ///< per block: holds a receiver of view weight != 0
-  std::vector<char> reflecting_blocks;  ///< per block: holds a receiver whose group's per_lumen != 0
+  std::vector<double> per_lumen;      ///< per group: what its light shows per lumen
+  std::vector<char> weighted_blocks;  ///< per block: holds a receiver of view weight != 0
+  /// Per receiver: what a lumen arriving there shows, directly (its view
+  /// weight) and once reflected through its group (reflectance x per_lumen).
+  std::vector<double> value;
+  std::vector<char> valued_blocks;  ///< per block: holds a receiver of value != 0
 };
 
 /// Per group: what its light shows per lumen (its own shares, or borrowed
@@ -54,7 +57,7 @@ GroupView groupView(const ViewWeights& view, const std::vector<ImportanceQuery>&
 /// Importance (flux x pixel weight: lm/m2 x pixels) of one query, given
 /// groupView(); the same, bit for bit, whether the shares are indexed
 /// (SparseShares::blocks) or not.
-double importanceOf(const ViewWeights& view, const GroupView& group_view, const ImportanceQuery& query);
+double importanceOf(const GroupView& group_view, const ImportanceQuery& query);
 
 /// Importance of each query, in order (groupView + importanceOf).
 std::vector<double> emitterImportance(const ViewWeights& view, const std::vector<ImportanceQuery>& queries);

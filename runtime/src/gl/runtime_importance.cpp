@@ -201,7 +201,7 @@ void Runtime::Impl::rankForView(FrameStats& stats) {
   top_importance = 0;
   std::vector<double> importance(emitters.size());
   for (size_t i = 0; i < emitters.size(); ++i) {
-    importance[i] = rt::importanceOf(weights, group_view, queries[i]);
+    importance[i] = rt::importanceOf(group_view, queries[i]);
     top_importance = std::max(top_importance, importance[i]);
   }
   const uint32_t max_interval = uint32_t(settings.max_refresh_interval);
@@ -245,7 +245,7 @@ void Runtime::Impl::settleImportance(const std::vector<rt::RefreshDecision>& ref
   for (const rt::RefreshDecision& d : refreshed) {
     Emitter& e = emitters[d.emitter];
     if (outOfDate(e)) continue;
-    e.settled_importance = rt::importanceOf(view_weights, group_view, importanceQuery(e, true));
+    e.settled_importance = rt::importanceOf(group_view, importanceQuery(e, true));
   }
 }
 

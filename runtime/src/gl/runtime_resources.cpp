@@ -35,7 +35,7 @@ uint64_t patchBytes(const rt::RuntimePatches& p) {
 }
 
 uint64_t sharesBytes(const rt::SparseShares& s) {
-  return vectorBytes(s.receivers) + vectorBytes(s.shares) + vectorBytes(s.blocks);
+  return vectorBytes(s.receivers) + vectorBytes(s.shares) + vectorBytes(s.blocks) + vectorBytes(s.block_begin);
 }
 
 }  // namespace
