@@ -149,9 +149,16 @@ std::vector<double> everyShareImportance(const ViewWeights& v, const std::vector
   for (size_t g = 0; g < groups; ++g) {
     if (v.group_shares[g]) per_lumen[g] = direct(*v.group_shares[g]);
   }
+  // A view below 1e-3 of the largest (a group's own, a set's direct) is none.
+  double largest = 0;
+  for (double p : per_lumen) largest = std::max(largest, p);
+  for (const ImportanceQuery& q : queries) {
+    for (const SparseShares* s : q.shares) largest = std::max(largest, direct(*s));
+  }
+  const double negligible = 1e-3 * largest;
   for (const ImportanceQuery& q : queries) {
     for (const SparseShares* s : q.shares) {
-      const double d = direct(*s);
+      const double d = direct(*s) < negligible ? 0.0 : direct(*s);
       for (size_t i = 0; i < s->receivers.size(); ++i) {
         const int32_t g = v.group_of[s->receivers[i]];
         if (g < 0 || v.group_shares[size_t(g)]) continue;
@@ -163,6 +170,7 @@ std::vector<double> everyShareImportance(const ViewWeights& v, const std::vector
   }
   for (size_t g = 0; g < groups; ++g) {
     if (!v.group_shares[g] && weight[g] > 0) per_lumen[g] = borrowed[g] / weight[g];
+    if (per_lumen[g] < negligible) per_lumen[g] = 0;
   }
   std::vector<double> out;
   for (const ImportanceQuery& q : queries) {

@@ -7,6 +7,14 @@
 namespace svit::gl {
 namespace {
 
+/// A per-lumen view below this share of the largest (a group's, or an
+/// emitter's direct) counts as none: the light of a wall three doorways
+/// away. An emitter seen only through such walls ranks below 1e-3 of the
+/// view's top, where refreshInterval already gives it 32 frames (its
+/// default cap); counting them would make every pass visit the shares of
+/// every room a line of doorways connects.
+constexpr double kNegligibleView = 1e-3;
+
 /// Calls visit(i) for every share i of `s` whose receiver lies in a marked
 /// block (every share of a set not indexed), in ascending order.
 template <typename Visit>
@@ -64,11 +72,23 @@ GroupView groupView(const ViewWeights& view, const std::vector<ImportanceQuery>&
   // non-zero direct view borrow anything; only their receivers are visited
   // (for the mean's weights, in query order).
   std::vector<double> direct;
-  std::vector<char> borrows(groups, 0);
+  double largest = 0;
+  for (double v : out.per_lumen) largest = std::max(largest, v);
   for (const ImportanceQuery& q : queries) {
     for (const SparseShares* s : q.shares) {
       direct.push_back(s == nullptr ? 0.0 : weighted(*s, view.weight, out.weighted_blocks));
-      if (direct.back() == 0 || q.flux == 0) continue;
+      largest = std::max(largest, direct.back());
+    }
+  }
+  const double negligible = kNegligibleView * largest;
+  for (double& d : direct) {
+    if (d < negligible) d = 0;
+  }
+  std::vector<char> borrows(groups, 0);
+  size_t k = 0;
+  for (const ImportanceQuery& q : queries) {
+    for (const SparseShares* s : q.shares) {
+      if (direct[k++] == 0 || q.flux == 0) continue;
       for (uint32_t r : s->receivers) {
         const int32_t g = borrowerOf(r);
         if (g >= 0 && r < view.reflectance.size() && view.reflectance[r] != 0) borrows[size_t(g)] = 1;
@@ -80,7 +100,7 @@ GroupView groupView(const ViewWeights& view, const std::vector<ImportanceQuery>&
     return g >= 0 && borrows[size_t(g)];
   });
   std::vector<double> borrowed(groups, 0.0), borrowed_weight(groups, 0.0);
-  size_t k = 0;
+  k = 0;
   for (const ImportanceQuery& q : queries) {
     for (const SparseShares* s : q.shares) {
       const double d = direct[k++];
@@ -97,6 +117,7 @@ GroupView groupView(const ViewWeights& view, const std::vector<ImportanceQuery>&
   }
   for (size_t g = 0; g < groups; ++g) {
     if (!has_own[g] && borrowed_weight[g] > 0) out.per_lumen[g] = borrowed[g] / borrowed_weight[g];
+    if (out.per_lumen[g] < negligible) out.per_lumen[g] = 0;
   }
   out.value = view.weight;
   for (size_t r = 0; r < n && r < view.group_of.size(); ++r) {

@@ -11,7 +11,8 @@
 // (rho_r F s_r) reaches the view again through r's shooter group g, whose
 // own shares give V_g = sum_q s_gq w_q per unit flux. A group with no
 // cached shares yet borrows V from the emitters that light it (a secondary
-// emitter mostly lights what its own light source lights).
+// emitter mostly lights what its own light source lights). A V (or an
+// emitter's direct view) below 1e-3 of the largest counts as none.
 
 #include <cstdint>
 #include <vector>

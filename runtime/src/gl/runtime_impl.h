@@ -42,6 +42,15 @@ enum class EmitterKind {  // same order as svit::EmitterType
 };
 
 /// One emitter and its cached form factors (thesis 5.10's cache).
+/// An emitter's deltas as coefficients of its share sets (lm per unit share).
+struct DeltaTerms {
+  uint64_t current_revision = 0;  ///< of the `current` on_current applies to
+  glm::dvec3 on_current{0.0};     ///< first-round flux through `current`
+  glm::dvec3 on_baseline{0.0};    ///< through `baseline` (taking the baked light back)
+  glm::dvec3 direct{0.0};         ///< runtime lights: direct flux through `current`
+  bool operator==(const DeltaTerms&) const = default;
+};
+
 struct Emitter {
   EmitterKind kind = EmitterKind::kBakedLight;
   uint32_t index = 0;  ///< bake emitter (lights, sun, sky), shooter, object * kObjectShooters + bin, light id
@@ -52,6 +61,9 @@ struct Emitter {
   std::vector<rt::PointSample> samples;
   rt::SparseShares current, baseline;
   uint64_t current_revision = 0;  ///< Impl::shares_revisions when `current` was last set
+  /// What it adds to Impl::first_flux now (runtime_deltas.cpp): per unit
+  /// share of `current` (at current_revision) and of `baseline`.
+  DeltaTerms summed;
   bool has_current = false, has_baseline = false;
   bool stale = true;           ///< current out of date (something moved in its region)
   bool samples_stale = true;   ///< the emitter itself moved
@@ -114,6 +126,10 @@ struct Runtime::Impl {
 
   std::vector<Emitter> emitters;
   std::vector<uint32_t> group_emitter;  ///< per group: its emitter or kInvalidId
+  /// Per receiver: the sum of every emitter's DeltaTerms over its shares
+  /// (the bounce's first round, and runtime lights' direct flux), kept by
+  /// adding what changed (runtime_deltas.cpp).
+  std::vector<glm::dvec3> first_flux, direct_flux;
   uint64_t shares_revisions = 0;         ///< counts every setting of an Emitter::current
   rt::BounceSolver bounce_solver;        ///< keeps the last frame's rounds (bounce_solver.h)
 
@@ -176,6 +192,13 @@ struct Runtime::Impl {
   void invalidateMoved();
   void refreshSamples(Emitter& e);
   Status gatherShares(std::vector<uint32_t> emitter_ids, bool baseline, FrameStats& stats);
+  DeltaTerms deltaTerms(const Emitter& e) const;
+  /// Takes an emitter's terms on `current` out of first_flux/direct_flux;
+  /// call before replacing `current`.
+  void retractCurrent(Emitter& e);
+  void setCurrent(Emitter& e, rt::SparseShares shares);
+  /// Brings first_flux/direct_flux up to date with every emitter's terms.
+  void sumEmitterDeltas();
   void solve(FrameStats& stats, std::vector<std::pair<double, uint32_t>>& wanted);
   void uploadDisplay(FrameStats& stats);
   uint32_t addGroupEmitter(uint32_t group, bool bright, double wanted_flux, double max_flux);

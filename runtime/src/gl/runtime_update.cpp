@@ -295,9 +295,7 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
         e.lit_triangles.assign(first, first + ptrdiff_t(seen_words));
         grow(e.region, region);
       } else {
-        e.current = std::move(sparse);
-        e.current_revision = ++shares_revisions;
-        e.has_current = true;
+        setCurrent(e, std::move(sparse));
         e.stale = false;
         e.refreshed_frame = frame;
         e.region = region;
@@ -315,59 +313,9 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
 void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint32_t>>& wanted) {
   const auto t0 = Clock::now();
   const size_t n = receivers.size();
-  std::vector<glm::dvec3> first(n, glm::dvec3(0.0)), direct(n, glm::dvec3(0.0));
-  auto add = [&](std::vector<glm::dvec3>& to, const rt::SparseShares& shares, const glm::dvec3& flux) {
-    for (size_t i = 0; i < shares.receivers.size(); ++i) to[shares.receivers[i]] += flux * double(shares.shares[i]);
-  };
-  for (const Emitter& e : emitters) {
-    switch (e.kind) {
-      case EmitterKind::kBakedLight:
-      case EmitterKind::kSun:
-      case EmitterKind::kSky: {
-        if (!e.has_baseline) break;
-        // Baked light is in the lightmap: only what changed is a delta.
-        const double scale = bake_emitter_scale[e.bake_emitter];
-        add(first, e.has_current ? e.current : e.baseline, e.flux * scale);
-        add(first, e.baseline, -e.flux);
-        break;
-      }
-      case EmitterKind::kStaticPatch: {
-        if (e.needs_baseline && e.has_baseline) {
-          add(first, e.has_current ? e.current : e.baseline, e.flux);
-          add(first, e.baseline, -e.flux);
-        }
-        if (e.bake_emitter != kInvalidId && e.has_current) {
-          // A dimmed lamp: the change of its own emission.
-          const double scale = bake_emitter_scale[e.bake_emitter];
-          glm::dvec3 emitted(0.0);
-          for (uint32_t r : patches.shooter_members[e.index]) emitted += patches.emission[r] * double(receivers[r].area_m2);
-          add(first, e.current, emitted * (scale - 1.0));
-        }
-        break;
-      }
-      case EmitterKind::kDynamicObject: {
-        const rt::DynamicObject& object = objects[e.index / kObjectShooters];
-        if (!e.has_current || !object.visible || object.removed) break;
-        // Its own emission (Lambertian: exitance pi L); reflection is a bounce.
-        glm::dvec3 emitted(0.0);
-        for (size_t t = 0; t < object.emission.size(); ++t) {
-          if (object.shooter_bin[t] != e.index % kObjectShooters) continue;
-          emitted += 3.14159265358979 * dvec(object.emission[t]) * double(receivers[object.first_receiver + t].area_m2);
-        }
-        if (emitted != glm::dvec3(0.0)) add(first, e.current, emitted);
-        break;
-      }
-      case EmitterKind::kRuntimeLight: {
-        const RuntimeLightState& light = lights[e.index];
-        if (!e.has_current || !light.enabled || light.removed) break;
-        const glm::dvec3 flux = dvec(light.light.color) * double(light.light.intensity) * double(light.dimmer) *
-                                rt::lightLobeSolidAngle(light.light);
-        add(first, e.current, flux);
-        add(direct, e.current, flux);
-        break;
-      }
-    }
-  }
+  sumEmitterDeltas();
+  const std::vector<glm::dvec3>& first = first_flux;
+  const std::vector<glm::dvec3>& direct = direct_flux;
   const std::vector<int32_t> group_of = receiverGroups();
   std::vector<const rt::SparseShares*> shooters(group_emitter.size(), nullptr);
   std::vector<uint64_t> revisions(group_emitter.size(), 0);
@@ -537,9 +485,13 @@ FrameStats Runtime::Impl::update(double budget_ms) {
   // adds exactly nothing: it settles to its baseline without a map.
   for (Emitter& e : emitters) {
     if (!e.needs_baseline || !e.stale || needsMaps(e)) continue;
-    e.has_current = e.has_baseline;
-    e.current = e.has_baseline ? e.baseline : rt::SparseShares{};
-    e.current_revision = ++shares_revisions;
+    if (e.has_baseline) {
+      setCurrent(e, e.baseline);
+    } else {
+      retractCurrent(e);
+      e.has_current = false;
+      e.current = {};
+    }
     e.stale = false;
     e.waiting = false;
   }
@@ -581,9 +533,7 @@ FrameStats Runtime::Impl::update(double budget_ms) {
     Emitter& e = emitters[id];
     e.touched = reachesAnyObject(e);  // its reach is known now
     if (!e.touched) {
-      e.current = e.baseline;
-      e.current_revision = ++shares_revisions;
-      e.has_current = true;
+      setCurrent(e, e.baseline);
       e.stale = false;
       e.refreshed_frame = frame;
       ++stats.emitters_refreshed;
