@@ -1,4 +1,4 @@
-// The emitters' first-round deltas summed per receiver (thesis 5.3 step 5):
+// The emitters' first-round deltas summed per receiver (thesis 5.3):
 // each emitter's light as coefficients of its two share sets (DeltaTerms),
 // and first_flux kept by adding what changed since the last solve, so a
 // frame costs the emitters it refreshed, switched or dimmed, not every

@@ -41,7 +41,6 @@ enum class EmitterKind {  // same order as svit::EmitterType
   kRuntimeLight,  ///< a light the game moves
 };
 
-/// One emitter and its cached form factors (thesis 5.10's cache).
 /// An emitter's deltas as coefficients of its share sets (lm per unit share).
 struct DeltaTerms {
   uint64_t current_revision = 0;  ///< of the `current` on_current applies to
@@ -51,6 +50,7 @@ struct DeltaTerms {
   bool operator==(const DeltaTerms&) const = default;
 };
 
+/// One emitter and its cached form factors (thesis 5.10's cache).
 struct Emitter {
   EmitterKind kind = EmitterKind::kBakedLight;
   uint32_t index = 0;  ///< bake emitter (lights, sun, sky), shooter, object * kObjectShooters + bin, light id
