@@ -38,23 +38,23 @@ std::vector<uint32_t> drawn(const std::vector<int32_t>& firsts, const std::vecto
 constexpr uint32_t K = kChunkTriangles;
 
 TEST(IndexMapCulling, StaticSetKeepsItsTrianglesAndEveryDynamicOne) {
-  // 2K + 24 static triangles (3 chunks, the last partial) and 40 dynamic
+  // 2K + 24 static triangles (3 chunks, the last partial) and 24 dynamic
   // ones numbered after them: the set's last word holds the last 24 static
   // triangles and would hold dynamic ones if it were read past the static
   // triangles.
-  static_assert(K >= 40 && K % 32 == 0, "the layout below: 40 dynamic triangles in one chunk");
-  const uint32_t n_static = 2 * K + 24;
+  static_assert(K >= 32 && K % 32 == 0, "the layout below: 24 dynamic triangles in one chunk");
+  const uint32_t n_static = 2 * K + 24, n_dynamic = 24;
   std::vector<TriangleChunk> chunks;
   appendChunks(rowOfTriangles(n_static), 0, false, chunks);
-  appendChunks(rowOfTriangles(40), n_static, true, chunks);
+  appendChunks(rowOfTriangles(n_dynamic), n_static, true, chunks);
   ASSERT_EQ(chunks.size(), 4u);
   TriangleBits set(triangleBitWords(n_static), 0u);
-  for (uint32_t t : {3u, 4u, 5u, K + 44, n_static - 1}) set[t / 32] |= 1u << (t % 32);
+  for (uint32_t t : {3u, 4u, 5u, K + 12, n_static - 1}) set[t / 32] |= 1u << (t % 32);
   std::vector<int32_t> firsts, counts;
   const glm::dvec3 no_lo(1), no_hi(0);
   const uint64_t n = visibleRanges(chunks, everything(), 4, no_lo, no_hi, &set, firsts, counts);
-  std::vector<uint32_t> expected = {3, 5, K + 44, n_static - 1};
-  for (uint32_t t = n_static; t < n_static + 40; ++t) expected.push_back(t);
+  std::vector<uint32_t> expected = {3, 5, K + 12, n_static - 1};
+  for (uint32_t t = n_static; t < n_static + n_dynamic; ++t) expected.push_back(t);
   EXPECT_EQ(drawn(firsts, counts), expected);
   EXPECT_EQ(n, expected.size());
   // 3 and 5 around the skipped 4 stay separate draws; the last static one

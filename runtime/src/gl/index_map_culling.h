@@ -20,7 +20,7 @@ namespace svit::gl {
 // sample house is about 270 triangles; with 256 every run did, and
 // occlusion culling could hide none), large enough that a big level's runs
 // stay few to test (Sponza: 4 k).
-inline constexpr uint32_t kChunkTriangles = 64;
+inline constexpr uint32_t kChunkTriangles = 32;
 
 /// A run of triangles [first, first + count) and its world box, m.
 struct TriangleChunk {
