@@ -9,10 +9,10 @@ namespace {
 
 /// A per-lumen view below this share of the largest (a group's, or an
 /// emitter's direct) counts as none: the light of a wall three doorways
-/// away. An emitter seen only through such walls ranks below 1e-3 of the
-/// view's top, where refreshInterval already gives it 32 frames (its
-/// default cap); counting them would make every pass visit the shares of
-/// every room a line of doorways connects.
+/// away. Per lumen, an emitter lighting only such walls shows under 1e-3
+/// of what the most visible light shows; at equal flux refreshInterval
+/// gives that 32 frames (its default cap) anyway. Counting them would make
+/// every pass visit the shares of every room a line of doorways connects.
 constexpr double kNegligibleView = 1e-3;
 
 /// Calls visit(i) for every share i of `s` whose receiver lies in a marked
