@@ -28,6 +28,11 @@ double SparseShares::total() const {
   return sum;
 }
 
+size_t SparseShares::bytes() const {
+  return (receivers.capacity() + blocks.capacity() + block_begin.capacity()) * sizeof(uint32_t) +
+         shares.capacity() * sizeof(float);
+}
+
 void SparseShares::indexBlocks() {
   blocks.clear();
   block_begin.clear();
@@ -45,10 +50,7 @@ size_t BounceSolver::bytes() const {
     vectors += round.in.capacity() + round.out.capacity() + round.group_out.capacity() + round.shot.capacity();
   }
   size_t bytes = vectors * sizeof(glm::dvec3) + terms_.capacity() * sizeof(ReceiverTerms);
-  for (const SparseShares& s : shot_with_) {
-    bytes += (s.receivers.capacity() + s.blocks.capacity() + s.block_begin.capacity()) * sizeof(uint32_t) +
-             s.shares.capacity() * sizeof(float);
-  }
+  for (const SparseShares& s : shot_with_) bytes += s.bytes();
   return bytes;
 }
 

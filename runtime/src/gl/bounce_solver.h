@@ -36,6 +36,8 @@ struct SparseShares {
   /// not indexed, every share visited.
   std::vector<uint32_t> blocks, block_begin;
   double total() const;
+  /// Bytes its vectors hold (capacity).
+  size_t bytes() const;
   /// Sets `blocks` and `block_begin` from `receivers`.
   void indexBlocks();
 };

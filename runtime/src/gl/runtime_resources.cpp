@@ -34,9 +34,6 @@ uint64_t patchBytes(const rt::RuntimePatches& p) {
          vectorBytes(p.element_n) + vectorBytes(p.element_first_slot) + vectorBytes(p.slots);
 }
 
-uint64_t sharesBytes(const rt::SparseShares& s) {
-  return vectorBytes(s.receivers) + vectorBytes(s.shares) + vectorBytes(s.blocks) + vectorBytes(s.block_begin);
-}
 
 }  // namespace
 
@@ -91,7 +88,7 @@ std::vector<ResourceUse> Runtime::resources() const {
   caches.allocated = !r.emitters.empty();
   uint32_t cached = 0;
   for (const Emitter& e : r.emitters) {
-    caches.cpu_bytes += vectorBytes(e.samples) + sharesBytes(e.current) + sharesBytes(e.baseline) + sharesBytes(e.bake_shares);
+    caches.cpu_bytes += vectorBytes(e.samples) + e.current.bytes() + e.baseline.bytes() + e.bake_shares.bytes();
     cached += e.has_current ? 1u : 0u;
   }
   caches.cpu_bytes += r.bounce_solver.bytes();  // the last frame's bounce rounds and the shares they went through
