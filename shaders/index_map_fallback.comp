@@ -5,7 +5,7 @@
 // its exact solid angle (parallel light: its projected area over the
 // window's) x the lobe toward its centroid x the fraction of its vertices the
 // id map shows visible. It is flagged, and the reduction skips its texels,
-// so its flux counts once. One invocation per triangle and few samples.
+// so its flux counts once. One invocation per (triangle, sample) pair.
 //
 // A vertex is visible when its texel shows the triangle itself, nothing, or
 // a surface not in front of the vertex. A vertex on a finely tessellated
@@ -25,8 +25,6 @@ const uint kNone = 0xffffffffu;
 const float kDepthSlack = 1e-5;
 // "Well in front" of a vertex, relative to its depth (see vertexVisibility).
 const float kClearlyInFront = 0.25;
-// Samples one invocation loops over (IndexMapRenderer: kFallbackSamplesPerInvocation).
-const uint kSamplesPerInvocation = 4u;
 
 vec3 faceForward(int face);
 vec3 faceUp(int face);
@@ -54,15 +52,15 @@ layout(binding = 0) uniform usampler2DArray u_id_map;    // (receiver, triangle)
 layout(binding = 1) uniform sampler2DArray u_depth_map;  // reversed depth, 0 = nothing
 
 layout(std430, binding = 0) readonly buffer Receivers { uvec2 receivers[]; };  // (front, back)
-// Per (sample, triangle): 1 when the triangle is small in the sample's map.
+// Per (sample, triangle): u_generation when this batch found the triangle
+// small in the sample's map; anything else (an older batch's) is "not small".
 layout(std430, binding = 4) writeonly buffer SmallFlags { uint small_flags[]; };
 layout(std430, binding = 5) readonly buffer Positions { float positions[]; };  // 9 per triangle
 layout(std430, binding = 6) buffer Counter { uint credited_count; };
-// Work items: a run of triangles (first, count; at most 256) that one of a
-// run of kSamplesPerInvocation samples (from `first sample`) may have drawn.
-// Only those pairs are visited, so a big level costs what the samples
+// Work items: (triangle, sample of the batch) pairs the sample may have
+// drawn. Only those are visited, so a big level costs what the samples
 // reach, not all of it.
-layout(std430, binding = 7) readonly buffer Runs { uvec4 runs[]; };  // first triangle, count, first sample, -
+layout(std430, binding = 7) readonly buffer Pairs { uvec2 pairs[]; };
 
 layout(location = 0) uniform int u_resolution;
 layout(location = 1) uniform uint u_receiver_count;
@@ -70,8 +68,8 @@ layout(location = 2) uniform uint u_triangle_count;
 layout(location = 4) uniform float u_small_texels;  // "small": projection below this many texels
 layout(location = 5) uniform int u_edge_taps;
 layout(location = 6) uniform int u_neighbour_ids;
-layout(location = 7) uniform uint u_sample_count;  // samples in the batch
-layout(location = 8) uniform uint u_run_count;
+layout(location = 8) uniform uint u_pair_count;
+layout(location = 11) uniform uint u_generation;  // this batch's small flags
 
 // One sample's frame, read once per (triangle, sample).
 struct Sample {
@@ -226,9 +224,9 @@ void creditTriangle(uint t, uint b, vec3 v0, vec3 v1, vec3 v2, vec3 n2, uvec2 si
   uint receiver = front ? sides.x : sides.y;
   float share = 0.0;
   bool small = receiver < u_receiver_count && t != sampleOwnTriangle(b) && classify(s, b, v0, v1, v2, n2, share);
-  // Every flag of the batch is written, so the buffer needs no clearing.
-  small_flags[b * u_triangle_count + t] = small ? 1u : 0u;
-  if (!small || !(share > 0.0)) return;
+  if (!small) return;
+  small_flags[b * u_triangle_count + t] = u_generation;
+  if (!(share > 0.0)) return;
 
   vec3 tri_centre = (v0 + v1 + v2) / 3.0;
   int visible = 0, testable = 0;
@@ -247,29 +245,15 @@ void creditTriangle(uint t, uint b, vec3 v0, vec3 v1, vec3 v2, vec3 n2, uvec2 si
 }
 
 void main() {
-  // One invocation per triangle of an item's run (four work groups of 64
-  // per run of up to 256), looping over the item's samples: the corners are
-  // read once per run, and llvmpipe pays per work group (~8 us). Items go
-  // over x and, past 65535 groups, z.
+  // One invocation per pair; pairs over x and, past 65535 groups, z.
   uint group = gl_WorkGroupID.z * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-  uint item = group / 4u;
-  if (item >= u_run_count) return;
-  uint offset = (group % 4u) * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
-  if (offset >= runs[item].y) return;
-  uint t = runs[item].x + offset;
+  uint item = group * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
+  if (item >= u_pair_count) return;
+  uint t = pairs[item].x, b = pairs[item].y;
   vec3 v0 = corner(t, 0), v1 = corner(t, 1), v2 = corner(t, 2);
+  // Outside the sample's reach the map drew nothing to test against; the
+  // flag stays "not small" so its texels (if any) are reduced.
+  if (!sampleMayReach(b, min(v0, min(v1, v2)), max(v0, max(v1, v2)))) return;
   vec3 n2 = cross(v1 - v0, v2 - v0);  // front normal x twice the area
-  uvec2 sides = receivers[t];
-  uint first = runs[item].z;
-  uint end = min(u_sample_count, first + kSamplesPerInvocation);
-  vec3 lo = min(v0, min(v1, v2)), hi = max(v0, max(v1, v2));
-  for (uint b = first; b < end; ++b) {
-    // Outside the sample's reach the map drew nothing to test against; the
-    // flag still says "not small" so its texels (if any) are reduced.
-    if (sampleMayReach(b, lo, hi)) {
-      creditTriangle(t, b, v0, v1, v2, n2, sides);
-    } else {
-      small_flags[b * u_triangle_count + t] = 0u;
-    }
-  }
+  creditTriangle(t, b, v0, v1, v2, n2, receivers[t]);
 }

@@ -29,18 +29,19 @@ layout(binding = 0) uniform usampler2DArray u_id_map;  // (receiver, triangle) p
 
 // Per rendered layer: x sample in batch, y cube face, z first row, w texture layer.
 layout(std430, binding = 2) readonly buffer Layers { uvec4 layers[]; };
-// Per (sample, triangle): 1 when the fallback credits the triangle
-// analytically, so its texels are skipped here.
+// Per (sample, triangle): u_generation when the fallback credits the
+// triangle analytically, so its texels are skipped here.
 layout(std430, binding = 4) readonly buffer SmallFlags { uint small_flags[]; };
 
 layout(location = 1) uniform uint u_receiver_count;
 layout(location = 2) uniform uint u_triangle_count;
 layout(location = 3) uniform int u_skip_small;
+layout(location = 11) uniform uint u_generation;  // this batch's small flags
 
 layout(location = 0) uniform int u_resolution;
 
 bool isSmall(uint b, uint triangle) {
-  return small_flags[b * u_triangle_count + triangle] != 0u;
+  return small_flags[b * u_triangle_count + triangle] == u_generation;
 }
 
 void main() {

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 namespace svit::gl {
 
@@ -24,6 +26,39 @@ void appendChunks(std::span<const float> positions, uint32_t first_triangle, boo
     }
     out.push_back(c);
   }
+}
+
+std::vector<uint32_t> spatialRunOrder(std::span<const glm::vec3> centroids) {
+  std::vector<uint32_t> order(centroids.size());
+  for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  // Depth-first over [begin, end) ranges; each splits at a multiple of the
+  // run length so runs never straddle two leaves.
+  std::vector<std::pair<size_t, size_t>> todo = {{0, order.size()}};
+  while (!todo.empty()) {
+    const auto [begin, end] = todo.back();
+    todo.pop_back();
+    if (end - begin <= kChunkTriangles) {
+      std::sort(order.begin() + ptrdiff_t(begin), order.begin() + ptrdiff_t(end));  // a leaf: index order
+      continue;
+    }
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (size_t i = begin; i < end; ++i) {
+      lo = glm::min(lo, centroids[order[i]]);
+      hi = glm::max(hi, centroids[order[i]]);
+    }
+    const glm::vec3 extent = hi - lo;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    const size_t runs = (end - begin + kChunkTriangles - 1) / kChunkTriangles;
+    const size_t middle = begin + (runs / 2) * kChunkTriangles;
+    std::nth_element(order.begin() + ptrdiff_t(begin), order.begin() + ptrdiff_t(middle),
+                     order.begin() + ptrdiff_t(end), [&](uint32_t a, uint32_t b) {
+                       const float ca = centroids[a][axis], cb = centroids[b][axis];
+                       return ca < cb || (ca == cb && a < b);
+                     });
+    todo.push_back({begin, middle});
+    todo.push_back({middle, end});
+  }
+  return order;
 }
 
 Frustum faceFrustum(const glm::dvec3& eye, const glm::dvec3& right, const glm::dvec3& up, const glm::dvec3& forward,
@@ -69,10 +104,6 @@ bool mayMeet(const TriangleChunk& c, const Frustum& f) {
   return true;
 }
 
-bool inSet(const TriangleBits& set, uint32_t t) {  // t static
-  return t / 32 < set.size() && ((set[t / 32] >> (t % 32)) & 1u) != 0;
-}
-
 }  // namespace
 
 bool chunkInSet(const TriangleChunk& c, const TriangleBits* static_set) {
@@ -97,8 +128,8 @@ void candidateChunks(std::span<const TriangleChunk> chunks, const Frustum& frust
   }
 }
 
-uint64_t appendChunkRanges(const TriangleChunk& c, uint32_t skip, const TriangleBits* static_set,
-                           std::vector<int32_t>& firsts, std::vector<int32_t>& counts) {
+uint64_t appendChunkRanges(const TriangleChunk& c, uint32_t skip, std::vector<int32_t>& firsts,
+                           std::vector<int32_t>& counts) {
   uint64_t triangles = 0;
   auto push = [&](uint32_t first, uint32_t end) {  // triangles [first, end)
     if (end <= first) return;
@@ -110,38 +141,44 @@ uint64_t appendChunkRanges(const TriangleChunk& c, uint32_t skip, const Triangle
       counts.push_back(int32_t(3 * (end - first)));
     }
   };
-  // The chunk's triangles, `skip` left out; with a static set, only the
-  // span from its first to its last triangle in the set (around `skip`, the
-  // spans before and after it). Sound, the set only spares work, and every
-  // range of a multi-draw has its own setup: on the house 2 x 2, drawing
-  // the set's triangles through gaps of under 32 drew 143 k triangles per
-  // frame in many short ranges, spans 166 k in few.
-  const bool filtered = static_set && !c.dynamic;
-  auto kept = [&](uint32_t t) { return !filtered || inSet(*static_set, t); };
-  uint32_t lo = c.first, hi = c.first + c.count;
-  while (lo < hi && !kept(lo)) ++lo;
-  while (hi > lo && !kept(hi - 1)) --hi;
-  if (skip < lo || skip >= hi) {
-    push(lo, hi);
-    return triangles;
+  const uint32_t end = c.first + c.count;
+  if (skip < c.first || skip >= end) {
+    push(c.first, end);
+  } else {
+    push(c.first, skip);
+    push(skip + 1, end);  // never merged with the range before: skip lies between
   }
-  uint32_t before = skip, after = skip + 1;  // [lo, before) and [after, hi)
-  while (before > lo && !kept(before - 1)) --before;
-  while (after < hi && !kept(after)) ++after;
-  push(lo, before);
-  push(after, hi);  // never merged with [lo, before): skip lies between
   return triangles;
 }
 
-uint64_t visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& frustum, uint32_t skip,
-                       const glm::dvec3& reach_lo, const glm::dvec3& reach_hi, const TriangleBits* static_set,
-                       std::vector<int32_t>& firsts, std::vector<int32_t>& counts) {
-  firsts.clear();
-  counts.clear();
-  std::vector<uint32_t> candidates;
-  candidateChunks(chunks, frustum, reach_lo, reach_hi, static_set, candidates);
+bool triangleMayMeet(const float* corners, const Frustum& frustum) {
+  glm::dvec3 d[3];
+  double reach = 0;
+  for (int k = 0; k < 3; ++k) {
+    d[k] = glm::dvec3(corners[3 * k], corners[3 * k + 1], corners[3 * k + 2]) - frustum.eye;
+    reach = std::max(reach, glm::length(d[k]));
+  }
+  for (int i = 0; i < frustum.count; ++i) {
+    const glm::dvec3& n = frustum.normal[size_t(i)];
+    // The same margin as a box's (mayMeet).
+    const double limit = frustum.offset[size_t(i)] - 1e-6 * reach * glm::length(n);
+    if (glm::dot(n, d[0]) < limit && glm::dot(n, d[1]) < limit && glm::dot(n, d[2]) < limit) return false;
+  }
+  return true;
+}
+
+uint64_t appendSetIndices(const TriangleChunk& c, std::span<const float> static_positions, const Frustum& frustum,
+                          uint32_t skip, const TriangleBits& static_set, std::vector<uint32_t>& indices) {
   uint64_t triangles = 0;
-  for (uint32_t i : candidates) triangles += appendChunkRanges(chunks[i], skip, static_set, firsts, counts);
+  for (uint32_t t = c.first; t < c.first + c.count; ++t) {
+    if (t == skip) continue;
+    if (!c.dynamic) {
+      if (!triangleInSet(static_set, t) || size_t(9) * t + 9 > static_positions.size()) continue;
+      if (!triangleMayMeet(&static_positions[size_t(9) * t], frustum)) continue;
+    }
+    indices.insert(indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
+    ++triangles;
+  }
   return triangles;
 }
 

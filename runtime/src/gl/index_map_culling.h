@@ -2,10 +2,10 @@
 // Coarse culling for index-map faces. llvmpipe (and any GPU on a big level)
 // spends a face's time on vertices and triangle setup, most of them outside
 // the face's 90-degree frustum; so triangles are kept in runs of
-// kChunkTriangles consecutive ones (meshes are spatially coherent in index
-// order) with a bounding box each, and a face draws only the runs whose box
-// meets its frustum. Triangle indices never change: the ranges are ranges
-// of the original order.
+// kChunkTriangles consecutive ones with a bounding box each, and a face
+// draws only the runs whose box meets its frustum. Triangle indices never
+// change: the ranges are ranges of the given order, which should be
+// spatially coherent (spatialRunOrder makes it so).
 
 #include <array>
 #include <cstdint>
@@ -23,6 +23,16 @@ namespace svit::gl {
 // 36 % fewer triangles drawn on the 8 x 8 house), large enough that a big
 // level's runs stay few to test (Sponza: 8 k).
 inline constexpr uint32_t kChunkTriangles = 32;
+
+/// An order of triangles (by their centroids) in which every run of
+/// kChunkTriangles consecutive ones, from the first, is compact: the leaves
+/// of a k-d split of the centroids (longest axis, at a multiple of the run
+/// length near the middle), in tree order, so neighbouring runs are near
+/// each other too. Deterministic (ties kept in index order). A level's
+/// triangles come in whatever order its patches were made in: on the
+/// sample house a run of 32 spanned a whole room (5.5 m boxes), so no face
+/// could leave any part of a room out.
+std::vector<uint32_t> spatialRunOrder(std::span<const glm::vec3> centroids);
 
 /// A run of triangles [first, first + count) and its world box, m.
 struct TriangleChunk {
@@ -42,6 +52,10 @@ inline bool chunkMeetsBox(const TriangleChunk& c, const glm::dvec3& lo, const gl
 /// static_triangles); words for `triangles` of them.
 using TriangleBits = std::vector<uint32_t>;
 inline size_t triangleBitWords(size_t triangles) { return (triangles + 31) / 32; }
+/// Whether static triangle `t` is in `set`.
+inline bool triangleInSet(const TriangleBits& set, uint32_t t) {
+  return t / 32 < set.size() && ((set[t / 32] >> (t % 32)) & 1u) != 0;
+}
 
 /// Whether chunk `c` may be drawn under `static_set` (null = everything):
 /// it holds a triangle of the set, or is dynamic.
@@ -75,21 +89,21 @@ void candidateChunks(std::span<const TriangleChunk> chunks, const Frustum& frust
                      const glm::dvec3& reach_hi, const TriangleBits* static_set, std::vector<uint32_t>& out);
 
 /// Appends chunk `c`'s vertex ranges to `firsts`/`counts` (merged with the
-/// last where adjacent): triangle `skip` left out and, with `static_set`, a
-/// static chunk only from its first to its last triangle in the set.
-/// Returns the number of triangles appended.
-uint64_t appendChunkRanges(const TriangleChunk& c, uint32_t skip, const TriangleBits* static_set,
-                           std::vector<int32_t>& firsts, std::vector<int32_t>& counts);
+/// last where adjacent), triangle `skip` left out (any value outside the
+/// chunk skips nothing). Returns the number of triangles appended.
+uint64_t appendChunkRanges(const TriangleChunk& c, uint32_t skip, std::vector<int32_t>& firsts,
+                           std::vector<int32_t>& counts);
 
-/// Vertex ranges (first vertex, vertex count) of the chunks that may meet
-/// `frustum` and the box [reach_lo, reach_hi] (lo > hi on an axis: no box),
-/// merged where adjacent, with triangle `skip` left out (any value past the
-/// end skips nothing). With `static_set`, a static chunk draws only the
-/// span from its first to its last triangle in the set (dynamic chunks are
-/// always whole). Clears and fills `firsts`/`counts`; returns the number of
-/// triangles in them.
-uint64_t visibleRanges(std::span<const TriangleChunk> chunks, const Frustum& frustum, uint32_t skip,
-                       const glm::dvec3& reach_lo, const glm::dvec3& reach_hi, const TriangleBits* static_set,
-                       std::vector<int32_t>& firsts, std::vector<int32_t>& counts);
+/// Whether the triangle with corners `corners` (9 floats) may meet
+/// `frustum`: false only when all three lie outside one plane.
+bool triangleMayMeet(const float* corners, const Frustum& frustum);
+
+/// Appends to `indices` the vertex indices (3t, 3t + 1, 3t + 2) of chunk
+/// `c`'s triangles, bar `skip`: of a static chunk those in `static_set`
+/// that may meet `frustum`, each tested on its own (`static_positions`: 9
+/// floats per static triangle); of a dynamic chunk all of them. Returns
+/// the number of triangles appended.
+uint64_t appendSetIndices(const TriangleChunk& c, std::span<const float> static_positions, const Frustum& frustum,
+                          uint32_t skip, const TriangleBits& static_set, std::vector<uint32_t>& indices);
 
 }  // namespace svit::gl

@@ -35,6 +35,11 @@ struct MapTriangles {
   size_t triangleCount() const { return front_receiver.size(); }
 };
 
+/// The same triangles renumbered in spatialRunOrder (index_map_culling.h),
+/// so that the renderer's culling runs are compact: what a level's static
+/// set should be given as, before anything keeps triangle numbers.
+MapTriangles inRunOrder(const MapTriangles& triangles);
+
 /// How a sample's directions are covered (thesis 5.2.4), cheapest first.
 enum class MapLayout : uint32_t {
   kSingle = 0,    ///< one 90-degree face along the axis (narrow spots)

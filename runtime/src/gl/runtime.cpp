@@ -187,7 +187,8 @@ Expected<std::unique_ptr<Runtime>> Runtime::create(const Scene& scene, const Bak
     r.delta_total.assign(r.receivers.size(), glm::dvec3(0.0));
     r.runtime_direct.assign(r.receivers.size(), glm::dvec3(0.0));
     r.display.assign(r.receivers.size(), Rgb{});
-    r.static_map = settings.use_proxies ? rt::proxyMapTriangles(bake, r.patches, max_area) : r.patches.triangles;
+    r.static_map = rt::inRunOrder(settings.use_proxies ? rt::proxyMapTriangles(bake, r.patches, max_area)
+                                                       : r.patches.triangles);
     r.patch_map_triangles.assign(r.static_receivers, {});
     for (uint32_t t = 0; t < r.static_map.triangleCount(); ++t) {
       if (r.static_map.front_receiver[t] != rt::kNoReceiver) r.patch_map_triangles[r.static_map.front_receiver[t]].push_back(t);
