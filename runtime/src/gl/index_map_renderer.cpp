@@ -868,10 +868,10 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
     glProgramUniform1f(p, 4, kSmallTexels);
     glProgramUniform1i(p, 5, settings.edge_taps ? 1 : 0);
     glProgramUniform1i(p, 6, settings.neighbour_ids ? 1 : 0);
-    const GLuint pairs = GLuint(batch_pairs.size() / 2);
-    glProgramUniform1ui(p, 8, pairs);
+    const GLuint pair_count = GLuint(batch_pairs.size() / 2);
+    glProgramUniform1ui(p, 8, pair_count);
     // Pairs over x (<= 65535 groups of 64) and z.
-    const GLuint groups = (pairs + kLocalSize - 1) / kLocalSize;
+    const GLuint groups = (pair_count + kLocalSize - 1) / kLocalSize;
     const GLuint x = std::min(groups, kMaxGroups);
     if (groups > 0) glDispatchCompute(x, 1, (groups + x - 1) / x);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
