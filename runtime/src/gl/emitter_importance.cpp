@@ -3,6 +3,7 @@
 #include "emitter_importance.h"
 
 #include <algorithm>
+#include <unordered_map>
 
 namespace svit::gl {
 namespace {
@@ -55,11 +56,21 @@ GroupView groupView(const ViewWeights& view, const std::vector<ImportanceQuery>&
   const size_t groups = view.group_shares.size(), n = view.weight.size();
   GroupView out;
   out.per_lumen.assign(groups, 0.0);
+  out.weight = view.weight;
   out.weighted_blocks = blocksWhere(n, [&](size_t r) { return view.weight[r] != 0; });
+  // One direct sum per distinct set: a group's own shares are its
+  // emitter's current ones, which that emitter's query holds too (on the
+  // 8 x 8 house, 2.3 of 4.1 ms went to summing them twice).
+  std::unordered_map<const SparseShares*, double> direct_of;
+  auto directOf = [&](const SparseShares* s) {
+    const auto [it, fresh] = direct_of.try_emplace(s, 0.0);
+    if (fresh) it->second = weighted(*s, view.weight, out.weighted_blocks);
+    return it->second;
+  };
   std::vector<char> has_own(groups, 0);
   for (size_t g = 0; g < groups; ++g) {
     if (view.group_shares[g] == nullptr) continue;
-    out.per_lumen[g] = weighted(*view.group_shares[g], view.weight, out.weighted_blocks);
+    out.per_lumen[g] = directOf(view.group_shares[g]);
     has_own[g] = 1;
   }
   auto borrowerOf = [&](uint32_t r) -> int32_t {
@@ -71,16 +82,16 @@ GroupView groupView(const ViewWeights& view, const std::vector<ImportanceQuery>&
   // a group that has no shares of its own. Only groups lit by a set of
   // non-zero direct view borrow anything; only their receivers are visited
   // (for the mean's weights, in query order).
-  std::vector<double> direct;
   double largest = 0;
   for (double v : out.per_lumen) largest = std::max(largest, v);
   for (const ImportanceQuery& q : queries) {
     for (const SparseShares* s : q.shares) {
-      direct.push_back(s == nullptr ? 0.0 : weighted(*s, view.weight, out.weighted_blocks));
-      largest = std::max(largest, direct.back());
+      out.direct.push_back(s == nullptr ? 0.0 : directOf(s));
+      largest = std::max(largest, out.direct.back());
     }
   }
   const double negligible = kNegligibleView * largest;
+  std::vector<double> direct = out.direct;  // what borrowing counts: negligible views cut
   for (double& d : direct) {
     if (d < negligible) d = 0;
   }
@@ -119,34 +130,60 @@ GroupView groupView(const ViewWeights& view, const std::vector<ImportanceQuery>&
     if (!has_own[g] && borrowed_weight[g] > 0) out.per_lumen[g] = borrowed[g] / borrowed_weight[g];
     if (out.per_lumen[g] < negligible) out.per_lumen[g] = 0;
   }
-  out.value = view.weight;
+  out.reflected.assign(n, 0.0);
   for (size_t r = 0; r < n && r < view.group_of.size(); ++r) {
     const int32_t g = view.group_of[r];
-    if (g >= 0 && size_t(g) < groups) out.value[r] += view.reflectance[r] * out.per_lumen[size_t(g)];
+    if (g >= 0 && size_t(g) < groups) out.reflected[r] = view.reflectance[r] * out.per_lumen[size_t(g)];
   }
-  out.valued_blocks = blocksWhere(n, [&](size_t r) { return out.value[r] != 0; });
+  out.reflected_blocks = blocksWhere(n, [&](size_t r) { return out.reflected[r] != 0; });
   return out;
 }
 
-double importanceOf(const GroupView& group_view, const ImportanceQuery& q) {
+namespace {
+
+// A query's importance from the direct view of each of its sets
+// (`direct(k, set)`, k counting its sets).
+template <typename Direct>
+double importanceWith(const GroupView& group_view, const ImportanceQuery& q, Direct direct) {
   const size_t groups = group_view.per_lumen.size();
   double best = 0;
   bool any = false;
-  for (const SparseShares* s : q.shares) {
+  for (size_t k = 0; k < q.shares.size(); ++k) {
+    const SparseShares* s = q.shares[k];
     if (s == nullptr) continue;
     any = true;
-    // Direct and through the groups it lights, in one sum (value).
-    best = std::max(best, weighted(*s, group_view.value, group_view.valued_blocks));
+    // Direct, and through the groups it lights.
+    best = std::max(best, direct(k, *s) + weighted(*s, group_view.reflected, group_view.reflected_blocks));
   }
   if (!any && q.own_group >= 0 && size_t(q.own_group) < groups) best = group_view.per_lumen[size_t(q.own_group)];
   return q.flux * best;
 }
 
-std::vector<double> emitterImportance(const ViewWeights& view, const std::vector<ImportanceQuery>& queries) {
-  const GroupView group_view = groupView(view, queries);
+}  // namespace
+
+double importanceOf(const GroupView& group_view, const ImportanceQuery& q) {
+  return importanceWith(group_view, q, [&](size_t, const SparseShares& s) {
+    return weighted(s, group_view.weight, group_view.weighted_blocks);
+  });
+}
+
+std::vector<double> importanceOfAll(const GroupView& group_view, const std::vector<ImportanceQuery>& queries) {
   std::vector<double> importance(queries.size(), 0.0);
-  for (size_t k = 0; k < queries.size(); ++k) importance[k] = importanceOf(group_view, queries[k]);
+  size_t first = 0;  // the query's first set in group_view.direct
+  for (size_t i = 0; i < queries.size(); ++i) {
+    if (first + queries[i].shares.size() > group_view.direct.size()) {
+      importance[i] = importanceOf(group_view, queries[i]);  // not the queries groupView had
+    } else {
+      importance[i] = importanceWith(group_view, queries[i],
+                                     [&](size_t k, const SparseShares&) { return group_view.direct[first + k]; });
+    }
+    first += queries[i].shares.size();
+  }
   return importance;
+}
+
+std::vector<double> emitterImportance(const ViewWeights& view, const std::vector<ImportanceQuery>& queries) {
+  return importanceOfAll(groupView(view, queries), queries);
 }
 
 }  // namespace svit::gl

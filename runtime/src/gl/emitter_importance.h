@@ -44,11 +44,15 @@ struct ImportanceQuery {
 /// it sees, not the level.
 struct GroupView {
   std::vector<double> per_lumen;      ///< per group: what its light shows per lumen
+  std::vector<double> weight;         ///< per receiver: ViewWeights::weight (a lumen there, seen directly)
   std::vector<char> weighted_blocks;  ///< per block: holds a receiver of view weight != 0
-  /// Per receiver: what a lumen arriving there shows, directly (its view
-  /// weight) and once reflected through its group (reflectance x per_lumen).
-  std::vector<double> value;
-  std::vector<char> valued_blocks;  ///< per block: holds a receiver of value != 0
+  /// Per receiver: what a lumen arriving there shows once reflected through
+  /// its group (reflectance x per_lumen).
+  std::vector<double> reflected;
+  std::vector<char> reflected_blocks;  ///< per block: holds a receiver of reflected != 0
+  /// Per share set of the queries groupView was given, in their order:
+  /// its direct view, sum s_r w_r (importanceOfAll's, summed once).
+  std::vector<double> direct;
 };
 
 /// Per group: what its light shows per lumen (its own shares, or borrowed
@@ -56,11 +60,15 @@ struct GroupView {
 GroupView groupView(const ViewWeights& view, const std::vector<ImportanceQuery>& queries);
 
 /// Importance (flux x pixel weight: lm/m2 x pixels) of one query, given
-/// groupView(); the same, bit for bit, whether the shares are indexed
-/// (SparseShares::blocks) or not.
+/// groupView(): direct plus reflected view of its best set; the same, bit
+/// for bit, whether the shares are indexed (SparseShares::blocks) or not.
 double importanceOf(const GroupView& group_view, const ImportanceQuery& query);
 
-/// Importance of each query, in order (groupView + importanceOf).
+/// importanceOf for each of the queries groupView() was given, in order
+/// (their direct views taken from it, not summed again).
+std::vector<double> importanceOfAll(const GroupView& group_view, const std::vector<ImportanceQuery>& queries);
+
+/// Importance of each query, in order (groupView + importanceOfAll).
 std::vector<double> emitterImportance(const ViewWeights& view, const std::vector<ImportanceQuery>& queries);
 
 }  // namespace svit::gl

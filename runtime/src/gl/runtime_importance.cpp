@@ -199,11 +199,8 @@ void Runtime::Impl::rankForView(FrameStats& stats) {
   for (size_t i = 0; i < emitters.size(); ++i) queries[i] = importanceQuery(emitters[i], false);
   group_view = rt::groupView(weights, queries);
   top_importance = 0;
-  std::vector<double> importance(emitters.size());
-  for (size_t i = 0; i < emitters.size(); ++i) {
-    importance[i] = rt::importanceOf(group_view, queries[i]);
-    top_importance = std::max(top_importance, importance[i]);
-  }
+  const std::vector<double> importance = rt::importanceOfAll(group_view, queries);
+  for (double v : importance) top_importance = std::max(top_importance, v);
   const uint32_t max_interval = uint32_t(settings.max_refresh_interval);
   for (size_t i = 0; i < emitters.size(); ++i) {
     Emitter& e = emitters[i];
