@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "aabb_ops.h"
 #include "glm_interop.h"
 #include "runtime_impl.h"
 #include "svit/gl_context.h"
@@ -189,6 +190,10 @@ Expected<std::unique_ptr<Runtime>> Runtime::create(const Scene& scene, const Bak
     r.display.assign(r.receivers.size(), Rgb{});
     r.static_map = rt::inRunOrder(settings.use_proxies ? rt::proxyMapTriangles(bake, r.patches, max_area)
                                                        : r.patches.triangles);
+    r.static_block_bounds.assign(r.static_receivers / rt::kShareBlockReceivers, Aabb{});
+    for (uint32_t p = 0; p < r.static_block_bounds.size() * rt::kShareBlockReceivers; ++p) {
+      rt::grow(r.static_block_bounds[p / rt::kShareBlockReceivers], r.patches.bounds[p]);
+    }
     r.patch_map_triangles.assign(r.static_receivers, {});
     for (uint32_t t = 0; t < r.static_map.triangleCount(); ++t) {
       if (r.static_map.front_receiver[t] != rt::kNoReceiver) r.patch_map_triangles[r.static_map.front_receiver[t]].push_back(t);

@@ -114,6 +114,9 @@ struct Runtime::Impl {
   uint32_t static_groups = 0;
   rt::MapTriangles static_map;
   std::vector<std::vector<uint32_t>> patch_map_triangles;  ///< per runtime patch: its static map triangles
+  /// Per whole block of kShareBlockReceivers static patches: the box of
+  /// their bounds (reaches() tests a block before its patches).
+  std::vector<Aabb> static_block_bounds;
   float sample_offset_m = 1e-4f;
   rt::ParallelWindow window{};
 

@@ -88,15 +88,32 @@ bool Runtime::Impl::reaches(const Emitter& e, const Aabb& box) const {
   // nor catch its light (in a closed level, a lit object stands in front of
   // some patch the emitter lit without it). Finer than the one region box,
   // which spans two rooms' worth of corners when light passes a doorway.
+  auto hits = [&](uint32_t r) {
+    Aabb hull = e.source_box;
+    if (r < static_receivers) {
+      rt::grow(hull, patches.bounds[r]);
+    } else {
+      rt::grow(hull, receivers[r].centroid);
+    }
+    return rt::overlaps(hull, box);
+  };
   auto any = [&](const rt::SparseShares& shares) {
-    for (uint32_t r : shares.receivers) {
-      Aabb hull = e.source_box;
-      if (r < static_receivers) {
-        rt::grow(hull, patches.bounds[r]);
-      } else {
-        rt::grow(hull, receivers[r].centroid);
+    if (shares.blocks.empty()) return std::any_of(shares.receivers.begin(), shares.receivers.end(), hits);
+    for (size_t k = 0; k < shares.blocks.size(); ++k) {
+      // Each patch of a whole static block lies in the block's bounds, so
+      // a box the hull of the source and those bounds misses, every
+      // patch's hull misses too: a block costs one test, not 64 (on the
+      // 8 x 8 house, 6 ms a frame went to testing patch by patch).
+      const uint32_t block = shares.blocks[k];
+      if (block < static_block_bounds.size()) {
+        Aabb hull = e.source_box;
+        rt::grow(hull, static_block_bounds[block]);
+        if (!rt::overlaps(hull, box)) continue;
       }
-      if (rt::overlaps(hull, box)) return true;
+      const size_t end = k + 1 < shares.blocks.size() ? shares.block_begin[k + 1] : shares.receivers.size();
+      for (size_t i = shares.block_begin[k]; i < end; ++i) {
+        if (hits(shares.receivers[i])) return true;
+      }
     }
     return false;
   };

@@ -63,7 +63,7 @@ std::vector<ResourceUse> Runtime::resources() const {
   if (runtime_sections) {
     patches.cpu_bytes = patchBytes(r.patches) + mapTriangleBytes(r.static_map) + nestedBytes(r.patch_map_triangles) +
                         vectorBytes(r.delta_total) + vectorBytes(r.runtime_direct) + vectorBytes(r.display) +
-                        vectorBytes(r.vertex_deltas);
+                        vectorBytes(r.vertex_deltas) + vectorBytes(r.static_block_bounds);
     patches.reason = std::to_string(r.static_receivers) + " patches, " + std::to_string(r.static_map.triangleCount()) +
                      (r.settings.use_proxies ? " proxy" : " full-geometry") +
                      " map triangles: the bake has runtime sections, so objects and lights may come at any time";
