@@ -9,7 +9,9 @@
 //   3. reduce (index_map_reduce.comp): every texel's weight (solid angle x
 //      normalised lobe x sample weight) added in 64-bit fixed point into
 //      acc[slot * receivers + receiver], skipping the flagged triangles.
-// The CPU twin of the texel weights and layouts is index_map_layouts.cpp.
+// Stage 1 is index_map_raster.cpp, stages 2 and 3 index_map_reduction.cpp;
+// the state they share is index_map_renderer_impl.h. The CPU twin of the
+// texel weights and layouts is index_map_layouts.cpp.
 // Only the accumulators come back (one glGetNamedBufferSubData per gather).
 // GL objects are made in create(); buffers only grow (more triangles,
 // receivers or slots), so a steady scene allocates nothing per gather.
@@ -27,10 +29,7 @@
 #include <string>
 #include <utility>
 
-#include "gl_program.h"
-#include "index_map_culling.h"
-#include "index_map_occlusion.h"
-#include "index_map_layouts.h"
+#include "index_map_renderer_impl.h"
 #include "svit/gl_context.h"
 
 namespace svit::gl {
@@ -40,54 +39,12 @@ namespace {
 // accumulators' 64 bits (room for 2^23 x overshoot), and a texel of a 4096^2
 // cube map with 1024 samples of a slot (~1e-11) still rounds to ~10 units.
 constexpr double kFixedPoint = 1099511627776.0;
-// A triangle is "small" below this many texels of projected solid angle
-// (thesis 5.2: a few texels); its texels are then an all-or-nothing lottery.
-constexpr float kSmallTexels = 4.0f;
 // Near plane per metre of scene diagonal (scale-aware), and per metre of the
 // sample's coordinates: float positions carry ~6e-8 |p| of error, so a
 // sample on its own surface may sit that far behind it.
 constexpr double kNearPerSceneSize = 1e-4;
 constexpr double kNearPerCoordinate = 1e-6;
-constexpr uint32_t kNoTriangle = 0xffffffffu;
-// Shader storage and texture bindings (shaders/index_map_*.{frag,comp}).
-constexpr GLuint kReceiversBinding = 0, kSamplesBinding = 1, kLayersBinding = 2, kAccumulatorBinding = 3,
-                 kSmallFlagsBinding = 4, kPositionsBinding = 5, kCounterBinding = 6, kPairsBinding = 7,
-                 kSeenBinding = 8;
-// Uniforms both compute programs take from index_map_common.comp, and the
-// small flags' generation both the fallback and the reduction read.
-constexpr GLint kSeenWordsLocation = 9, kStaticTrianglesLocation = 10, kSmallGenerationLocation = 11;
-constexpr GLuint kIdMapUnit = 0, kDepthMapUnit = 1;
-constexpr int kReduceRun = 16;         // texels per reduce invocation (index_map_reduce.comp kRun)
-constexpr int kLocalSize = 64;         // local_size_x of both compute shaders
-constexpr GLuint kMaxGroups = 65535;   // GL_MAX_COMPUTE_WORK_GROUP_COUNT guaranteed minimum
-// Occlusion culling: a face drawing at least this many chunks first draws
-// the nearest ones, until they hold an eighth of its triangles but at least
-// 256 and at most 1,024 (the walls and floor around the sample, in a closed
-// level; bounded, so a pass does not grow with the level), then in rounds
-// the nearest of what their depth does not hide.
-constexpr size_t kOcclusionMinChunks = 8;
-constexpr int kOcclusionRounds = 3;  // test-and-draw rounds after the first pass
-uint64_t occlusionFirstTriangles(std::span<const TriangleChunk> chunks, std::span<const uint32_t> candidates) {
-  uint64_t total = 0;
-  for (uint32_t i : candidates) total += chunks[i].count;
-  return std::clamp<uint64_t>(total / 8, 256, 1024);
-}
 constexpr double kMaxMapBytes = 2.0 * 1024 * 1024 * 1024;
-
-// The std430 twin of SampleGpu in shaders/index_map_common.comp.
-struct SampleGpu {
-  float position_near[4];
-  float cube_x_far[4];
-  float cube_y_half[4];
-  float cube_z_scale[4];
-  float axis_cube[4];
-  float lobe_params[4];
-  uint32_t info[4];   // lobe, layout, slot, own triangle
-  uint32_t faces[4];  // face mask, half-face mask, first layer
-  float reach_lo[4];  // PointSample::reach, or the whole float range
-  float reach_hi[4];
-};
-static_assert(sizeof(SampleGpu) == 160, "SampleGpu must match std430 in index_map_common.comp");
 
 // The fixed-function state id rasters need (maps and the view pass):
 // reversed depth (nearer is larger), every colour channel, CCW fronts.
@@ -179,244 +136,41 @@ class StateGuard {
   std::array<GLboolean, kCaps.size()> enabled_{};
 };
 
-// What the GPU needs of one sample, and the layout it is rendered with.
-struct PreparedSample {
-  SampleGpu gpu;
-  MapLayout layout;
-  glm::dmat3 world_from_cube;
-  glm::dvec3 reach_lo{1}, reach_hi{0};  // lo > hi: no box
-  const TriangleBits* static_triangles = nullptr;  // PointSample::static_triangles
-};
-
 }  // namespace
 
-struct IndexMapRenderer::Impl {
-  IndexMapSettings settings;
-  GlProgram raster, reduce, fallback;
-  GLuint vao = 0, fbo = 0, id_map = 0, depth_map = 0;
-  GLuint view_fbo = 0, view_ids = 0, view_depth = 0;  // countViewPixels' target, made on first use
-  int view_width = 0, view_height = 0;
-  std::vector<uint32_t> view_readback;  // scratch, 2 uints per pixel
-  GLuint positions = 0, receivers = 0, accumulators = 0, samples = 0, layers = 0, small_flags = 0, counter = 0;
-  GLuint pairs = 0;  // the fallback's work items, (triangle, sample) pairs, grow-only
-  size_t pairs_capacity = 0;  // uints
-  GLuint seen = 0;  // per slot, a bit per static triangle its maps showed (gather's `seen`), grow-only
-  size_t seen_capacity = 1;  // uints
-  uint32_t seen_words = 0;   // per slot in this gather; 0 = not asked for
-  std::vector<uint32_t> batch_pairs;  // scratch: the fallback's items (triangle, sample of the batch)
-  size_t triangle_capacity = 0;     // of positions / receivers
-  size_t accumulator_capacity = 0;  // uints
-  size_t small_flags_capacity = 0;   // uints
-  // The batch whose flags are current: a pair's flag holds the generation
-  // that found it small, so flags of pairs no batch visited since read as
-  // "not small" with no clearing (cleared only when the count wraps).
-  uint32_t small_generation = 0;
-  // CPU copies, so a growing buffer can be refilled: 9 floats and 2 ids per triangle.
-  std::vector<float> static_positions, dynamic_positions;
-  std::vector<uint32_t> static_receivers, dynamic_receivers;
-  Aabb static_bounds, dynamic_bounds;
-  // Culling runs of both sets, dynamic ones numbered after the static set.
-  std::vector<TriangleChunk> static_chunks, chunks;
-  std::vector<int32_t> draw_firsts, draw_counts;  // scratch of one face's draw, grow-only
-  // Occlusion culling (index_map_occlusion.h): a face whose far chunks wait
-  // for the depth of its nearest ones.
-  struct PendingFace {
-    size_t sample = 0;
-    GLint layer = 0;
-    int first_row = 0;
-    FaceProjection face;
-    std::array<GLfloat, 9> view_from_world{};
-    std::vector<uint32_t> rest;  // chunk indices not drawn nor hidden yet
-    std::vector<uint32_t> next;  // chunk indices this round draws
-  };
-  std::vector<PendingFace> pending_faces;
-  // Samples with a static set draw exactly its triangles that may meet
-  // each face (and the dynamic runs that do) from one index list per face:
-  // all the batch's lists are built and uploaded before its first draw, so
-  // the upload never waits on a draw. Spans of runs drew 4.6 (2 x 2) to 6.5
-  // (8 x 8) times as many triangles on the sample houses.
-  GLuint set_indices = 0;  // element buffer, grow-only
-  size_t set_indices_capacity = 0;  // uints
-  std::vector<uint32_t> batch_indices;
-  std::vector<std::array<uint32_t, 2>> face_index_ranges;  // per (sample, face): first index, count
-  std::vector<uint32_t> face_chunks, near_chunks;  // scratch, chunk indices
-  std::vector<uint8_t> batch_drawn;  // per (sample of the batch, chunk): drawn on some face
-  std::vector<float> depth_scratch;
-  DepthPyramid pyramid;
-  uint32_t receiver_count = 0;
-  // Sticky: a bad triangle set given to a setter, returned by every gather()
-  // until a good set replaces it.
-  Status static_error, dynamic_error;
-  uint32_t allocations = 0;  // buffer (re)allocations since the last gather
-  std::vector<uint32_t> readback;  // scratch, grow-only
-  std::vector<SampleGpu> batch_samples;
-  std::vector<std::array<uint32_t, 4>> batch_layers;
-
-  struct CoverageEntry {
-    Lobe lobe;
-    float cos_inner, cos_outer;
-    LobeCoverage coverage;
-  };
-  mutable std::vector<CoverageEntry> coverage_cache;
-
-  ~Impl() {
-    const GLuint buffers[] = {positions,   receivers, accumulators, samples, layers,
-                              small_flags, counter,   pairs,        seen,    set_indices};
-    for (GLuint b : buffers) {
-      if (b != 0) glDeleteBuffers(1, &b);
-    }
-    const GLuint textures[] = {id_map, depth_map, view_ids, view_depth};
-    for (GLuint t : textures) {
-      if (t != 0) glDeleteTextures(1, &t);
-    }
-    if (fbo != 0) glDeleteFramebuffers(1, &fbo);
-    if (view_fbo != 0) glDeleteFramebuffers(1, &view_fbo);
-    if (vao != 0) glDeleteVertexArrays(1, &vao);
+void IndexMapRenderer::Impl::setTriangles(const MapTriangles& t, const char* which, std::vector<float>& positions_out,
+                                        std::vector<uint32_t>& receivers_out, Aabb& bounds, Status& pending) {
+  pending = Status();
+  const size_t n = t.triangleCount();
+  positions_out.clear();
+  receivers_out.clear();
+  bounds = Aabb{};
+  if (t.positions.size() != 3 * n || t.back_receiver.size() != n) {
+    pending = Status(StatusCode::kInvalidInput,
+                     std::string("index map ") + which + " triangles: " + std::to_string(t.positions.size()) +
+                         " positions and " + std::to_string(t.back_receiver.size()) + " back receivers for " +
+                         std::to_string(n) + " triangles (need 3 and 1 per triangle)");
+    return;
   }
-
-  uint32_t triangleCount() const { return uint32_t((static_receivers.size() + dynamic_receivers.size()) / 2); }
-  uint32_t staticTriangleCount() const { return uint32_t(static_receivers.size() / 2); }
-
-  const LobeCoverage& coverage(const PointSample& s) const {
-    // Only a spot's cone changes the lobe; the key ignores the cone otherwise.
-    const bool spot = s.lobe == Lobe::kSpot;
-    const float ci = spot ? s.cos_inner : 0.0f, co = spot ? s.cos_outer : 0.0f;
-    for (const CoverageEntry& e : coverage_cache) {
-      if (e.lobe == s.lobe && e.cos_inner == ci && e.cos_outer == co) return e.coverage;
-    }
-    // A handful of distinct spots per level; beyond that drop the oldest.
-    constexpr size_t kMaxEntries = 64;
-    if (coverage_cache.size() >= kMaxEntries) coverage_cache.erase(coverage_cache.begin());
-    coverage_cache.push_back({s.lobe, ci, co, lobeCoverage(s.lobe, ci, co, settings.resolution)});
-    return coverage_cache.back().coverage;
-  }
-
-  MapLayout chooseLayout(const PointSample& s) const {
-    if (s.lobe == Lobe::kParallel) return MapLayout::kParallel;
-    const LobeCoverage& c = coverage(s);
-    for (MapLayout layout : {MapLayout::kSingle, MapLayout::kTriple, MapLayout::kHemicube}) {
-      if (c.missed[size_t(layout)] <= settings.layout_miss_tolerance) return layout;
-    }
-    return MapLayout::kCube;
-  }
-
-  void growBuffer(GLuint buffer, size_t bytes) {
-    glNamedBufferData(buffer, GLsizeiptr(bytes), nullptr, GL_DYNAMIC_DRAW);
-    ++allocations;
-  }
-
-  void clearSmallFlags() {
-    const GLuint zero = 0;
-    glClearNamedBufferData(small_flags, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-    small_generation = 0;
-  }
-
-  // Uploads the triangle sets (both: their offsets depend on each other),
-  // growing the buffers by half again when they no longer fit.
-  void uploadTriangles(bool static_changed) {
-    const size_t count = triangleCount();
-    const size_t static_count = staticTriangleCount();
-    if (static_changed) {
-      static_chunks.clear();
-      appendChunks(static_positions, 0, false, static_chunks);
-    }
-    chunks = static_chunks;
-    appendChunks(dynamic_positions, uint32_t(static_count), true, chunks);
-    bool all = static_changed;
-    if (count > triangle_capacity) {
-      triangle_capacity = std::max(count, triangle_capacity + triangle_capacity / 2);
-      growBuffer(positions, triangle_capacity * 9 * sizeof(float));
-      growBuffer(receivers, triangle_capacity * 2 * sizeof(uint32_t));
-      all = true;
-    }
-    // The fallback's flags: one uint per (sample of a batch, triangle).
-    const size_t flags = size_t(settings.max_batch_samples) * count;
-    if (settings.small_polygon_fallback && flags > small_flags_capacity) {
-      small_flags_capacity = std::max(flags, small_flags_capacity + small_flags_capacity / 2);
-      growBuffer(small_flags, small_flags_capacity * sizeof(uint32_t));
-      clearSmallFlags();
-    }
-    if (all && !static_positions.empty()) {
-      glNamedBufferSubData(positions, 0, GLsizeiptr(static_positions.size() * sizeof(float)), static_positions.data());
-      glNamedBufferSubData(receivers, 0, GLsizeiptr(static_receivers.size() * sizeof(uint32_t)),
-                           static_receivers.data());
-    }
-    if (!dynamic_positions.empty()) {
-      glNamedBufferSubData(positions, GLintptr(static_count * 9 * sizeof(float)),
-                           GLsizeiptr(dynamic_positions.size() * sizeof(float)), dynamic_positions.data());
-      glNamedBufferSubData(receivers, GLintptr(static_count * 2 * sizeof(uint32_t)),
-                           GLsizeiptr(dynamic_receivers.size() * sizeof(uint32_t)), dynamic_receivers.data());
-    }
-  }
-
-  // Copies a triangle set in; a bad set leaves a sticky error and is dropped.
-  void setTriangles(const MapTriangles& t, const char* which, std::vector<float>& positions_out,
-                    std::vector<uint32_t>& receivers_out, Aabb& bounds, Status& pending) {
-    pending = Status();
-    const size_t n = t.triangleCount();
-    positions_out.clear();
-    receivers_out.clear();
-    bounds = Aabb{};
-    if (t.positions.size() != 3 * n || t.back_receiver.size() != n) {
-      pending = Status(StatusCode::kInvalidInput,
-                       std::string("index map ") + which + " triangles: " + std::to_string(t.positions.size()) +
-                           " positions and " + std::to_string(t.back_receiver.size()) + " back receivers for " +
-                           std::to_string(n) + " triangles (need 3 and 1 per triangle)");
+  positions_out.reserve(9 * n);
+  receivers_out.reserve(2 * n);
+  for (size_t i = 0; i < 3 * n; ++i) {
+    const Vec3& p = t.positions[i];
+    if (!finite(p)) {
+      pending = Status(StatusCode::kInvalidInput, std::string("index map ") + which + " triangle " +
+                                                      std::to_string(i / 3) + ": corner " +
+                                                      std::to_string(i % 3) + " is not finite " + str(p));
+      positions_out.clear();
+      receivers_out.clear();
+      bounds = Aabb{};
       return;
     }
-    positions_out.reserve(9 * n);
-    receivers_out.reserve(2 * n);
-    for (size_t i = 0; i < 3 * n; ++i) {
-      const Vec3& p = t.positions[i];
-      if (!finite(p)) {
-        pending = Status(StatusCode::kInvalidInput, std::string("index map ") + which + " triangle " +
-                                                        std::to_string(i / 3) + ": corner " +
-                                                        std::to_string(i % 3) + " is not finite " + str(p));
-        positions_out.clear();
-        receivers_out.clear();
-        bounds = Aabb{};
-        return;
-      }
-      positions_out.insert(positions_out.end(), {p.x, p.y, p.z});
-      bounds.min = {std::min(bounds.min.x, p.x), std::min(bounds.min.y, p.y), std::min(bounds.min.z, p.z)};
-      bounds.max = {std::max(bounds.max.x, p.x), std::max(bounds.max.y, p.y), std::max(bounds.max.z, p.z)};
-    }
-    for (size_t i = 0; i < n; ++i) receivers_out.insert(receivers_out.end(), {t.front_receiver[i], t.back_receiver[i]});
+    positions_out.insert(positions_out.end(), {p.x, p.y, p.z});
+    bounds.min = {std::min(bounds.min.x, p.x), std::min(bounds.min.y, p.y), std::min(bounds.min.z, p.z)};
+    bounds.max = {std::max(bounds.max.x, p.x), std::max(bounds.max.y, p.y), std::max(bounds.max.z, p.z)};
   }
-
-  // Draws the listed chunks' ranges (appendChunkRanges: `skip` left out);
-  // returns the triangles.
-  uint64_t drawChunks(std::span<const uint32_t> list, uint32_t skip) {
-    draw_firsts.clear();
-    draw_counts.clear();
-    uint64_t triangles = 0;
-    for (uint32_t i : list) triangles += appendChunkRanges(chunks[i], skip, draw_firsts, draw_counts);
-    if (!draw_firsts.empty()) {
-      glMultiDrawArrays(GL_TRIANGLES, draw_firsts.data(), draw_counts.data(), GLsizei(draw_firsts.size()));
-    }
-    return triangles;
-  }
-
-  // The chunks of `rest` that `pyramid` (built from the face's depth) does
-  // not hide, into `kept`; returns the triangles hidden.
-  uint64_t keepUnhidden(std::span<const uint32_t> rest, const FaceProjection& face, std::vector<uint32_t>& kept) const {
-    kept.clear();
-    uint64_t hidden = 0;
-    for (uint32_t i : rest) {
-      if (chunkHidden(chunks[i], face, pyramid)) {
-        hidden += chunks[i].count;
-      } else {
-        kept.push_back(i);
-      }
-    }
-    return hidden;
-  }
-
-  Status validate(std::span<const PointSample> list, uint32_t slot_count) const;
-  PreparedSample prepare(const PointSample& s, uint32_t batch_index, const Aabb& bounds, double diagonal) const;
-  void render(std::span<const PreparedSample> batch, GatherStats& stats);
-  void reduceBatch(std::span<const PreparedSample> batch);
-};
+  for (size_t i = 0; i < n; ++i) receivers_out.insert(receivers_out.end(), {t.front_receiver[i], t.back_receiver[i]});
+}
 
 IndexMapRenderer::IndexMapRenderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 IndexMapRenderer::~IndexMapRenderer() = default;
@@ -646,245 +400,6 @@ PreparedSample IndexMapRenderer::Impl::prepare(const PointSample& s, uint32_t ba
   }
   g.faces[2] = batch_index * kCubeFaceCount;
   return out;
-}
-
-void IndexMapRenderer::Impl::render(std::span<const PreparedSample> batch, GatherStats& stats) {
-  const int res = settings.resolution;
-  const GLuint program = raster.id();
-  glUseProgram(program);
-  glBindVertexArray(vao);
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kReceiversBinding, receivers);
-  glViewport(0, 0, res, res);
-  const GLuint clear_id[4] = {kNoReceiver, kNoTriangle, 0, 0};
-  const GLfloat clear_depth = 0.0f;  // reversed depth: 0 = infinitely far
-  batch_drawn.assign(batch.size() * chunks.size(), 0);
-  pending_faces.clear();
-  auto useSample = [&](const PreparedSample& s) {
-    glProgramUniform3f(program, 0, s.gpu.position_near[0], s.gpu.position_near[1], s.gpu.position_near[2]);
-    glProgramUniform1i(program, 2, s.layout == MapLayout::kParallel ? 1 : 0);
-    glProgramUniform1f(program, 3, s.gpu.position_near[3]);
-    glProgramUniform1f(program, 4, s.gpu.cube_x_far[3]);
-    glProgramUniform1f(program, 5, s.gpu.cube_y_half[3]);
-  };
-  auto useLayer = [&](GLint layer, int first_row) {
-    glNamedFramebufferTextureLayer(fbo, GL_COLOR_ATTACHMENT0, id_map, 0, layer);
-    glNamedFramebufferTextureLayer(fbo, GL_DEPTH_ATTACHMENT, depth_map, 0, layer);
-    // Half faces: only the rows above the horizon are drawn, cleared and reduced.
-    glScissor(0, first_row, res, res - first_row);
-  };
-  // Draws the listed chunks for sample b, never its own triangle (the
-  // ranges split around it).
-  auto draw = [&](size_t b, std::span<const uint32_t> list) {
-    for (uint32_t i : list) batch_drawn[b * chunks.size() + i] = 1;
-    stats.triangles_drawn += drawChunks(list, batch[b].gpu.info[3]);
-  };
-  // A face's rows (right, up, forward in world) and frustum.
-  struct FaceSetup {
-    glm::dvec3 rows[3];
-    glm::dvec3 eye;
-    Frustum frustum;
-  };
-  auto faceSetup = [](const PreparedSample& s, int face) {
-    FaceSetup f;
-    const FaceBasis basis = cubeFaceBasis(face);
-    f.rows[0] = s.world_from_cube * basis.right;
-    f.rows[1] = s.world_from_cube * basis.up;
-    f.rows[2] = s.world_from_cube * basis.forward;
-    f.eye = glm::dvec3(s.gpu.position_near[0], s.gpu.position_near[1], s.gpu.position_near[2]);
-    f.frustum = faceFrustum(f.eye, f.rows[0], f.rows[1], f.rows[2], s.gpu.position_near[3], isHalfFace(s.layout, face),
-                            s.layout == MapLayout::kParallel, s.gpu.cube_y_half[3], s.gpu.cube_x_far[3]);
-    return f;
-  };
-  // The index lists of the samples with a static set (see set_indices).
-  batch_indices.clear();
-  face_index_ranges.assign(batch.size() * kCubeFaceCount, {0u, 0u});
-  for (size_t b = 0; b < batch.size(); ++b) {
-    const PreparedSample& s = batch[b];
-    if (!s.static_triangles) continue;
-    const LayoutFaces faces = layoutFaces(s.layout);
-    for (int i = 0; i < faces.count; ++i) {
-      const int face = faces.faces[size_t(i)];
-      const Frustum frustum = faceSetup(s, face).frustum;
-      candidateChunks(chunks, frustum, s.reach_lo, s.reach_hi, s.static_triangles, face_chunks);
-      const size_t first = batch_indices.size();
-      for (uint32_t c : face_chunks) {
-        batch_drawn[b * chunks.size() + c] = 1;
-        stats.triangles_drawn +=
-            appendSetIndices(chunks[c], static_positions, frustum, s.gpu.info[3], *s.static_triangles, batch_indices);
-      }
-      face_index_ranges[b * kCubeFaceCount + size_t(face)] = {uint32_t(first), uint32_t(batch_indices.size() - first)};
-    }
-  }
-  if (!batch_indices.empty()) {
-    if (batch_indices.size() > set_indices_capacity) {
-      set_indices_capacity = std::max(batch_indices.size(), set_indices_capacity + set_indices_capacity / 2);
-      growBuffer(set_indices, set_indices_capacity * sizeof(uint32_t));
-    }
-    glNamedBufferSubData(set_indices, 0, GLsizeiptr(batch_indices.size() * sizeof(uint32_t)), batch_indices.data());
-  }
-  for (size_t b = 0; b < batch.size(); ++b) {
-    const PreparedSample& s = batch[b];
-    const bool parallel = s.layout == MapLayout::kParallel;
-    useSample(s);
-    const LayoutFaces faces = layoutFaces(s.layout);
-    for (int i = 0; i < faces.count; ++i) {
-      const int face = faces.faces[size_t(i)];
-      const GLint layer = GLint(b * kCubeFaceCount + size_t(face));
-      const int first_row = firstRow(s.layout, face, res);
-      useLayer(layer, first_row);
-      glClearBufferuiv(GL_COLOR, 0, clear_id);
-      glClearBufferfv(GL_DEPTH, 0, &clear_depth);
-      const FaceSetup setup = faceSetup(s, face);
-      const glm::dvec3* rows = setup.rows;
-      const glm::dvec3& eye = setup.eye;
-      PendingFace pending;
-      for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) pending.view_from_world[size_t(r * 3 + c)] = GLfloat(rows[r][c]);
-      }
-      glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, pending.view_from_world.data());  // row-major rows
-      if (s.static_triangles) {
-        // Its index list, built above: only what the sample saw.
-        const auto [first, count] = face_index_ranges[b * kCubeFaceCount + size_t(face)];
-        if (count > 0) {
-          glDrawElements(GL_TRIANGLES, GLsizei(count), GL_UNSIGNED_INT,
-                         reinterpret_cast<const void*>(uintptr_t(first) * sizeof(uint32_t)));
-        }
-      } else {
-        candidateChunks(chunks, setup.frustum, s.reach_lo, s.reach_hi, nullptr, face_chunks);
-        // Occlusion culling where it can spare much: perspective faces
-        // drawing many chunks.
-        if (settings.occlusion_culling && !parallel && face_chunks.size() >= kOcclusionMinChunks) {
-          splitNearest(chunks, face_chunks, eye, occlusionFirstTriangles(chunks, face_chunks), near_chunks,
-                       pending.rest);
-          draw(b, near_chunks);
-          pending.sample = b;
-          pending.layer = layer;
-          pending.first_row = first_row;
-          pending.face = {eye, rows[0], rows[1], rows[2], 1.0, 1.0, double(s.gpu.position_near[3])};
-          pending_faces.push_back(std::move(pending));
-        } else {
-          draw(b, face_chunks);
-        }
-      }
-      ++stats.faces_rendered;
-      stats.texels += uint64_t(res) * uint64_t(res - first_row);
-      batch_layers.push_back({uint32_t(b), uint32_t(face), uint32_t(first_row), uint32_t(layer)});
-    }
-  }
-  // Then rounds: each reads back the faces' depth (one sync per batch, not
-  // per face), leaves out what it hides, and draws the nearest of the rest
-  // (the last round: all of it), so the occluders build up front to back.
-  depth_scratch.resize(size_t(res) * size_t(res));
-  size_t current = batch.size();
-  for (int round = 1; round <= kOcclusionRounds && !pending_faces.empty(); ++round) {
-    // Every face's test first, then every face's draw: a read-back after a
-    // draw would wait for it, face by face.
-    for (PendingFace& p : pending_faces) {
-      glGetTextureSubImage(depth_map, 0, 0, 0, p.layer, res, res, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
-                           GLsizei(depth_scratch.size() * sizeof(float)), depth_scratch.data());
-      buildDepthPyramid(depth_scratch, res, res, p.first_row, pyramid);
-      stats.triangles_hidden += keepUnhidden(p.rest, p.face, face_chunks);
-      if (round == kOcclusionRounds) {
-        p.rest.clear();
-        p.next.swap(face_chunks);
-      } else {
-        splitNearest(chunks, face_chunks, p.face.eye, occlusionFirstTriangles(chunks, face_chunks), p.next, p.rest);
-      }
-    }
-    for (PendingFace& p : pending_faces) {
-      if (p.next.empty()) continue;
-      if (p.sample != current) {
-        useSample(batch[p.sample]);
-        current = p.sample;
-      }
-      useLayer(p.layer, p.first_row);
-      glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, p.view_from_world.data());
-      draw(p.sample, p.next);
-    }
-    std::erase_if(pending_faces, [](const PendingFace& p) { return p.rest.empty(); });
-  }
-}
-
-void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) {
-  const int res = settings.resolution;
-  const uint32_t count = triangleCount();
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kReceiversBinding, receivers);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSamplesBinding, samples);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLayersBinding, layers);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccumulatorBinding, accumulators);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSmallFlagsBinding, small_flags);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPositionsBinding, positions);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCounterBinding, counter);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSeenBinding, seen);
-  const bool fallback_on = settings.small_polygon_fallback;
-  if (fallback_on && small_generation == std::numeric_limits<uint32_t>::max()) clearSmallFlags();
-  ++small_generation;
-  for (GLuint program : {fallback.id(), reduce.id()}) {
-    glProgramUniform1ui(program, kSeenWordsLocation, seen_words);
-    glProgramUniform1ui(program, kStaticTrianglesLocation, GLuint(staticTriangleCount()));
-    glProgramUniform1ui(program, kSmallGenerationLocation, small_generation);
-  }
-  glBindTextureUnit(kIdMapUnit, id_map);
-  glBindTextureUnit(kDepthMapUnit, depth_map);
-  if (fallback_on) {
-    // Work items: one (triangle, sample) pair per invocation, for each
-    // triangle of a chunk the sample drew on some face and, with a static
-    // set, each static one of the set; so the pass costs what each sample
-    // drew, not the level, and its work groups are full (llvmpipe pays per
-    // group, ~8 us). A triangle left out is credited nothing by the sample
-    // anyway: outside every face (no vertex lands in the map), or hidden
-    // behind what the map drew (occlusion-culled, or out of its set: the
-    // set holds whatever the same sample saw of the static level, and only
-    // objects were added since). Its flag reads "not small", so any texel
-    // it wins in a depth tie is reduced as usual.
-    batch_pairs.clear();
-    for (size_t b = 0; b < batch.size(); ++b) {
-      const TriangleBits* set = batch[b].static_triangles;
-      const uint32_t own = batch[b].gpu.info[3];
-      for (size_t k = 0; k < chunks.size(); ++k) {
-        if (batch_drawn[b * chunks.size() + k] == 0) continue;
-        const TriangleChunk& c = chunks[k];
-        for (uint32_t t = c.first; t < c.first + c.count; ++t) {
-          if (t == own || (set && !c.dynamic && !triangleInSet(*set, t))) continue;
-          batch_pairs.push_back(t);
-          batch_pairs.push_back(uint32_t(b));
-        }
-      }
-    }
-    if (batch_pairs.size() > pairs_capacity) {
-      pairs_capacity = std::max(batch_pairs.size(), pairs_capacity + pairs_capacity / 2);
-      growBuffer(pairs, pairs_capacity * sizeof(uint32_t));
-    }
-    if (!batch_pairs.empty()) {
-      glNamedBufferSubData(pairs, 0, GLsizeiptr(batch_pairs.size() * sizeof(uint32_t)), batch_pairs.data());
-    }
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPairsBinding, pairs);
-    const GLuint p = fallback.id();
-    glUseProgram(p);
-    glProgramUniform1i(p, 0, res);
-    glProgramUniform1ui(p, 1, receiver_count);
-    glProgramUniform1ui(p, 2, count);
-    glProgramUniform1f(p, 4, kSmallTexels);
-    glProgramUniform1i(p, 5, settings.edge_taps ? 1 : 0);
-    glProgramUniform1i(p, 6, settings.neighbour_ids ? 1 : 0);
-    const GLuint pair_count = GLuint(batch_pairs.size() / 2);
-    glProgramUniform1ui(p, 8, pair_count);
-    // Pairs over x (<= 65535 groups of 64) and z.
-    const GLuint groups = (pair_count + kLocalSize - 1) / kLocalSize;
-    const GLuint x = std::min(groups, kMaxGroups);
-    if (groups > 0) glDispatchCompute(x, 1, (groups + x - 1) / x);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  }
-  const GLuint p = reduce.id();
-  glUseProgram(p);
-  glProgramUniform1i(p, 0, res);
-  glProgramUniform1ui(p, 1, receiver_count);
-  glProgramUniform1ui(p, 2, count);
-  glProgramUniform1i(p, 3, fallback_on ? 1 : 0);
-  const GLuint texel_runs = GLuint(res) * GLuint((res + kReduceRun - 1) / kReduceRun);
-  glDispatchCompute((texel_runs + kLocalSize - 1) / kLocalSize, GLuint(batch_layers.size()), 1);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
 Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32_t slot_count,

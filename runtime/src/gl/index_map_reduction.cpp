@@ -1,0 +1,90 @@
+// Index maps, stages 2 and 3: the small-polygon fallback and the reduction
+// into per-receiver shares (index_map_renderer.cpp describes the whole;
+// index_map_renderer_impl.h holds the shared state).
+
+#include "index_map_renderer_impl.h"
+
+namespace svit::gl {
+
+void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) {
+  const int res = settings.resolution;
+  const uint32_t count = triangleCount();
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kReceiversBinding, receivers);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSamplesBinding, samples);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLayersBinding, layers);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccumulatorBinding, accumulators);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSmallFlagsBinding, small_flags);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPositionsBinding, positions);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCounterBinding, counter);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSeenBinding, seen);
+  const bool fallback_on = settings.small_polygon_fallback;
+  if (fallback_on && small_generation == std::numeric_limits<uint32_t>::max()) clearSmallFlags();
+  ++small_generation;
+  for (GLuint program : {fallback.id(), reduce.id()}) {
+    glProgramUniform1ui(program, kSeenWordsLocation, seen_words);
+    glProgramUniform1ui(program, kStaticTrianglesLocation, GLuint(staticTriangleCount()));
+    glProgramUniform1ui(program, kSmallGenerationLocation, small_generation);
+  }
+  glBindTextureUnit(kIdMapUnit, id_map);
+  glBindTextureUnit(kDepthMapUnit, depth_map);
+  if (fallback_on) {
+    // Work items: one (triangle, sample) pair per invocation, for each
+    // triangle of a chunk the sample drew on some face and, with a static
+    // set, each static one of the set; so the pass costs what each sample
+    // drew, not the level, and its work groups are full (llvmpipe pays per
+    // group, ~8 us). A triangle left out is credited nothing by the sample
+    // anyway: outside every face (no vertex lands in the map), or hidden
+    // behind what the map drew (occlusion-culled, or out of its set: the
+    // set holds whatever the same sample saw of the static level, and only
+    // objects were added since). Its flag reads "not small", so any texel
+    // it wins in a depth tie is reduced as usual.
+    batch_pairs.clear();
+    for (size_t b = 0; b < batch.size(); ++b) {
+      const TriangleBits* set = batch[b].static_triangles;
+      const uint32_t own = batch[b].gpu.info[3];
+      for (size_t k = 0; k < chunks.size(); ++k) {
+        if (batch_drawn[b * chunks.size() + k] == 0) continue;
+        const TriangleChunk& c = chunks[k];
+        for (uint32_t t = c.first; t < c.first + c.count; ++t) {
+          if (t == own || (set && !c.dynamic && !triangleInSet(*set, t))) continue;
+          batch_pairs.push_back(t);
+          batch_pairs.push_back(uint32_t(b));
+        }
+      }
+    }
+    if (batch_pairs.size() > pairs_capacity) {
+      pairs_capacity = std::max(batch_pairs.size(), pairs_capacity + pairs_capacity / 2);
+      growBuffer(pairs, pairs_capacity * sizeof(uint32_t));
+    }
+    if (!batch_pairs.empty()) {
+      glNamedBufferSubData(pairs, 0, GLsizeiptr(batch_pairs.size() * sizeof(uint32_t)), batch_pairs.data());
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPairsBinding, pairs);
+    const GLuint p = fallback.id();
+    glUseProgram(p);
+    glProgramUniform1i(p, 0, res);
+    glProgramUniform1ui(p, 1, receiver_count);
+    glProgramUniform1ui(p, 2, count);
+    glProgramUniform1f(p, 4, kSmallTexels);
+    glProgramUniform1i(p, 5, settings.edge_taps ? 1 : 0);
+    glProgramUniform1i(p, 6, settings.neighbour_ids ? 1 : 0);
+    const GLuint pair_count = GLuint(batch_pairs.size() / 2);
+    glProgramUniform1ui(p, 8, pair_count);
+    // Pairs over x (<= 65535 groups of 64) and z.
+    const GLuint groups = (pair_count + kLocalSize - 1) / kLocalSize;
+    const GLuint x = std::min(groups, kMaxGroups);
+    if (groups > 0) glDispatchCompute(x, 1, (groups + x - 1) / x);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  }
+  const GLuint p = reduce.id();
+  glUseProgram(p);
+  glProgramUniform1i(p, 0, res);
+  glProgramUniform1ui(p, 1, receiver_count);
+  glProgramUniform1ui(p, 2, count);
+  glProgramUniform1i(p, 3, fallback_on ? 1 : 0);
+  const GLuint texel_runs = GLuint(res) * GLuint((res + kReduceRun - 1) / kReduceRun);
+  glDispatchCompute((texel_runs + kLocalSize - 1) / kLocalSize, GLuint(batch_layers.size()), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+}  // namespace svit::gl
