@@ -16,12 +16,12 @@
 
 namespace svit::gl {
 
-// Small enough that a run rarely spans two rooms' meshes (a room of the
-// sample house is about 270 triangles; with 256 every run did, and
-// occlusion culling could hide none) and that the few triangles an emitter
-// sees through a doorway cost little more than themselves (32 against 64:
-// 36 % fewer triangles drawn on the 8 x 8 house), large enough that a big
-// level's runs stay few to test (Sponza: 8 k).
+// Small enough that a run's box is a small part of a room (a room of the
+// sample house is about 270 triangles; with 256 a run was a whole room, and
+// occlusion culling could hide none) and that the few triangles a moving
+// sample sees through a doorway cost little more than themselves (32
+// against 64: 36 % fewer triangles drawn on the 8 x 8 house), large enough
+// that a big level's runs stay few to test (Sponza: 8 k).
 inline constexpr uint32_t kChunkTriangles = 32;
 
 /// An order of triangles (by their centroids) in which every run of

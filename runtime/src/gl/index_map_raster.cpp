@@ -74,10 +74,7 @@ void IndexMapRenderer::Impl::render(std::span<const PreparedSample> batch, Gathe
     }
   }
   if (!batch_indices.empty()) {
-    if (batch_indices.size() > set_indices_capacity) {
-      set_indices_capacity = std::max(batch_indices.size(), set_indices_capacity + set_indices_capacity / 2);
-      growBuffer(set_indices, set_indices_capacity * sizeof(uint32_t));
-    }
+    reserveUints(set_indices, set_indices_capacity, batch_indices.size());
     glNamedBufferSubData(set_indices, 0, GLsizeiptr(batch_indices.size() * sizeof(uint32_t)), batch_indices.data());
   }
   for (size_t b = 0; b < batch.size(); ++b) {

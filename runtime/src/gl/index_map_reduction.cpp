@@ -52,10 +52,7 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
         }
       }
     }
-    if (batch_pairs.size() > pairs_capacity) {
-      pairs_capacity = std::max(batch_pairs.size(), pairs_capacity + pairs_capacity / 2);
-      growBuffer(pairs, pairs_capacity * sizeof(uint32_t));
-    }
+    reserveUints(pairs, pairs_capacity, batch_pairs.size());
     if (!batch_pairs.empty()) {
       glNamedBufferSubData(pairs, 0, GLsizeiptr(batch_pairs.size() * sizeof(uint32_t)), batch_pairs.data());
     }

@@ -432,19 +432,13 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
     if (stats_out) *stats_out = stats;
     return Status();
   }
-  if (2 * cells > m.accumulator_capacity) {
-    m.accumulator_capacity = std::max(2 * cells, m.accumulator_capacity + m.accumulator_capacity / 2);
-    m.growBuffer(m.accumulators, m.accumulator_capacity * sizeof(uint32_t));
-  }
+  m.reserveUints(m.accumulators, m.accumulator_capacity, 2 * cells);
   const GLuint zero = 0;
   glClearNamedBufferSubData(m.accumulators, GL_R32UI, 0, GLsizeiptr(2 * cells * sizeof(uint32_t)), GL_RED_INTEGER,
                             GL_UNSIGNED_INT, &zero);
   glClearNamedBufferSubData(m.counter, GL_R32UI, 0, sizeof(uint32_t), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   if (seen_words > 0) {
-    if (seen_words > m.seen_capacity) {
-      m.seen_capacity = std::max(seen_words, m.seen_capacity + m.seen_capacity / 2);
-      m.growBuffer(m.seen, m.seen_capacity * sizeof(uint32_t));
-    }
+    m.reserveUints(m.seen, m.seen_capacity, seen_words);
     glClearNamedBufferSubData(m.seen, GL_R32UI, 0, GLsizeiptr(seen_words * sizeof(uint32_t)), GL_RED_INTEGER,
                               GL_UNSIGNED_INT, &zero);
   }

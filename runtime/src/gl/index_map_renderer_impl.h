@@ -192,6 +192,15 @@ struct IndexMapRenderer::Impl {
     ++allocations;
   }
 
+  // Grows a grow-only buffer of uints to hold `needed` (by half again at
+  // least, so growth is rare); true when it was reallocated.
+  bool reserveUints(GLuint buffer, size_t& capacity, size_t needed) {
+    if (needed <= capacity) return false;
+    capacity = std::max(needed, capacity + capacity / 2);
+    growBuffer(buffer, capacity * sizeof(uint32_t));
+    return true;
+  }
+
   void clearSmallFlags() {
     const GLuint zero = 0;
     glClearNamedBufferData(small_flags, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
@@ -218,11 +227,7 @@ struct IndexMapRenderer::Impl {
     }
     // The fallback's flags: one uint per (sample of a batch, triangle).
     const size_t flags = size_t(settings.max_batch_samples) * count;
-    if (settings.small_polygon_fallback && flags > small_flags_capacity) {
-      small_flags_capacity = std::max(flags, small_flags_capacity + small_flags_capacity / 2);
-      growBuffer(small_flags, small_flags_capacity * sizeof(uint32_t));
-      clearSmallFlags();
-    }
+    if (settings.small_polygon_fallback && reserveUints(small_flags, small_flags_capacity, flags)) clearSmallFlags();
     if (all && !static_positions.empty()) {
       glNamedBufferSubData(positions, 0, GLsizeiptr(static_positions.size() * sizeof(float)), static_positions.data());
       glNamedBufferSubData(receivers, 0, GLsizeiptr(static_receivers.size() * sizeof(uint32_t)),

@@ -34,7 +34,6 @@ uint64_t patchBytes(const rt::RuntimePatches& p) {
          vectorBytes(p.element_n) + vectorBytes(p.element_first_slot) + vectorBytes(p.slots);
 }
 
-
 }  // namespace
 
 std::vector<ResourceUse> Runtime::resources() const {
