@@ -130,6 +130,47 @@ TEST(IndexMapArtifacts, VanishingSmallPolygons) {
   EXPECT_NEAR(without[1] - oracle[1], analytic, 0.05 * analytic);
 }
 
+// The fallback is dispatched only for triangles it may find small: the CPU
+// leaves out those its cos / r^2 estimate puts above kSmallTexels (4) of the
+// largest texel solid angle. Near the face centre, triangles facing the
+// sample at 3.8 texels of solid angle are small and credited, at 4.2 not:
+// exactly the 8 small ones are credited, so the cut keeps every triangle
+// near the threshold the shader would credit.
+TEST(IndexMapArtifacts, FallbackVisitsEveryTriangleItMayFindSmall) {
+  GlTestContext ctx;
+  SVIT_REQUIRE_GL(ctx);
+  const FrontFace f = frontFace();
+  gl::MapTriangles t;
+  addWall(t, f);
+  const double texel_sr = 4.0 / (double(kResolution) * kResolution);  // at the face centre
+  int small = 0;
+  for (int j = 0; j < 4; ++j) {
+    for (int i = 0; i < 4; ++i) {
+      const bool is_small = (i + j) % 2 == 0;
+      const glm::dvec3 c = f.at(-0.075 + 0.05 * i, -0.075 + 0.05 * j, 1.0);
+      const double dist = glm::length(c);
+      // Facing the sample: cos / r^2 x area is area / dist^2.
+      const double area = (is_small ? 3.8 : 4.2) * texel_sr * dist * dist;
+      const double radius = std::sqrt(area / (0.75 * std::sqrt(3.0)));  // equilateral, circumradius
+      const glm::dvec3 e1 = glm::normalize(glm::cross(c, f.up)), e2 = glm::normalize(glm::cross(c, e1));
+      glm::dvec3 p[3];
+      for (int k = 0; k < 3; ++k) {
+        const double a = 2 * kTestPi * (0.25 + k / 3.0);
+        p[k] = c + radius * (std::cos(a) * e1 + std::sin(a) * e2);
+      }
+      addTriangle(t, p[0], p[1], p[2], 0, 0);
+      small += is_small ? 1 : 0;
+    }
+  }
+  IndexMapSettings settings;
+  settings.resolution = kResolution;
+  settings.small_polygon_fallback = true;
+  gl::GatherStats stats;
+  const std::vector<float> shares = gather(settings, t, 2, {&f.sample, 1}, &stats);
+  EXPECT_EQ(stats.fallback_triangles, uint32_t(small));
+  EXPECT_GT(shares[0], 0.0f);
+}
+
 // (b) Edge and neighbour ids. A plane seen at 60 degrees, tessellated into
 // triangles of about a texel (all "small"), credited by vertex visibility.
 // A vertex's texel shows one of the ~6 triangles around it, often not its

@@ -5,6 +5,28 @@
 #include "index_map_renderer_impl.h"
 
 namespace svit::gl {
+namespace {
+
+/// Whether the fallback's classify() (shaders/index_map_fallback.comp) is
+/// sure to find triangle `corners` not small for perspective sample `s`:
+/// its cos / r^2 estimate at or above kSmallTexels of the largest texel
+/// solid angle (4 / res^2, at a face's centre), with a margin for float
+/// rounding. Such a pair would only read "not small", as a pair never
+/// visited does, so it need not be dispatched: on the 8 x 8 house most
+/// triangles a sample draws are near it and large.
+bool surelyNotSmall(const PreparedSample& s, const float* corners, int resolution) {
+  if (s.layout == MapLayout::kParallel) return false;
+  const glm::dvec3 v0(corners[0], corners[1], corners[2]), v1(corners[3], corners[4], corners[5]),
+      v2(corners[6], corners[7], corners[8]);
+  const glm::dvec3 d = (v0 + v1 + v2) / 3.0 - glm::dvec3(s.gpu.position_near[0], s.gpu.position_near[1], s.gpu.position_near[2]);
+  const double dist = glm::length(d);
+  if (!(dist > 0)) return false;
+  const double approx_sr = std::abs(glm::dot(glm::cross(v1 - v0, v2 - v0), d)) / (2.0 * dist * dist * dist);
+  const double largest_texel_sr = 4.0 / (double(resolution) * double(resolution));
+  return approx_sr >= 1.01 * double(kSmallTexels) * largest_texel_sr;
+}
+
+}  // namespace
 
 void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) {
   const int res = settings.resolution;
@@ -45,8 +67,11 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
       for (size_t k = 0; k < chunks.size(); ++k) {
         if (batch_drawn[b * chunks.size() + k] == 0) continue;
         const TriangleChunk& c = chunks[k];
-        for (uint32_t t = c.first; t < c.first + c.count; ++t) {
+        const float* corners = c.dynamic ? dynamic_positions.data() + size_t(c.first - staticTriangleCount()) * 9
+                                         : static_positions.data() + size_t(c.first) * 9;
+        for (uint32_t t = c.first; t < c.first + c.count; ++t, corners += 9) {
           if (t == own || (set && !c.dynamic && !triangleInSet(*set, t))) continue;
+          if (surelyNotSmall(batch[b], corners, res)) continue;
           batch_pairs.push_back(t);
           batch_pairs.push_back(uint32_t(b));
         }
