@@ -27,6 +27,16 @@ layout(std430, binding = 1) readonly buffer Samples { SampleGpu samples[]; };
 
 // Per (slot, receiver): a 64-bit fixed-point sum as (low, high) words.
 layout(std430, binding = 3) buffer Accumulators { uint acc[]; };
+// Which blocks of kCellBlock accumulators (slot * receivers + receiver,
+// counted from 0) hold a sum: a flag each, and the list of the flagged
+// ones, in the order they were first added to. Only those come back to the
+// CPU (index_map_compact.comp), so a read-back costs what the samples lit,
+// not slots x the level's receivers.
+const uint kCellBlock = 64u;
+layout(std430, binding = 9) buffer TouchedFlags { uint touched[]; };
+layout(std430, binding = 10) buffer TouchedList { uint touched_list[]; };
+// Triangles the fallback credited; blocks in touched_list.
+layout(std430, binding = 6) buffer Counter { uint credited_count; uint touched_count; };
 
 layout(location = 0) uniform int u_resolution;
 
@@ -156,4 +166,10 @@ void accumulate(uint index, uvec2 v) {
   uint old = atomicAdd(acc[2u * index], v.x);
   uint high = v.y + (old + v.x < old ? 1u : 0u);
   if (high != 0u) atomicAdd(acc[2u * index + 1u], high);
+  // The first add to a block lists it (the plain read spares the atomic
+  // once it is flagged; the exchange decides).
+  uint block = index / kCellBlock;
+  if (touched[block] == 0u && atomicExchange(touched[block], 1u) == 0u) {
+    touched_list[atomicAdd(touched_count, 1u)] = block;
+  }
 }

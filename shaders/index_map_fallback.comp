@@ -56,7 +56,7 @@ layout(std430, binding = 0) readonly buffer Receivers { uvec2 receivers[]; };  /
 // small in the sample's map; anything else (an older batch's) is "not small".
 layout(std430, binding = 4) writeonly buffer SmallFlags { uint small_flags[]; };
 layout(std430, binding = 5) readonly buffer Positions { float positions[]; };  // 9 per triangle
-layout(std430, binding = 6) buffer Counter { uint credited_count; };
+layout(std430, binding = 6) buffer Counter { uint credited_count; uint touched_count; };  // as index_map_common.comp
 // Work items: (triangle, sample of the batch) pairs the sample may have
 // drawn. Only those are visited, so a big level costs what the samples
 // reach, not all of it.

@@ -4,8 +4,9 @@
 # bench_importance on both under Xvfb, writing OUT/house-RxR.json: a walk
 # through four rooms whose tables slide (the same dynamic activity in both
 # houses), refresh-all against importance caching at BUDGET_SAMPLES and at
-# 32, 24, 16 and 12 samples per frame (cost against error, so the houses
-# compare at equal accuracy), then the door and lamp cases.
+# 40, 36, 32, 24, 16 and 12 samples per frame (cost against error, so the
+# houses compare at equal accuracy: importance_growth.sh), then the door
+# and lamp cases.
 # usage: tests/bench/importance_bench.sh [BUILD_DIR] [OUT_DIR] [BUDGET_SAMPLES]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -21,5 +22,5 @@ for n in 2 8; do
     "$build/baker/svit-bake" "$dir/level.json" -o "$dir/bake" --quality 0.2 --quiet
   fi
   xvfb-run -a -s "-screen 0 640x480x24" "$build/tests/bench/bench_importance" "$dir/level.json" "$dir/bake" \
-    --budget "$budget" --stop-frames 2 --moving walk --also-budgets 32,24,16,12 --json "$out/house-${n}x${n}.json"
+    --budget "$budget" --stop-frames 2 --moving walk --also-budgets 40,36,32,24,16,12 --json "$out/house-${n}x${n}.json"
 done

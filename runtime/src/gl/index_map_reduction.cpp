@@ -39,6 +39,8 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPositionsBinding, positions);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCounterBinding, counter);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSeenBinding, seen);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTouchedBinding, touched);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTouchedListBinding, touched_list);
   const bool fallback_on = settings.small_polygon_fallback;
   if (fallback_on && small_generation == std::numeric_limits<uint32_t>::max()) clearSmallFlags();
   ++small_generation;
@@ -107,6 +109,28 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
   const GLuint texel_runs = GLuint(res) * GLuint((res + kReduceRun - 1) / kReduceRun);
   glDispatchCompute((texel_runs + kLocalSize - 1) / kLocalSize, GLuint(batch_layers.size()), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+void IndexMapRenderer::Impl::compactTouched(uint32_t listed, size_t cells) {
+  touched_blocks.resize(listed);
+  readback.resize(size_t(listed) * 2 * kCellBlock);
+  if (listed > 0) {
+    reserveUints(packed, packed_capacity, readback.size());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccumulatorBinding, accumulators);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTouchedBinding, touched);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTouchedListBinding, touched_list);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPackedBinding, packed);
+    const GLuint p = compact.id();
+    glUseProgram(p);
+    glProgramUniform1ui(p, 0, listed);
+    glProgramUniform1ui(p, 1, GLuint(cells));
+    const GLuint x = std::min<GLuint>(listed, kMaxGroups);
+    glDispatchCompute(x, 1, (listed + x - 1) / x);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(touched_list, 0, GLsizeiptr(listed * sizeof(uint32_t)), touched_blocks.data());
+    glGetNamedBufferSubData(packed, 0, GLsizeiptr(readback.size() * sizeof(uint32_t)), readback.data());
+  }
+  accumulators_zero = true;
 }
 
 }  // namespace svit::gl

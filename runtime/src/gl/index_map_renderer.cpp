@@ -219,9 +219,12 @@ Expected<std::unique_ptr<IndexMapRenderer>> IndexMapRenderer::create(const Index
   if (!reduce.ok()) return reduce.status();
   Expected<GlProgram> fallback = linkProgram({"index_map_fallback.comp", "index_map_common.comp"});
   if (!fallback.ok()) return fallback.status();
+  Expected<GlProgram> compact = linkProgram({"index_map_compact.comp"});
+  if (!compact.ok()) return compact.status();
   impl->raster = std::move(raster).value();
   impl->reduce = std::move(reduce).value();
   impl->fallback = std::move(fallback).value();
+  impl->compact = std::move(compact).value();
 
   Impl& m = *impl;
   glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &m.id_map);
@@ -244,12 +247,12 @@ Expected<std::unique_ptr<IndexMapRenderer>> IndexMapRenderer::create(const Index
     return Status(StatusCode::kUnsupported, std::string("index map framebuffer (RG32UI + DEPTH32F array) is incomplete: ") + code);
   }
   GLuint* buffers[] = {&m.set_indices, &m.positions, &m.receivers, &m.accumulators, &m.samples, &m.layers, &m.small_flags, &m.counter, &m.pairs,
-                      &m.seen};
+                      &m.seen, &m.touched, &m.touched_list, &m.packed};
   for (GLuint* b : buffers) glCreateBuffers(1, b);
   glNamedBufferData(m.samples, GLsizeiptr(sizeof(SampleGpu) * size_t(settings.max_batch_samples)), nullptr,
                     GL_DYNAMIC_DRAW);
   glNamedBufferData(m.layers, GLsizeiptr(4 * sizeof(uint32_t) * size_t(layer_count)), nullptr, GL_DYNAMIC_DRAW);
-  glNamedBufferData(m.counter, sizeof(uint32_t), nullptr, GL_DYNAMIC_DRAW);
+  glNamedBufferData(m.counter, 2 * sizeof(uint32_t), nullptr, GL_DYNAMIC_DRAW);
   glNamedBufferData(m.seen, sizeof(uint32_t), nullptr, GL_DYNAMIC_DRAW);  // bound even when unused
   glCreateVertexArrays(1, &m.vao);
   glEnableVertexArrayAttrib(m.vao, 0);
@@ -432,11 +435,19 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
     if (stats_out) *stats_out = stats;
     return Status();
   }
-  m.reserveUints(m.accumulators, m.accumulator_capacity, 2 * cells);
+  // The accumulators and block flags are left zero by every gather's
+  // compaction; only new storage (or an interrupted gather) needs clearing.
+  const size_t blocks = (cells + kCellBlock - 1) / kCellBlock;
+  bool fresh = m.reserveUints(m.accumulators, m.accumulator_capacity, 2 * cells);
+  fresh |= m.reserveUints(m.touched, m.touched_capacity, blocks);
+  m.reserveUints(m.touched_list, m.touched_list_capacity, blocks);
   const GLuint zero = 0;
-  glClearNamedBufferSubData(m.accumulators, GL_R32UI, 0, GLsizeiptr(2 * cells * sizeof(uint32_t)), GL_RED_INTEGER,
-                            GL_UNSIGNED_INT, &zero);
-  glClearNamedBufferSubData(m.counter, GL_R32UI, 0, sizeof(uint32_t), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  if (fresh || !m.accumulators_zero) {
+    glClearNamedBufferData(m.accumulators, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glClearNamedBufferData(m.touched, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  }
+  m.accumulators_zero = false;
+  glClearNamedBufferData(m.counter, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   if (seen_words > 0) {
     m.reserveUints(m.seen, m.seen_capacity, seen_words);
     glClearNamedBufferSubData(m.seen, GL_R32UI, 0, GLsizeiptr(seen_words * sizeof(uint32_t)), GL_RED_INTEGER,
@@ -453,6 +464,8 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
                                          : std::hypot(double(bounds.max.x) - bounds.min.x,
                                                       double(bounds.max.y) - bounds.min.y,
                                                       double(bounds.max.z) - bounds.min.z);
+  Clock::time_point readback_start;
+  uint32_t listed = 0;
   {
     StateGuard guard;
     setIdRasterState(true);
@@ -483,23 +496,30 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
       stats.reduce_ms += msSince(t0);
       stats.samples += uint32_t(batch.size());
     }
+    // The sums come back by touched block (inside the guard: the
+    // compaction uses a program of its own).
+    readback_start = Clock::now();
+    uint32_t counts[2] = {0, 0};  // credited triangles, listed blocks
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glGetNamedBufferSubData(m.counter, 0, sizeof counts, counts);
+    stats.fallback_triangles = counts[0];
+    listed = std::min<uint32_t>(counts[1], uint32_t(blocks));
+    m.compactTouched(listed, cells);
   }
-  const auto t0 = Clock::now();
-  if (m.readback.size() < 2 * cells) m.readback.resize(2 * cells);
-  glGetNamedBufferSubData(m.accumulators, 0, GLsizeiptr(2 * cells * sizeof(uint32_t)), m.readback.data());
-  uint32_t credited = 0;
-  glGetNamedBufferSubData(m.counter, 0, sizeof(uint32_t), &credited);
-  stats.fallback_triangles = credited;
   if (seen_out) {
     seen_out->resize(seen_words);
     if (seen_words > 0) glGetNamedBufferSubData(m.seen, 0, GLsizeiptr(seen_words * sizeof(uint32_t)), seen_out->data());
   }
-  shares.resize(cells);
-  for (size_t i = 0; i < cells; ++i) {
-    const double fixed = double(m.readback[2 * i + 1]) * 4294967296.0 + double(m.readback[2 * i]);
-    shares[i] = float(fixed / kFixedPoint);
+  shares.assign(cells, 0.0f);
+  for (size_t i = 0; i < listed; ++i) {
+    const size_t first = size_t(m.touched_blocks[i]) * kCellBlock;
+    const uint32_t* words = m.readback.data() + 2 * kCellBlock * i;
+    for (size_t c = 0; c < kCellBlock && first + c < cells; ++c) {
+      const double fixed = double(words[2 * c + 1]) * 4294967296.0 + double(words[2 * c]);
+      shares[first + c] = float(fixed / kFixedPoint);
+    }
   }
-  stats.readback_ms = msSince(t0);
+  stats.readback_ms = msSince(readback_start);
   stats.buffer_allocations = std::exchange(m.allocations, 0u);
   if (Status s = checkGlError("IndexMapRenderer::gather"); !s.ok()) return s;
   if (stats_out) *stats_out = stats;
@@ -616,7 +636,7 @@ std::vector<GlObject> IndexMapRenderer::mapObjects() const {
   const Impl& m = *impl_;
   std::vector<GlObject> out = {glTextureObject(m.id_map), glTextureObject(m.depth_map)};
   for (GLuint b : {m.positions, m.receivers, m.accumulators, m.samples, m.layers, m.small_flags, m.counter, m.pairs,
-                   m.seen, m.set_indices}) {
+                   m.seen, m.set_indices, m.touched, m.touched_list, m.packed}) {
     out.push_back(glBufferObject(b));
   }
   return out;
@@ -632,7 +652,7 @@ uint64_t IndexMapRenderer::hostBytes() const {
   return bytes(m.static_positions) + bytes(m.dynamic_positions) + bytes(m.static_receivers) +
          bytes(m.dynamic_receivers) + bytes(m.static_chunks) + bytes(m.chunks) + bytes(m.readback) +
          bytes(m.view_readback) + bytes(m.batch_samples) + bytes(m.batch_layers) + bytes(m.batch_pairs) +
-         bytes(m.batch_indices) + bytes(m.face_index_ranges);
+         bytes(m.batch_indices) + bytes(m.face_index_ranges) + bytes(m.touched_blocks);
 }
 
 }  // namespace svit::gl

@@ -32,7 +32,10 @@ constexpr uint32_t kNoTriangle = 0xffffffffu;
 // Shader storage and texture bindings (shaders/index_map_*.{frag,comp}).
 constexpr GLuint kReceiversBinding = 0, kSamplesBinding = 1, kLayersBinding = 2, kAccumulatorBinding = 3,
                  kSmallFlagsBinding = 4, kPositionsBinding = 5, kCounterBinding = 6, kPairsBinding = 7,
-                 kSeenBinding = 8;
+                 kSeenBinding = 8, kTouchedBinding = 9, kTouchedListBinding = 10, kPackedBinding = 11;
+// Accumulators per touched block (index_map_common.comp kCellBlock; the
+// compaction's local size).
+constexpr size_t kCellBlock = 64;
 // Uniforms both compute programs take from index_map_common.comp, and the
 // small flags' generation both the fallback and the reduction read.
 constexpr GLint kSeenWordsLocation = 9, kStaticTrianglesLocation = 10, kSmallGenerationLocation = 11;
@@ -79,7 +82,7 @@ struct PreparedSample {
 
 struct IndexMapRenderer::Impl {
   IndexMapSettings settings;
-  GlProgram raster, reduce, fallback;
+  GlProgram raster, reduce, fallback, compact;
   GLuint vao = 0, fbo = 0, id_map = 0, depth_map = 0;
   GLuint view_fbo = 0, view_ids = 0, view_depth = 0;  // countViewPixels' target, made on first use
   int view_width = 0, view_height = 0;
@@ -135,7 +138,15 @@ struct IndexMapRenderer::Impl {
   // until a good set replaces it.
   Status static_error, dynamic_error;
   uint32_t allocations = 0;  // buffer (re)allocations since the last gather
-  std::vector<uint32_t> readback;  // scratch, grow-only
+  std::vector<uint32_t> readback;  // scratch, grow-only: the packed blocks' words
+  // Sparse read-back (index_map_compact.comp): a flag per block of
+  // kCellBlock accumulators, the list of flagged blocks, and the packed
+  // copy of their sums. All grow-only; the accumulators and flags are zero
+  // between gathers (accumulators_zero), so none is cleared per gather.
+  GLuint touched = 0, touched_list = 0, packed = 0;
+  size_t touched_capacity = 0, touched_list_capacity = 0, packed_capacity = 0;  // uints
+  bool accumulators_zero = false;
+  std::vector<uint32_t> touched_blocks;  // scratch: the listed blocks, in list order
   std::vector<SampleGpu> batch_samples;
   std::vector<std::array<uint32_t, 4>> batch_layers;
 
@@ -147,8 +158,8 @@ struct IndexMapRenderer::Impl {
   mutable std::vector<CoverageEntry> coverage_cache;
 
   ~Impl() {
-    const GLuint buffers[] = {positions,   receivers, accumulators, samples, layers,
-                              small_flags, counter,   pairs,        seen,    set_indices};
+    const GLuint buffers[] = {positions, receivers, accumulators, samples, layers,       small_flags, counter,
+                              pairs,     seen,      set_indices,  touched, touched_list, packed};
     for (GLuint b : buffers) {
       if (b != 0) glDeleteBuffers(1, &b);
     }
@@ -200,6 +211,11 @@ struct IndexMapRenderer::Impl {
     growBuffer(buffer, capacity * sizeof(uint32_t));
     return true;
   }
+
+  // Reads back the `listed` touched blocks' sums of the `cells` in use into
+  // touched_blocks and readback (2 words per cell, kCellBlock cells per
+  // block, in list order), zeroing them on the GPU; index_map_reduction.cpp.
+  void compactTouched(uint32_t listed, size_t cells);
 
   void clearSmallFlags() {
     const GLuint zero = 0;
