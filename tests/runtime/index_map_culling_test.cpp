@@ -1,6 +1,6 @@
 // Which triangles an index-map face draws (runtime/src/gl/index_map_culling.h):
 // the static set of lit-set culling, triangle by triangle, the skipped own
-// triangle, dynamic chunks that no static set culls; and the order that
+// triangle, the dynamic chunks a set face may show; and the order that
 // makes culling runs compact. Pure CPU.
 
 #include <gtest/gtest.h>
@@ -112,6 +112,37 @@ TEST(IndexMapCulling, ASetDrawsOnlyItsTrianglesInTheFrustum) {
   }
   ASSERT_FALSE(expected.empty());
   EXPECT_EQ(setDrawn(chunks, positions, face, 0xffffffffu, set), expected);
+}
+
+TEST(IndexMapCulling, ASetFaceDrawsOnlyTheDynamicChunksBeforeWhatItSaw) {
+  // The eye at the origin saw a patch of wall around (0, 0, -5). A dynamic
+  // chunk between them stays; one behind the wall, one beside the line of
+  // sight and one behind the eye go; static chunks are never dropped.
+  auto chunk = [](bool dynamic, glm::dvec3 lo, glm::dvec3 hi) {
+    TriangleChunk c;
+    c.dynamic = dynamic;
+    c.lo = lo;
+    c.hi = hi;
+    return c;
+  };
+  const std::vector<TriangleChunk> chunks = {
+      chunk(false, {-0.5, -0.5, -5.0}, {0.5, 0.5, -5.0}),  // 0: the wall, static
+      chunk(true, {-0.2, -0.2, -2.2}, {0.2, 0.2, -1.8}),   // 1: in front of it
+      chunk(true, {-0.2, -0.2, -8.2}, {0.2, 0.2, -7.8}),   // 2: behind it
+      chunk(true, {4.8, -0.2, -2.2}, {5.2, 0.2, -1.8}),    // 3: beside the sightline
+      chunk(true, {-0.2, -0.2, 1.8}, {0.2, 0.2, 2.2}),     // 4: behind the eye
+      chunk(false, {9.0, 9.0, 9.0}, {9.5, 9.5, 9.5}),      // 5: static, anywhere
+  };
+  Box wall;
+  wall.lo = {-0.5, -0.5, -5.0};
+  wall.hi = {0.5, 0.5, -5.0};
+  std::vector<uint32_t> face_chunks = {0, 1, 2, 3, 4, 5};
+  keepDynamicBeforeSet(chunks, glm::dvec3(0.0), std::span<const Box>(&wall, 1), face_chunks);
+  EXPECT_EQ(face_chunks, (std::vector<uint32_t>{0, 1, 5}));
+  // Nothing seen: no dynamic chunk can show.
+  face_chunks = {0, 1, 2, 3, 4, 5};
+  keepDynamicBeforeSet(chunks, glm::dvec3(0.0), {}, face_chunks);
+  EXPECT_EQ(face_chunks, (std::vector<uint32_t>{0, 5}));
 }
 
 TEST(IndexMapCulling, ATriangleMeetsAFrustumUnlessAllCornersLieOutsideOnePlane) {

@@ -128,6 +128,21 @@ void candidateChunks(std::span<const TriangleChunk> chunks, const Frustum& frust
   }
 }
 
+void keepDynamicBeforeSet(std::span<const TriangleChunk> chunks, const glm::dvec3& eye, std::span<const Box> seen,
+                          std::vector<uint32_t>& face_chunks) {
+  // Every (dynamic chunk, seen box) pair: a face meets a few dozen of each,
+  // which costs less than drawing one chunk.
+  std::erase_if(face_chunks, [&](uint32_t i) {
+    const TriangleChunk& c = chunks[i];
+    if (!c.dynamic) return false;
+    for (const Box& b : seen) {
+      const glm::dvec3 lo = glm::min(eye, b.lo), hi = glm::max(eye, b.hi);
+      if (glm::all(glm::lessThanEqual(c.lo, hi)) && glm::all(glm::lessThanEqual(lo, c.hi))) return false;
+    }
+    return true;
+  });
+}
+
 uint64_t appendChunkRanges(const TriangleChunk& c, uint32_t skip, std::vector<int32_t>& firsts,
                            std::vector<int32_t>& counts) {
   uint64_t triangles = 0;
@@ -168,13 +183,20 @@ bool triangleMayMeet(const float* corners, const Frustum& frustum) {
 }
 
 uint64_t appendSetIndices(const TriangleChunk& c, std::span<const float> static_positions, const Frustum& frustum,
-                          uint32_t skip, const TriangleBits& static_set, std::vector<uint32_t>& indices) {
+                          uint32_t skip, const TriangleBits& static_set, std::vector<uint32_t>& indices,
+                          Box* static_box) {
   uint64_t triangles = 0;
   for (uint32_t t = c.first; t < c.first + c.count; ++t) {
     if (t == skip) continue;
     if (!c.dynamic) {
       if (!triangleInSet(static_set, t) || size_t(9) * t + 9 > static_positions.size()) continue;
-      if (!triangleMayMeet(&static_positions[size_t(9) * t], frustum)) continue;
+      const float* corners = &static_positions[size_t(9) * t];
+      if (!triangleMayMeet(corners, frustum)) continue;
+      for (int k = 0; static_box && k < 3; ++k) {
+        const glm::dvec3 p(corners[3 * k], corners[3 * k + 1], corners[3 * k + 2]);
+        static_box->lo = glm::min(static_box->lo, p);
+        static_box->hi = glm::max(static_box->hi, p);
+      }
     }
     indices.insert(indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
     ++triangles;

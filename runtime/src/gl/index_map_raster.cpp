@@ -62,10 +62,26 @@ void IndexMapRenderer::Impl::render(std::span<const PreparedSample> batch, Gathe
     const LayoutFaces faces = layoutFaces(s.layout);
     for (int i = 0; i < faces.count; ++i) {
       const int face = faces.faces[size_t(i)];
-      const Frustum frustum = faceSetup(s, face).frustum;
+      const FaceSetup setup = faceSetup(s, face);
+      const Frustum& frustum = setup.frustum;
       candidateChunks(chunks, frustum, s.reach_lo, s.reach_hi, s.static_triangles, face_chunks);
       const size_t first = batch_indices.size();
+      // The set's triangles first, each static chunk's drawn ones boxed;
+      // then the dynamic chunks that may stand in front of them.
+      seen_boxes.clear();
       for (uint32_t c : face_chunks) {
+        if (chunks[c].dynamic) continue;
+        Box box;
+        const uint64_t drawn = appendSetIndices(chunks[c], static_positions, frustum, s.gpu.info[3],
+                                                *s.static_triangles, batch_indices, &box);
+        if (drawn == 0) continue;
+        batch_drawn[b * chunks.size() + c] = 1;
+        stats.triangles_drawn += drawn;
+        seen_boxes.push_back(box);
+      }
+      if (s.layout != MapLayout::kParallel) keepDynamicBeforeSet(chunks, setup.eye, seen_boxes, face_chunks);
+      for (uint32_t c : face_chunks) {
+        if (!chunks[c].dynamic) continue;
         batch_drawn[b * chunks.size() + c] = 1;
         stats.triangles_drawn +=
             appendSetIndices(chunks[c], static_positions, frustum, s.gpu.info[3], *s.static_triangles, batch_indices);

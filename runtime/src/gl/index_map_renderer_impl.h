@@ -130,6 +130,7 @@ struct IndexMapRenderer::Impl {
   std::vector<uint32_t> batch_indices;
   std::vector<std::array<uint32_t, 2>> face_index_ranges;  // per (sample, face): first index, count
   std::vector<uint32_t> face_chunks, near_chunks;  // scratch, chunk indices
+  std::vector<Box> seen_boxes;  // scratch: per static chunk a face draws, its drawn triangles' box
   std::vector<uint8_t> batch_drawn;  // per (sample of the batch, chunk): drawn on some face
   std::vector<float> depth_scratch;
   DepthPyramid pyramid;
