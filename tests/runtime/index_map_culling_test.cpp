@@ -145,6 +145,27 @@ TEST(IndexMapCulling, ASetFaceDrawsOnlyTheDynamicChunksBeforeWhatItSaw) {
   EXPECT_EQ(face_chunks, (std::vector<uint32_t>{0, 5}));
 }
 
+TEST(IndexMapCulling, RunsNeverStraddleTwoParts) {
+  // Parts (objects) of 12, 60, 5 and 50 triangles: runs of at most
+  // kChunkTriangles within each, numbered from the set's first triangle.
+  const std::vector<uint32_t> part_starts = {0, 12, 72, 77};
+  std::vector<TriangleChunk> chunks;
+  appendChunks(rowOfTriangles(127), 1000, true, chunks, part_starts);
+  std::vector<std::pair<uint32_t, uint32_t>> runs;
+  for (const TriangleChunk& c : chunks) runs.push_back({c.first, c.count});
+  const std::vector<std::pair<uint32_t, uint32_t>> expected = {{1000, 12}, {1012, 32}, {1044, 28},
+                                                               {1072, 5},  {1077, 32}, {1109, 18}};
+  EXPECT_EQ(runs, expected);
+  // A run's box is its own triangles' (rowOfTriangles: x from t - 63.5).
+  EXPECT_DOUBLE_EQ(chunks[3].lo.x, 72.0 - 63.5);
+  EXPECT_DOUBLE_EQ(chunks[3].hi.x, 76.0 - 63.5 + 0.5);
+  // No parts: runs of kChunkTriangles from the first.
+  chunks.clear();
+  appendChunks(rowOfTriangles(127), 0, true, chunks);
+  ASSERT_EQ(chunks.size(), 4u);
+  EXPECT_EQ(chunks[3].count, 127 - 3 * kChunkTriangles);
+}
+
 TEST(IndexMapCulling, ATriangleMeetsAFrustumUnlessAllCornersLieOutsideOnePlane) {
   const Frustum face = faceFrustum(glm::dvec3(0), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, -1), 0.01,
                                    false, false, 0, 0);

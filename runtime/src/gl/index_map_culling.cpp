@@ -10,12 +10,15 @@
 namespace svit::gl {
 
 void appendChunks(std::span<const float> positions, uint32_t first_triangle, bool dynamic,
-                  std::vector<TriangleChunk>& out) {
+                  std::vector<TriangleChunk>& out, std::span<const uint32_t> part_starts) {
   const uint32_t triangles = uint32_t(positions.size() / 9);
-  for (uint32_t begin = 0; begin < triangles; begin += kChunkTriangles) {
+  size_t next_part = 0;  // the first part start after `begin`
+  for (uint32_t begin = 0; begin < triangles;) {
+    while (next_part < part_starts.size() && part_starts[next_part] <= begin) ++next_part;
+    const uint32_t part_end = next_part < part_starts.size() ? std::min(part_starts[next_part], triangles) : triangles;
     TriangleChunk c;
     c.first = first_triangle + begin;
-    c.count = std::min(kChunkTriangles, triangles - begin);
+    c.count = std::min(kChunkTriangles, part_end - begin);
     c.dynamic = dynamic;
     c.lo = glm::dvec3(1e300);
     c.hi = glm::dvec3(-1e300);
@@ -25,6 +28,7 @@ void appendChunks(std::span<const float> positions, uint32_t first_triangle, boo
       c.hi = glm::max(c.hi, p);
     }
     out.push_back(c);
+    begin += c.count;
   }
 }
 

@@ -62,9 +62,11 @@ inline bool triangleInSet(const TriangleBits& set, uint32_t t) {
 bool chunkInSet(const TriangleChunk& c, const TriangleBits* static_set);
 
 /// Appends the chunks of `positions` (9 floats per triangle), numbering the
-/// triangles from `first_triangle`, of the dynamic set or the static one.
+/// triangles from `first_triangle`, of the dynamic set or the static one;
+/// a chunk also ends before each of `part_starts` (ascending, counted from
+/// the first of `positions`: MapTriangles::part_starts).
 void appendChunks(std::span<const float> positions, uint32_t first_triangle, bool dynamic,
-                  std::vector<TriangleChunk>& out);
+                  std::vector<TriangleChunk>& out, std::span<const uint32_t> part_starts = {});
 
 /// A convex region: p is inside when dot(normal[i], p - eye) >= offset[i] for
 /// every plane i < count.

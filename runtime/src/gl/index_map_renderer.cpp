@@ -296,6 +296,7 @@ void IndexMapRenderer::setStaticTriangles(const MapTriangles& triangles) {
 void IndexMapRenderer::setDynamicTriangles(const MapTriangles& triangles) {
   Impl& m = *impl_;
   m.setTriangles(triangles, "dynamic", m.dynamic_positions, m.dynamic_receivers, m.dynamic_bounds, m.dynamic_error);
+  m.dynamic_part_starts = m.dynamic_error.ok() ? triangles.part_starts : std::vector<uint32_t>{};
   m.uploadTriangles(false);
 }
 
@@ -652,7 +653,8 @@ uint64_t IndexMapRenderer::hostBytes() const {
   return bytes(m.static_positions) + bytes(m.dynamic_positions) + bytes(m.static_receivers) +
          bytes(m.dynamic_receivers) + bytes(m.static_chunks) + bytes(m.chunks) + bytes(m.readback) +
          bytes(m.view_readback) + bytes(m.batch_samples) + bytes(m.batch_layers) + bytes(m.batch_pairs) +
-         bytes(m.batch_indices) + bytes(m.face_index_ranges) + bytes(m.touched_blocks);
+         bytes(m.batch_indices) + bytes(m.face_index_ranges) + bytes(m.touched_blocks) + bytes(m.dynamic_part_starts) +
+         bytes(m.seen_boxes);
 }
 
 }  // namespace svit::gl

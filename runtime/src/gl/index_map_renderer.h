@@ -32,6 +32,10 @@ struct MapTriangles {
   std::vector<Vec3> positions;           ///< world, metres; 3 per triangle, CCW = front
   std::vector<uint32_t> front_receiver;  ///< per triangle; kNoReceiver = absorbs
   std::vector<uint32_t> back_receiver;   ///< per triangle; kNoReceiver = absorbs (single-sided)
+  /// Optional, ascending: the triangles that begin a new part (a dynamic
+  /// object); the renderer's culling runs never straddle two parts, so a
+  /// run's box is one object's, not a door's and the next table's.
+  std::vector<uint32_t> part_starts;
   size_t triangleCount() const { return front_receiver.size(); }
 };
 

@@ -104,6 +104,7 @@ struct IndexMapRenderer::Impl {
   // CPU copies, so a growing buffer can be refilled: 9 floats and 2 ids per triangle.
   std::vector<float> static_positions, dynamic_positions;
   std::vector<uint32_t> static_receivers, dynamic_receivers;
+  std::vector<uint32_t> dynamic_part_starts;  // MapTriangles::part_starts of the dynamic set
   Aabb static_bounds, dynamic_bounds;
   // Culling runs of both sets, dynamic ones numbered after the static set.
   std::vector<TriangleChunk> static_chunks, chunks;
@@ -234,7 +235,7 @@ struct IndexMapRenderer::Impl {
       appendChunks(static_positions, 0, false, static_chunks);
     }
     chunks = static_chunks;
-    appendChunks(dynamic_positions, uint32_t(static_count), true, chunks);
+    appendChunks(dynamic_positions, uint32_t(static_count), true, chunks, dynamic_part_starts);
     bool all = static_changed;
     if (count > triangle_capacity) {
       triangle_capacity = std::max(count, triangle_capacity + triangle_capacity / 2);

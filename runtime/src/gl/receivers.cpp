@@ -65,6 +65,7 @@ MapTriangles dynamicMapTriangles(const std::vector<DynamicObject>& objects) {
   for (const DynamicObject& object : objects) {
     if (!object.visible || object.removed) continue;
     const uint32_t triangles = uint32_t(object.albedo.size());
+    if (triangles > 0) out.part_starts.push_back(uint32_t(out.triangleCount()));
     for (uint32_t t = 0; t < triangles; ++t) {
       for (int k = 0; k < 3; ++k) out.positions.push_back(object.world_positions[size_t(t) * 3 + size_t(k)]);
       out.front_receiver.push_back(object.first_receiver + t);
