@@ -12,7 +12,9 @@
 // Stage 1 is index_map_raster.cpp, stages 2 and 3 index_map_reduction.cpp;
 // the state they share is index_map_renderer_impl.h. The CPU twin of the
 // texel weights and layouts is index_map_layouts.cpp.
-// Only the accumulators come back (one glGetNamedBufferSubData per gather).
+// Only the accumulators come back, and only the blocks of kCellBlock a
+// gather added to (4. compaction, index_map_compact.comp, which also zeroes
+// them for the next gather): two read-backs per gather of what was lit.
 // GL objects are made in create(); buffers only grow (more triangles,
 // receivers or slots), so a steady scene allocates nothing per gather.
 
