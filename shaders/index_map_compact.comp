@@ -24,14 +24,13 @@ void main() {
   uint lane = gl_LocalInvocationID.x;
   uint cell = block * 64u + lane;
   uint to = 2u * (item * 64u + lane);
+  // Past the last cell in use the copy is left unwritten: the CPU reads
+  // only cells in use.
   if (cell < u_cells) {
     copied[to] = acc[2u * cell];
     copied[to + 1u] = acc[2u * cell + 1u];
     acc[2u * cell] = 0u;
     acc[2u * cell + 1u] = 0u;
-  } else {
-    copied[to] = 0u;
-    copied[to + 1u] = 0u;
   }
   if (lane == 0u) touched[block] = 0u;
 }

@@ -140,8 +140,7 @@ void keepDynamicBeforeSet(std::span<const TriangleChunk> chunks, const glm::dvec
     const TriangleChunk& c = chunks[i];
     if (!c.dynamic) return false;
     for (const Box& b : seen) {
-      const glm::dvec3 lo = glm::min(eye, b.lo), hi = glm::max(eye, b.hi);
-      if (glm::all(glm::lessThanEqual(c.lo, hi)) && glm::all(glm::lessThanEqual(lo, c.hi))) return false;
+      if (chunkMeetsBox(c, glm::min(eye, b.lo), glm::max(eye, b.hi))) return false;  // never empty: holds the eye
     }
     return true;
   });
