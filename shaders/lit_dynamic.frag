@@ -22,7 +22,10 @@ flat in vec3 v_face_normal;
 flat in vec3 v_patch_irradiance;
 flat in uint v_double_sided;
 
-layout(location = 0) out vec4 o_colour;  // display sRGB
+layout(location = 0) out vec4 o_colour;    // display sRGB
+// Linear radiance, cd/m2, before exposure (what svitDisplay is given); in
+// the patch-delta view the false colour itself (SceneRenderer::readRadiance).
+layout(location = 1) out vec4 o_radiance;
 
 // Per colour channel: radiance SH coefficients (Y00, Y1-1, Y10, Y11), cd/m2 x sr.
 layout(binding = 5) uniform sampler3D u_probe_r;
@@ -42,6 +45,9 @@ vec3 svitDisplay(vec3 radiance);
 vec3 svitDeltaFalseColour(vec3 delta, vec3 under);
 
 const float kPi = 3.14159265358979;
+// Alpha of o_radiance: svit::SurfaceKind (the picture metric tells static
+// surfaces from dynamic objects by it; the clear leaves 0).
+const float kSurfaceKind = 2.0;
 
 // Irradiance (lux) from the probe grid: radiance SH convolved with the
 // clamped cosine, E(n) = pi c0 Y00 + 2pi/3 sum_m c1m Y1m(n), with
@@ -59,6 +65,7 @@ void main() {
   bool front = gl_FrontFacing;
   if (!front && v_double_sided == 0u) {
     o_colour = vec4(0.0, 0.0, 0.0, 1.0);
+    o_radiance = vec4(0.0, 0.0, 0.0, kSurfaceKind);
     return;
   }
   float side = front ? 1.0 : -1.0;
@@ -79,8 +86,10 @@ void main() {
   if (u_view == 2) {
     vec3 shown = v_albedo * (indirect + direct) / kPi + v_emission;
     o_colour = vec4(svitDeltaFalseColour(correction, svitDisplay(shown)), 1.0);
+    o_radiance = vec4(o_colour.rgb, kSurfaceKind);
     return;
   }
   vec3 irradiance = max(indirect + correction, vec3(0.0)) + direct;
-  o_colour = vec4(svitDisplay(v_albedo * irradiance / kPi + v_emission), 1.0);
+  o_radiance = vec4(v_albedo * irradiance / kPi + v_emission, kSurfaceKind);
+  o_colour = vec4(svitDisplay(o_radiance.rgb), 1.0);
 }

@@ -1,6 +1,7 @@
 #version 450 core
-// Static geometry: radiance = albedo x (lightmap irradiance + interpolated
-// runtime delta + runtime lights' direct irradiance) / pi + emission, the
+// Static geometry: radiance = albedo x (lightmap irradiance + runtime delta
+// (per runtime patch, svit_runtime_delta.frag, or the runtime's lightmap-space
+// delta map) + runtime lights' direct irradiance) / pi + emission, the
 // emission scaled as its bake emitter is (a lamp dimmed or off).
 // Albedo = base colour factor x base colour texture (sRGB-decoded by the
 // texture format). Single-sided surfaces are black from behind; the
@@ -13,16 +14,20 @@ in vec3 v_normal;
 in vec2 v_uv0;
 in vec2 v_uv1;
 in vec2 v_uv_lightmap;
-in vec3 v_delta_front;
-in vec3 v_delta_back;
+flat in uvec2 v_delta_element;
+in vec2 v_corner_weights;
 
-layout(location = 0) out vec4 o_colour;  // display sRGB
+layout(location = 0) out vec4 o_colour;    // display sRGB
+// Linear radiance, cd/m2, before exposure (what svitDisplay is given); in
+// the patch-delta view the false colour itself (SceneRenderer::readRadiance).
+layout(location = 1) out vec4 o_radiance;
 
 layout(binding = 0) uniform sampler2D u_base_texture;
 layout(binding = 1) uniform sampler2D u_emissive_texture;
 layout(binding = 2) uniform sampler2D u_lightmap;  // irradiance, lux
 layout(binding = 8) uniform sampler2D u_delta_map;  // runtime delta in lightmap space, lux (Runtime::shadingResources)
 layout(location = 19) uniform int u_use_delta_map;  // 0: none bound
+layout(location = 18) uniform int u_use_deltas;  // 0: no runtime delta buffers bound
 
 layout(location = 1) uniform int u_view;  // 0 baked only, 1 runtime, 2 patch delta (ShadingView)
 layout(location = 8) uniform vec4 u_base_color;       // linear factor, alpha
@@ -40,8 +45,12 @@ layout(location = 24) uniform float u_emission_scale;  // the lamp's dimmer (Sce
 vec3 svitDirectIrradiance(vec3 p, vec3 n);
 vec3 svitDisplay(vec3 radiance);
 vec3 svitDeltaFalseColour(vec3 delta, vec3 under);
+vec3 svitRuntimeDelta(uint element, vec2 corner_weights);
 
 const float kPi = 3.14159265358979;
+// Alpha of o_radiance: svit::SurfaceKind (the picture metric tells static
+// surfaces from dynamic objects by it; the clear leaves 0).
+const float kSurfaceKind = 1.0;
 
 // KHR_texture_transform: offset + R(rotation) * (scale * uv), rotation
 // counter-clockwise in UV space (runtime/src/scene/texture_sampling.cpp).
@@ -61,6 +70,7 @@ void main() {
   bool front = gl_FrontFacing;
   if (!front && u_material_flags.x == 0) {
     o_colour = vec4(0.0, 0.0, 0.0, 1.0);  // single-sided: black from behind
+    o_radiance = vec4(0.0, 0.0, 0.0, kSurfaceKind);
     return;
   }
   vec3 n = normalize(v_normal) * (front ? 1.0 : -1.0);
@@ -70,13 +80,20 @@ void main() {
     vec2 uv = transformUv(u_emissive_texture_use.y == 1 ? v_uv1 : v_uv0, u_emissive_transform, u_emissive_rotation);
     emission *= texture(u_emissive_texture, uv).rgb;
   }
-  vec3 delta = u_use_delta_map != 0 ? texture(u_delta_map, v_uv_lightmap).rgb : (front ? v_delta_front : v_delta_back);
+  vec3 delta = vec3(0.0);
+  if (u_use_delta_map != 0) {
+    delta = texture(u_delta_map, v_uv_lightmap).rgb;
+  } else if (u_use_deltas != 0) {
+    delta = svitRuntimeDelta(front ? v_delta_element.x : v_delta_element.y, v_corner_weights);
+  }
   if (u_view == 2) {
     o_colour = vec4(svitDeltaFalseColour(delta, svitDisplay(base.rgb * irradiance / kPi + emission)), 1.0);
+    o_radiance = vec4(o_colour.rgb, kSurfaceKind);
     return;
   }
   if (u_view == 1) irradiance += delta + svitDirectIrradiance(v_position, n);
   // A delta may overshoot the baked value (a shadow deeper than the light).
   irradiance = max(irradiance, vec3(0.0));
-  o_colour = vec4(svitDisplay(base.rgb * irradiance / kPi + emission), 1.0);
+  o_radiance = vec4(base.rgb * irradiance / kPi + emission, kSurfaceKind);
+  o_colour = vec4(svitDisplay(o_radiance.rgb), 1.0);
 }

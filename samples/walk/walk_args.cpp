@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 
 #include "walk_script.h"
 
@@ -27,6 +28,26 @@ bool parseDouble(const char* text, double min, double max, double& out) {
   return true;
 }
 
+// A multiplier of radiance: finite and > 0 also once narrowed to float
+// (1e-50 would become 0, 1e39 infinity).
+bool parseExposure(const char* text, float& out) {
+  double e = 0;
+  if (!parseDouble(text, 0, std::numeric_limits<float>::max(), e) || !(float(e) > 0)) return false;
+  out = float(e);
+  return true;
+}
+
+std::optional<FramesFormat> parseFramesFormat(const std::string& name) {
+  if (name == "png") return FramesFormat::kPng;
+  if (name == "exr") return FramesFormat::kExr;
+  return std::nullopt;
+}
+
+// "--exposure needs ..." naming the value given, when there was one.
+std::string badValue(const std::string& arg, const char* value, const std::string& needs) {
+  return arg + " needs " + needs + (value != nullptr ? " (got '" + std::string(value) + "')" : "");
+}
+
 }  // namespace
 
 void printUsage(FILE* out) {
@@ -34,13 +55,15 @@ void printUsage(FILE* out) {
                "usage: svit-walk LEVEL --bake OUT [--headless] [--script S.json] [--frames N]\n"
                "                 [--frames-out DIR] [--stats FILE] [--probe POINTS --probe-out FILE]\n"
                "                 [--width W --height H] [--view baked|runtime|delta] [--budget-ms B] [--fps F]\n"
-               "                 [--overlay]\n"
+               "                 [--overlay] [--exposure E] [--frames-format png|exr]\n"
                "  LEVEL            a .gltf/.glb or level .json\n"
                "  --bake OUT       the bake directory (OUT/bake.svit) written by svit-bake for LEVEL\n"
                "  --headless       no window: render N frames of simulated time (frame / fps)\n"
                "  --script S.json  camera keys and per-frame events (samples/walk/README.md)\n"
                "  --frames N       frames to render headless (default: the script's, else 90)\n"
                "  --frames-out DIR write DIR/frame-0000.png ... (headless)\n"
+               "  --frames-format png|exr  png (default): display colour; exr: DIR/frame-0000.exr ...\n"
+               "                   with the linear radiance (cd/m2, before exposure)\n"
                "  --stats FILE     per-frame timings by stage as JSON\n"
                "  --probe POINTS   lines 'x y z nx ny nz'; with --probe-out FILE, write the runtime's\n"
                "                   irradiance 'r g b' (lux) per point after the last frame\n"
@@ -51,6 +74,7 @@ void printUsage(FILE* out) {
                "  --fps F          simulated frames per second (default: the script's, else 30)\n"
                "  --overlay        headless: draw the statistics overlay on the frames (a window\n"
                "                   shows it from the start; F1 toggles it)\n"
+               "  --exposure E     fixed exposure (finite, > 0) instead of auto exposure\n"
                "exit: 0 ok, 1 bad input (level, bake, script, points), 2 bad usage\n");
 }
 
@@ -106,6 +130,13 @@ ParsedArgs parseWalkArgs(int argc, const char* const* argv) {
       double f = 0;
       if (!value(v) || !parseDouble(v, 1e-3, 1000, f)) return fail("--fps needs a number in (0, 1000]");
       o.fps = float(f);
+    } else if (arg == "--exposure") {
+      float e = 0;
+      if (!value(v) || !parseExposure(v, e)) return fail(badValue(arg, v, "a finite number > 0"));
+      o.exposure = e;
+    } else if (arg == "--frames-format") {
+      if (!value(v) || !parseFramesFormat(v)) return fail(badValue(arg, v, "png or exr"));
+      o.frames_format = *parseFramesFormat(v);
     } else if (!arg.empty() && arg[0] == '-') {
       return fail("unknown option '" + arg + "'");
     } else if (o.level.empty()) {

@@ -9,13 +9,20 @@
 
 namespace svit::walk {
 
+/// What headless frames are written as (--frames-format).
+enum class FramesFormat {
+  kPng,  ///< DIR/frame-NNNN.png: the display colour (8-bit sRGB, tone mapped)
+  kExr,  ///< DIR/frame-NNNN.exr: the linear radiance (fp32 RGB, cd/m2, before exposure)
+};
+
 struct WalkOptions {
   std::string level;       ///< LEVEL: .gltf/.glb or level .json
   std::string bake_dir;    ///< --bake OUT: the directory holding bake.svit
   bool headless = false;
   std::string script;      ///< --script S.json, empty: none
   std::optional<int> frames;  ///< --frames N (headless), else the script's or 90
-  std::string frames_out;  ///< --frames-out DIR (headless), empty: no PNGs
+  std::string frames_out;  ///< --frames-out DIR (headless), empty: no frames written
+  FramesFormat frames_format = FramesFormat::kPng;  ///< --frames-format png|exr
   std::string stats;       ///< --stats FILE, empty: none
   std::string probe;       ///< --probe POINTS
   std::string probe_out;   ///< --probe-out FILE
@@ -24,6 +31,7 @@ struct WalkOptions {
   std::optional<double> budget_ms;  ///< --budget-ms; default 0 (settle) headless, 8 in a window
   std::optional<float> fps;         ///< --fps; default the script's, else 30
   bool overlay = false;             ///< --overlay: statistics drawn on the headless PNG frames
+  std::optional<float> exposure;    ///< --exposure E: fixed (finite, > 0), auto exposure off; default auto
 };
 
 /// What parsing found: options, a request for help, or a usage error.

@@ -7,6 +7,18 @@
 #include "walk_camera.h"
 
 namespace svit::walk {
+namespace {
+
+// DIR/frame-NNNN.png (display colour) or .exr (linear radiance).
+Status writeFrame(const WalkSession& session, int frame) {
+  const bool exr = session.options.frames_format == FramesFormat::kExr;
+  char name[32];
+  std::snprintf(name, sizeof name, "frame-%04d.%s", frame, exr ? "exr" : "png");
+  const std::string path = (std::filesystem::path(session.options.frames_out) / name).string();
+  return exr ? session.renderer->writeExr(path) : session.renderer->writePng(path);
+}
+
+}  // namespace
 
 Status runHeadless(WalkSession& session) {
   using Clock = std::chrono::steady_clock;
@@ -32,10 +44,7 @@ Status runHeadless(WalkSession& session) {
       if (!s.ok()) return Status(s.code(), where + s.message());
     }
     if (!session.options.frames_out.empty()) {
-      char name[32];
-      std::snprintf(name, sizeof name, "frame-%04d.png", frame);
-      const std::string png = (std::filesystem::path(session.options.frames_out) / name).string();
-      if (Status s = session.renderer->writePng(png); !s.ok()) return Status(s.code(), where + s.message());
+      if (Status s = writeFrame(session, frame); !s.ok()) return Status(s.code(), where + s.message());
     }
     session.stats.add(record);
   }

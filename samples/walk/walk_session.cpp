@@ -75,6 +75,10 @@ Expected<std::unique_ptr<WalkSession>> openSession(const WalkOptions& options) {
   SceneRendererSettings settings;
   settings.width = options.width;
   settings.height = options.height;
+  if (options.exposure) {  // --exposure: the same scale every frame, whatever the bake
+    settings.exposure = *options.exposure;
+    settings.auto_exposure = false;
+  }
   Expected<std::unique_ptr<SceneRenderer>> renderer =
       SceneRenderer::create(s.scene, s.bake, options.bake_dir, s.runtime.get(), settings);
   if (!renderer.ok()) return renderer.status();

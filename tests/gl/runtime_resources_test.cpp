@@ -102,11 +102,11 @@ TEST(ResourceAudit, StaticLevelHoldsOnlyItsLightmaps) {
   ASSERT_TRUE((*renderer)->render(Camera{{0, 1, 3.4f}, {0, 1, 0}}, ShadingView::kBakedOnly).ok());
   const std::vector<ResourceUse> drawn = (*renderer)->resources();
   EXPECT_EQ(find(drawn, "lightmap textures").gpu_bytes, page_bytes);
-  EXPECT_FALSE(find(drawn, "vertex delta interpolation buffers").allocated);
   EXPECT_FALSE(find(drawn, "probe grid textures").allocated);
   EXPECT_FALSE(find(drawn, "light shadow maps").allocated);
   EXPECT_FALSE(find(drawn, "dynamic object vertex buffer").allocated);
-  EXPECT_EQ(find(drawn, "offscreen target (colour + depth)").gpu_bytes, 64u * 48u * 4u * 2u);
+  // RGBA8 colour, RGBA32F radiance, 32-bit depth.
+  EXPECT_EQ(find(drawn, "offscreen target (colour + radiance + depth)").gpu_bytes, 64u * 48u * (4u + 16u + 4u));
 }
 
 TEST(ResourceAudit, DynamicLevelAccountsForWhatItMade) {
@@ -165,7 +165,7 @@ TEST(ResourceAudit, DynamicLevelAccountsForWhatItMade) {
   EXPECT_NE(find(drawn, "lightmap textures").reason.find("borrowed"), std::string::npos);
   EXPECT_TRUE(find(drawn, "probe grid textures").allocated);
   EXPECT_TRUE(find(drawn, "dynamic object vertex buffer").allocated);
-  EXPECT_TRUE(find(drawn, "vertex delta interpolation buffers").allocated);
+  EXPECT_TRUE(find(runtime.resources(), "delta surface buffers (per-pixel lookup)").allocated);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -43,33 +44,49 @@ inline std::string hex(uint64_t v) {
 // directory named after the level hash and is reused while it reads back
 // with the same hash. bakeLevel swaps its output in atomically, so
 // processes racing on a bake leave a whole one.
-inline const BakedLevel& bakedLevel(const std::string& level_path) {
-  static std::map<std::string, BakedLevel> cache;
-  auto it = cache.find(level_path);
+/// How a test bakes a level: different seeds give independent references
+/// (their difference is the bakes' noise floor).
+struct TestBake {
+  uint64_t seed = 1;
+  double quality = 0.05;
+  double time_s = 6;
+  bool operator<(const TestBake& o) const {
+    return std::tie(seed, quality, time_s) < std::tie(o.seed, o.quality, o.time_s);
+  }
+};
+
+inline const BakedLevel& bakedLevel(const std::string& level_path, const TestBake& how = {}) {
+  static std::map<std::pair<std::string, TestBake>, BakedLevel> cache;
+  auto it = cache.find({level_path, how});
   if (it != cache.end()) return it->second;
   BakedLevel level;
   Expected<Scene> scene = loadLevel(level_path);
   EXPECT_TRUE(scene.ok()) << scene.status().message();
-  if (!scene.ok()) return cache[level_path];
+  if (!scene.ok()) return cache[{level_path, how}];
   level.scene = std::move(scene).value();
   const uint64_t hash = hashLevel(level.scene);
-  level.dir = (fs::temp_directory_path() / "svit_scene_renderer_test" / hex(hash)).string();
+  const bool default_bake = how.seed == 1 && how.quality == 0.05 && how.time_s == 6;
+  const std::string name = default_bake ? hex(hash)
+                                        : hex(hash) + "-s" + std::to_string(how.seed) + "-q" +
+                                              std::to_string(int(how.quality * 1000)) + "-t" +
+                                              std::to_string(int(how.time_s * 10));
+  level.dir = (fs::temp_directory_path() / "svit_scene_renderer_test" / name).string();
   Expected<BakeData> bake = readBakeFile(level.dir + "/bake.svit");
   if (!bake.ok() || bake->level_hash != hash) {
     fs::create_directories(fs::path(level.dir).parent_path());
     baker::BakeOptions options;
     options.level_path = level_path;
     options.out_dir = level.dir;
-    options.quality = 0.05;
-    options.time_budget_s = 6;
-    options.seed = 1;
+    options.quality = how.quality;
+    options.time_budget_s = how.time_s;
+    options.seed = how.seed;
     Expected<baker::BakeResult> result = baker::bakeLevel(options, nullptr, nullptr);
     EXPECT_TRUE(result.ok()) << result.status().message();
     bake = readBakeFile(level.dir + "/bake.svit");
   }
   EXPECT_TRUE(bake.ok()) << bake.status().message();
   if (bake.ok()) level.bake = std::move(bake).value();
-  return cache.emplace(level_path, std::move(level)).first->second;
+  return cache[{level_path, how}] = std::move(level);
 }
 
 inline std::string cornellLevel() { return std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/level.json"; }

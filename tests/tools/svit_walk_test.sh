@@ -117,6 +117,31 @@ expect_err unknown_option_message "unknown option '--frobnicate'"
 expect_exit bad_frames 2 -- "$walk" "$level" --bake "$work/cornell" --headless --frames 0
 expect_exit bad_view 2 -- "$walk" "$level" --bake "$work/cornell" --headless --view sideways
 expect_exit probe_without_out 2 -- "$walk" "$level" --bake "$work/cornell" --headless --probe "$work/points.txt"
+# --exposure must be finite and > 0, --frames-format png or exr; the message
+# names the option and the value.
+for bad in 0 nan -1; do
+  expect_exit "exposure_$bad" 2 -- "$walk" "$level" --bake "$work/cornell" --headless --exposure "$bad"
+  expect_err "exposure_${bad}_message" "--exposure needs a finite number > 0 (got '$bad')"
+done
+expect_exit frames_format_tiff 2 -- "$walk" "$level" --bake "$work/cornell" --headless --frames-format tiff
+expect_err frames_format_tiff_message "--frames-format needs png or exr (got 'tiff')"
+
+# --frames-format exr: the frame is an OpenEXR file (magic 76 2f 31 01) of
+# the linear radiance, none beside it as PNG. The radiance does not depend
+# on --exposure (the same file at 2 and 8), the PNG does.
+for e in 2 8; do
+  for format in exr png; do
+    expect_exit "walk_${format}_exposure_$e" 0 -- "$walk" "$level" --bake "$work/cornell" --headless --frames 1 \
+      --view baked --frames-out "$work/$format$e" --frames-format $format --exposure $e --width 64 --height 36
+  done
+done
+[[ -f "$work/exr2/frame-0000.exr" && ! -e "$work/exr2/frame-0000.png" ]] && \
+  [[ "$(head -c 4 "$work/exr2/frame-0000.exr" | od -An -tx1 | tr -d ' \n')" == 762f3101 ]] \
+  && ok "exr frame written" || fail "exr frame written"
+cmp -s "$work/exr2/frame-0000.exr" "$work/exr8/frame-0000.exr" && ok "exr frame independent of --exposure" \
+  || fail "exr frame changed with --exposure"
+cmp -s "$work/png2/frame-0000.png" "$work/png8/frame-0000.png" && fail "png frame ignored --exposure" \
+  || ok "png frame follows --exposure"
 
 # Bad input: exit 1, the message names the file and element.
 expect_exit missing_bake 1 -- "$walk" "$level" --bake "$work/nothing" --headless --frames 1

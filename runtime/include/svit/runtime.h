@@ -91,10 +91,11 @@ struct RuntimeSettings {
   /// measured against).
   bool refresh_all = false;
   /// Lightmap-space delta pages (ShadingResources::delta_textures) for hosts
-  /// that shade with lightmap(uv) + delta(uv). SceneRenderer interpolates
-  /// the patch delta buffer per vertex instead and never reads them: a host
-  /// drawing with it sets this false and pays neither the textures nor
-  /// their per-update rasterisation.
+  /// that shade with lightmap(uv) + delta(uv). The per-pixel lookup
+  /// (ShadingResources::vertex_deltas) shows the same deltas without them:
+  /// a host shading with it (SceneRenderer does when the pages are absent)
+  /// sets this false and pays neither the textures nor their per-update
+  /// rasterisation on the CPU.
   bool delta_textures = true;
 };
 
@@ -199,6 +200,16 @@ struct ShadingResources {
   uint32_t patch_count = 0;
   /// Lightmap pages as GL_RGB32F textures (irradiance, lux), bake page order.
   std::vector<uint32_t> lightmap_textures;
+  /// The displayed static deltas per runtime patch, looked up per pixel by
+  /// shaders/svit_runtime_delta.frag (svitRuntimeDelta(element, weights)):
+  /// per bake element (static triangle * 2 + side) its tessellation (uvec2
+  /// n, first slot); per slot the welded vertices of its sub-triangle
+  /// (uvec4, w = 1 when used); per welded vertex the delta (vec4, lux).
+  /// Exactly what irradianceAt adds, at any mesh resolution. 0 until the
+  /// first update that had runtime content.
+  uint32_t delta_elements = 0;
+  uint32_t delta_slots = 0;
+  uint32_t vertex_deltas = 0;
   /// Per page: the displayed delta (lux, RGB) in the same lightmap
   /// coordinates at half resolution, interpolated across runtime patches;
   /// shade with lightmap(uv) + delta(uv). Empty until the first update that

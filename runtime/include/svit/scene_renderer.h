@@ -33,6 +33,13 @@ enum class ShadingView {
   kPatchDelta = 2,  ///< false colour of the per-patch delta (red +, blue -)
 };
 
+/// What a pixel shows (SceneRenderer::readSurfaceKinds).
+enum class SurfaceKind : uint8_t {
+  kNothing = 0,  ///< no geometry: the clear colour
+  kStatic = 1,   ///< a static (baked) surface
+  kDynamic = 2,  ///< a dynamic object
+};
+
 /// A pinhole camera, right-handed, +Y up.
 struct Camera {
   Vec3 position{0, 0, 0};
@@ -70,7 +77,10 @@ class SceneRenderer {
 
   /// Renders one frame into the offscreen target (or, with
   /// `to_default_framebuffer`, into framebuffer 0 of the current window).
-  /// Dynamic objects are drawn where the runtime has them.
+  /// Dynamic objects are drawn where the runtime has them. Framebuffer 0
+  /// has no radiance attachment: after such a frame readRadiance() and
+  /// writeExr() (like readPixels() and writePng()) still give the previous
+  /// offscreen frame, or nothing when there was none.
   Expected<RenderStats> render(const Camera& camera, ShadingView view, bool to_default_framebuffer = false);
 
   /// Scales what frames show of a baked emitter (BakeData::emitters index),
@@ -85,15 +95,36 @@ class SceneRenderer {
   /// `scale` negative or not finite.
   Status setBakedEmitterScale(uint32_t bake_emitter, float scale);
 
-  /// The GL framebuffer of the offscreen target (RGBA8 display values +
-  /// depth) a host may draw over, a HUD say, after render() and before
-  /// readPixels()/writePng(). Replaced by resize().
+  /// The GL framebuffer of the offscreen target a host may draw over, a HUD
+  /// say, after render() and before readPixels()/writePng(): RGBA8 display
+  /// values at colour attachment 0, RGBA32F linear radiance at attachment
+  /// 1, depth. render() leaves it drawing to attachment 0 only, so what a
+  /// host draws changes the display colour and never the radiance.
+  /// Replaced by resize().
   uint32_t offscreenFramebuffer() const;
 
   /// Reads the last offscreen frame back as 8-bit sRGB RGB, rows top first.
+  /// Empty before the first offscreen frame (and after resize()).
   std::vector<uint8_t> readPixels() const;
   /// Writes the last offscreen frame as a PNG. Errors name the path.
   Status writePng(const std::string& path) const;
+  /// Reads the last offscreen frame's linear radiance back (cd/m2, linear
+  /// Rec.709 RGB, before exposure and the tone curve: what readPixels()
+  /// shows is svitDisplay() of it), 3 floats per pixel, rows top first.
+  /// The kPatchDelta view stores its false colour there as it is (display
+  /// values in 0..1, not radiance). Empty before the first offscreen frame
+  /// (and after resize()). Context current.
+  std::vector<float> readRadiance() const;
+  /// What each pixel of the last offscreen frame shows (SurfaceKind), rows
+  /// top first: the picture metric's mask of static surfaces and dynamic
+  /// objects. Empty before the first offscreen frame. Context current.
+  std::vector<uint8_t> readSurfaceKinds() const;
+  /// Writes the last offscreen frame's linear radiance (readRadiance()) as
+  /// an OpenEXR file with fp32 R, G, B channels, through `path`.tmp and a
+  /// rename (a failure leaves no partial file). Errors name the path: no
+  /// offscreen frame yet, a value that is not finite, a directory that
+  /// does not exist or cannot be written.
+  Status writeExr(const std::string& path) const;
   int width() const;
   int height() const;
   void resize(int width, int height);

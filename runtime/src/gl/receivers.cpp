@@ -1,7 +1,9 @@
 #include "receivers.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 
 #include <glm/glm.hpp>
 
@@ -13,6 +15,25 @@ namespace {
 void grow(Aabb& box, const Vec3& p) {
   box.min = {std::min(box.min.x, p.x), std::min(box.min.y, p.y), std::min(box.min.z, p.z)};
   box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y), std::max(box.max.z, p.z)};
+}
+
+// Per triangle: the first triangle with exactly the same corners, rotated
+// so the smallest corner leads (a rotation keeps the winding).
+std::vector<uint32_t> repeatedTriangles(const std::vector<Vec3>& positions) {
+  using Corner = std::array<float, 3>;
+  std::map<std::array<Corner, 3>, uint32_t> first;
+  std::vector<uint32_t> same_as(positions.size() / 3);
+  for (size_t t = 0; t < same_as.size(); ++t) {
+    std::array<Corner, 3> corners;
+    for (size_t k = 0; k < 3; ++k) {
+      const Vec3& p = positions[t * 3 + k];
+      corners[k] = {p.x, p.y, p.z};
+    }
+    const size_t lead = size_t(std::min_element(corners.begin(), corners.end()) - corners.begin());
+    std::rotate(corners.begin(), corners.begin() + std::ptrdiff_t(lead), corners.end());
+    same_as[t] = first.emplace(corners, uint32_t(t)).first->second;
+  }
+  return same_as;
 }
 
 }  // namespace
@@ -30,6 +51,7 @@ void binObjectTriangles(DynamicObject& object) {
   // triangles coplanar): same normal within 0.8 degrees, same plane offset
   // within 1e-4 of it.
   const size_t count = object.albedo.size();
+  object.same_as = repeatedTriangles(object.object_positions);
   object.flat_face.resize(count);
   std::vector<glm::dvec4> planes(count);
   for (size_t t = 0; t < count; ++t) {
@@ -40,6 +62,10 @@ void binObjectTriangles(DynamicObject& object) {
     const glm::dvec3 n = length > 0 ? cross / length : glm::dvec3(0.0);
     planes[t] = glm::dvec4(n, glm::dot(n, (a + b + c) / 3.0));
     object.flat_face[t] = uint32_t(t);
+    if (object.same_as[t] != t) {
+      object.flat_face[t] = object.flat_face[object.same_as[t]];
+      continue;
+    }
     if (count > kMaxFlatFaceTriangles || length == 0) continue;
     for (size_t u = 0; u < t; ++u) {
       const glm::dvec4& p = planes[u];
@@ -68,8 +94,9 @@ MapTriangles dynamicMapTriangles(const std::vector<DynamicObject>& objects) {
     if (triangles > 0) out.part_starts.push_back(uint32_t(out.triangleCount()));
     for (uint32_t t = 0; t < triangles; ++t) {
       for (int k = 0; k < 3; ++k) out.positions.push_back(object.world_positions[size_t(t) * 3 + size_t(k)]);
-      out.front_receiver.push_back(object.first_receiver + t);
-      out.back_receiver.push_back(object.double_sided ? object.first_receiver + t : kNoReceiver);
+      const uint32_t receiver = object.first_receiver + object.same_as[t];
+      out.front_receiver.push_back(receiver);
+      out.back_receiver.push_back(object.double_sided ? receiver : kNoReceiver);
     }
   }
   return out;
@@ -84,8 +111,10 @@ void updateObjectReceivers(const DynamicObject& object, std::vector<Receiver>& r
     const glm::vec3 cross = glm::cross(b - a, c - a);
     const float length = glm::length(cross);
     Receiver& r = receivers[object.first_receiver + t];
-    // A hidden object keeps its slot with zero area: it receives and emits nothing.
-    r.area_m2 = (object.visible && !object.removed) ? 0.5f * length : 0.0f;
+    // A hidden object keeps its slot with zero area: it receives and emits
+    // nothing; so does a repeated face (its first copy does).
+    const bool repeated = t < object.same_as.size() && object.same_as[t] != t;
+    r.area_m2 = (object.visible && !object.removed && !repeated) ? 0.5f * length : 0.0f;
     r.albedo = object.albedo[t];
     r.centroid = fromGlm((a + b + c) / 3.0f);
     r.normal = length > 0 ? fromGlm(cross / length) : Vec3{0, 1, 0};

@@ -31,16 +31,27 @@ struct DynamicObject {
   /// Per triangle: the first triangle of its flat face (coplanar ones show
   /// one averaged delta); itself on meshes over kMaxFlatFaceTriangles.
   std::vector<uint32_t> flat_face;
+  /// Per triangle: the first triangle with the same corners in the same
+  /// winding (itself when none). A mesh that repeats a face (as the Cornell
+  /// box's tall box does) would split an index map's texels between the
+  /// copies; a copy's texels go to the first one instead, and the copy
+  /// shows its value with no area of its own.
+  std::vector<uint32_t> same_as;
   bool double_sided = false;
   Mat4 world_from_object;
   bool visible = true;
   bool removed = false;
+  /// Every emitter whose reach meets it has had its shares rendered since
+  /// it appeared (Runtime::Impl::updateObjectsLit): until then shading
+  /// shows it by the probe grid, not by a partial sum of the emitters.
+  bool lit = false;
+  uint64_t shown_revision = 0;  ///< Impl::shares_revisions when it was added or shown
   uint32_t first_receiver = 0;  ///< its triangles' receivers are first_receiver + t
   std::vector<Vec3> world_positions;  ///< 3 per triangle, kept current
   Aabb bounds;                        ///< of world_positions (empty when hidden)
 };
 
-/// Fills shooter_bin and flat_face from object_positions.
+/// Fills shooter_bin, flat_face and same_as from object_positions.
 void binObjectTriangles(DynamicObject& object);
 
 /// Meshes with more triangles keep a delta per triangle (grouping is

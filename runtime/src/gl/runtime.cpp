@@ -237,6 +237,8 @@ Expected<std::unique_ptr<Runtime>> Runtime::create(const Scene& scene, const Bak
 
 uint32_t Runtime::Impl::addObjectInternal(rt::DynamicObject object) {
   object.first_receiver = uint32_t(receivers.size());
+  object.lit = false;
+  object.shown_revision = shares_revisions;
   rt::binObjectTriangles(object);
   rt::placeObject(object);
   receivers.resize(receivers.size() + object.albedo.size());
@@ -321,6 +323,8 @@ Status Runtime::setObjectVisible(ObjectId id, bool visible) {
   if (o.visible == visible) return Status();
   if (!o.bounds.empty()) impl_->moved_boxes.push_back(o.bounds);
   o.visible = visible;
+  o.lit = false;
+  o.shown_revision = impl_->shares_revisions;
   rt::placeObject(o);
   rt::updateObjectReceivers(o, impl_->receivers);
   if (!o.bounds.empty()) impl_->moved_boxes.push_back(o.bounds);
@@ -589,6 +593,9 @@ ShadingResources Runtime::shadingResources() const {
   }
   out.lightmap_textures = impl_->lightmap_textures;
   out.delta_textures = impl_->delta_textures;
+  out.delta_elements = impl_->delta_surface.elementBuffer();
+  out.delta_slots = impl_->delta_surface.slotBuffer();
+  out.vertex_deltas = impl_->delta_surface.vertexDeltaBuffer();
   return out;
 }
 

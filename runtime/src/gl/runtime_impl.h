@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "bounce_solver.h"
+#include "delta_surface.h"
 #include "emitter_importance.h"
 #include "emitter_samples.h"
 #include "index_map_culling.h"
@@ -171,9 +172,11 @@ struct Runtime::Impl {
   uint32_t delta_buffer_receivers = 0;
   mutable std::vector<uint32_t> lightmap_textures;
   std::vector<uint32_t> delta_textures;  ///< per page, GL_RGB32F at half size (delta_atlas.h)
+  rt::DeltaSurfaceBuffers delta_surface;  ///< per-pixel lookup of the static deltas (delta_surface.h)
   uint32_t gl_objects_created = 0;
 
   FrameStats update(double budget_ms);
+  void updateObjectsLit();
   Status ensureRenderer();
   void initBakeShares(Emitter& e) const;
   std::vector<int32_t> receiverGroups() const;

@@ -116,12 +116,18 @@ std::vector<ResourceUse> Runtime::resources() const {
                                    : (r.have_content ? "no update() yet" : no_content + ": nothing to add to the lightmaps");
   out.push_back(deltas);
 
+  ResourceUse surface = rt::measuredUse("delta surface buffers (per-pixel lookup)", r.delta_surface.glObjects());
+  surface.reason = surface.allocated ? std::to_string(r.patches.vertex_count) +
+                                           " welded vertices of the runtime patches: svit_runtime_delta.frag"
+                                     : deltas.reason;
+  out.push_back(surface);
+
   std::vector<rt::GlObject> delta_objects;
   for (uint32_t t : r.delta_textures) delta_objects.push_back(rt::glTextureObject(t));
   ResourceUse delta_pages = rt::measuredUse("delta textures (half-resolution pages)", delta_objects);
   delta_pages.reason = delta_pages.allocated ? "lightmap(uv) + delta(uv) shading (RuntimeSettings::delta_textures)"
                       : !r.settings.delta_textures
-                          ? "RuntimeSettings::delta_textures off: the host interpolates the patch delta buffer"
+                          ? "RuntimeSettings::delta_textures off: the host looks deltas up per pixel"
                           : deltas.reason;
   out.push_back(delta_pages);
   return out;

@@ -373,6 +373,22 @@ void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint3
   stats.bounce_ms += msSince(t0);
 }
 
+// An object is lit once every emitter that carries light to it (a baked
+// light, the sun, the sky, a lamp or bright patch: those with a baseline)
+// has rendered shares since the object appeared. A partial sum of its
+// emitters would draw it darker than the probe grid does (black after the
+// first update), so it keeps the probes until then. Once lit, later moves
+// refresh its emitters one by one from values that are already whole.
+void Runtime::Impl::updateObjectsLit() {
+  for (rt::DynamicObject& object : objects) {
+    if (object.lit || !object.visible || object.removed) continue;
+    object.lit = std::none_of(emitters.begin(), emitters.end(), [&](const Emitter& e) {
+      const bool carries = e.needs_baseline && reaches(e, object.bounds);
+      return carries && (!e.has_current || e.current_revision <= object.shown_revision);
+    });
+  }
+}
+
 void Runtime::Impl::uploadDisplay(FrameStats& stats) {
   const auto t0 = Clock::now();
   const size_t n = receivers.size();
@@ -386,6 +402,14 @@ void Runtime::Impl::uploadDisplay(FrameStats& stats) {
     packed[r * 4 + 1] = d.g;
     packed[r * 4 + 2] = d.b;
   }
+  // An object not lit yet shows zeros: shading keeps the probes' light.
+  for (const rt::DynamicObject& object : objects) {
+    if (object.lit) continue;
+    const size_t end = std::min(n, size_t(object.first_receiver) + object.albedo.size());
+    for (size_t r = object.first_receiver; r < end; ++r) {
+      for (int c = 0; c < 3; ++c) packed[r * 4 + size_t(c)] = 0.0f;
+    }
+  }
   if (delta_buffer_receivers < n) {
     // Grows only when objects are added; a steady scene never allocates.
     if (delta_buffer != 0) glDeleteBuffers(1, &delta_buffer);
@@ -395,16 +419,24 @@ void Runtime::Impl::uploadDisplay(FrameStats& stats) {
     ++gl_objects_created;
   }
   glNamedBufferSubData(delta_buffer, 0, GLsizeiptr(n * 4 * sizeof(float)), packed.data());
+  // The static deltas at the welded vertices of the runtime patches, as
+  // shading interpolates them per pixel.
+  std::vector<glm::dvec3> shown(static_receivers);
+  for (uint32_t r = 0; r < static_receivers; ++r) shown[r] = dvec(display[r]);
+  const std::vector<glm::dvec3> shown_at_vertices = rt::vertexValues(patches, shown);
+  if (!delta_surface.allocated()) {
+    delta_surface = rt::DeltaSurfaceBuffers::create(patches);
+    gl_objects_created += 3;
+  }
+  delta_surface.upload(shown_at_vertices);
   if (!settings.delta_textures) {
     stats.upload_ms += msSince(t0);
     return;
   }
-  // The same deltas in lightmap space, interpolated as shading shows them.
-  std::vector<glm::dvec3> shown(static_receivers);
-  for (uint32_t r = 0; r < static_receivers; ++r) shown[r] = dvec(display[r]);
+  // The same deltas in lightmap space.
   std::vector<std::pair<int, int>> sizes;
   for (const LightmapImage& page : pages) sizes.push_back({page.width, page.height});
-  const std::vector<rt::DeltaPage> atlas = rt::rasteriseDeltas(patches, rt::vertexValues(patches, shown), sizes);
+  const std::vector<rt::DeltaPage> atlas = rt::rasteriseDeltas(patches, shown_at_vertices, sizes);
   if (delta_textures.empty()) {
     delta_textures.resize(atlas.size());
     glCreateTextures(GL_TEXTURE_2D, GLsizei(atlas.size()), delta_textures.data());
@@ -610,6 +642,7 @@ FrameStats Runtime::Impl::update(double budget_ms) {
   for (const Emitter& e : emitters) {
     if (outOfDate(e) && needsMaps(e)) ++stats.emitters_pending;
   }
+  updateObjectsLit();
   uploadDisplay(stats);
   stats.gl_objects_created = gl_objects_created;
   stats.total_ms = msSince(start);

@@ -1,7 +1,8 @@
 // svit::SceneRenderer: one forward pass over the static mesh (lightmap +
 // interpolated runtime deltas + runtime lights) and the dynamic objects
 // (probe grid + lights + the runtime's patch deltas), tone mapped in the
-// shaders into an RGBA8 target (DESIGN.md "Runtime"). Everything that
+// shaders into an RGBA8 target, with the linear radiance beside it in an
+// RGBA32F one (DESIGN.md "Runtime"). Everything that
 // depends only on the level is built in create(); a frame allocates GL
 // objects only when something grows (more dynamic triangles or lights than
 // before), and does no work for features the level lacks.
@@ -25,7 +26,6 @@
 #include "gl_program.h"
 #include "glm_interop.h"
 #include "scene_renderer_bindings.h"
-#include "scene_renderer_delta_interpolation.h"
 #include "scene_renderer_dynamic_objects.h"
 #include "scene_renderer_lightmaps.h"
 #include "scene_renderer_materials.h"
@@ -93,7 +93,6 @@ struct SceneRenderer::Impl {
   Scene scene;  // frameSceneOf() the level
   const Runtime* runtime = nullptr;
   SceneRendererSettings settings;
-  size_t static_patch_count = 0;
 
   std::vector<gl::StaticBatch> batches;
   uint32_t static_vertex_count = 0;
@@ -103,7 +102,6 @@ struct SceneRenderer::Impl {
   gl::GlProgram static_program, dynamic_program;
   gl::LightmapTextures lightmaps;
   gl::MaterialTextures materials;
-  gl::VertexDeltaInterpolator vertex_deltas;
   gl::LightShadowMaps shadows;
   gl::ProbeGridTextures probes;
   gl::DynamicObjectMeshes dynamic_objects;
@@ -117,8 +115,6 @@ struct SceneRenderer::Impl {
   std::vector<int> light_emitter;  // per Scene::lights entry
   int sun_emitter = -1;
 
-  std::vector<Rgb> shown_deltas;  // static patch deltas the vertex deltas were made from
-  bool vertex_deltas_valid = false;
   float exposure = 1;
   float delta_reference_lux = 1;
 
@@ -128,7 +124,6 @@ struct SceneRenderer::Impl {
   }
 
   void uploadStaticMesh(const gl::StaticMesh& mesh);
-  bool refreshVertexDeltas(uint32_t patch_delta_buffer);
   float emitterScale(int emitter) const { return emitter >= 0 ? emitter_scale[size_t(emitter)] : 1.0f; }
   std::vector<gl::FrameLight> frameLights(bool with_runtime_lights, bool with_baked_lights, bool scale_baked,
                                           size_t* baked_count) const;
@@ -158,26 +153,9 @@ void SceneRenderer::Impl::uploadStaticMesh(const gl::StaticMesh& mesh) {
     glVertexArrayAttribBinding(static_vao, a, 0);
   }
   glEnableVertexArrayAttrib(static_vao, 5);
-  glVertexArrayAttribIFormat(static_vao, 5, 2, GL_UNSIGNED_INT, offsetof(gl::StaticVertex, delta_vertex));
+  glVertexArrayAttribIFormat(static_vao, 5, 2, GL_UNSIGNED_INT, offsetof(gl::StaticVertex, delta_element));
   glVertexArrayAttribBinding(static_vao, 5, 0);
   glVertexArrayVertexBuffer(static_vao, 0, static_buffer, 0, sizeof(gl::StaticVertex));
-}
-
-// Re-interpolates the vertex deltas when the runtime's static patch deltas
-// differ from the ones shown (a compare of P colours on the CPU is far
-// cheaper than the pass it saves). Returns whether deltas are usable.
-bool SceneRenderer::Impl::refreshVertexDeltas(uint32_t patch_delta_buffer) {
-  if (runtime == nullptr || patch_delta_buffer == 0 || vertex_deltas.vertexCount() == 0) return false;
-  const std::vector<Rgb>& deltas = runtime->patchDeltas();
-  const size_t n = std::min(deltas.size(), static_patch_count);
-  const bool same = vertex_deltas_valid && shown_deltas.size() == n &&
-                    (n == 0 || std::memcmp(shown_deltas.data(), deltas.data(), n * sizeof(Rgb)) == 0);
-  if (!same) {
-    shown_deltas.assign(deltas.begin(), deltas.begin() + std::ptrdiff_t(n));
-    vertex_deltas.update(patch_delta_buffer);
-    vertex_deltas_valid = true;
-  }
-  return true;
 }
 
 // Baked lights first (stable slots: their maps survive view switches and
@@ -253,7 +231,6 @@ Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scen
   impl->scene = frameSceneOf(scene);
   impl->runtime = runtime;
   impl->settings = settings;
-  impl->static_patch_count = bake.patches.size();
   impl->emitter_scale.assign(bake.emitters.size(), 1.0f);
   impl->light_emitter.assign(scene.lights.size(), -1);
   for (size_t e = 0; e < bake.emitters.size(); ++e) {
@@ -273,7 +250,8 @@ Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scen
   if (!materials.ok()) return materials.status();
   impl->materials = std::move(materials).value();
 
-  Expected<gl::GlProgram> static_program = gl::linkProgram({"lit_static.vert", "lit_static.frag", "svit_shading.frag"});
+  Expected<gl::GlProgram> static_program =
+      gl::linkProgram({"lit_static.vert", "lit_static.frag", "svit_shading.frag", "svit_runtime_delta.frag"});
   if (!static_program.ok()) return static_program.status();
   impl->static_program = std::move(static_program).value();
   Expected<gl::GlProgram> dynamic_program = gl::linkProgram({"lit_dynamic.vert", "lit_dynamic.frag", "svit_shading.frag"});
@@ -284,13 +262,7 @@ Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scen
   impl->shadows = std::move(shadows).value();
 
   impl->uploadStaticMesh(*mesh);
-  // Pay for what is used: deltas only with a runtime, probes only when
-  // dynamic objects can exist.
-  if (runtime != nullptr && !bake.patches.empty()) {
-    Expected<gl::VertexDeltaInterpolator> deltas = gl::VertexDeltaInterpolator::create(mesh->deltas);
-    if (!deltas.ok()) return deltas.status();
-    impl->vertex_deltas = std::move(deltas).value();
-  }
+  // Pay for what is used: probes only when dynamic objects can exist.
   if (runtime != nullptr || sceneHasDynamicInstances(scene)) {
     Expected<gl::ProbeGridTextures> probes = gl::ProbeGridTextures::create(bake.probes);
     if (!probes.ok()) return probes.status();
@@ -328,12 +300,13 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   RenderStats stats;
   const bool runtime_view = view != ShadingView::kBakedOnly;
 
-  // Runtime deltas (static: interpolated per vertex; dynamic: per patch).
-  uint32_t delta_buffer = 0;
-  if (s.runtime != nullptr && runtime_view) delta_buffer = s.runtime->shadingResources().patch_delta_buffer;
-  const std::vector<uint32_t> delta_maps =
-      runtime_view && s.runtime != nullptr ? s.runtime->shadingResources().delta_textures : std::vector<uint32_t>{};
-  const bool static_deltas = runtime_view && delta_maps.empty() && s.refreshVertexDeltas(delta_buffer);
+  // Runtime deltas (static: per runtime patch, looked up per pixel, or the
+  // runtime's lightmap-space maps when it makes them; dynamic: per patch).
+  const ShadingResources resources =
+      runtime_view && s.runtime != nullptr ? s.runtime->shadingResources() : ShadingResources{};
+  const uint32_t delta_buffer = resources.patch_delta_buffer;
+  const std::vector<uint32_t>& delta_maps = resources.delta_textures;
+  const bool static_deltas = delta_maps.empty() && resources.vertex_deltas != 0;
 
   // Dynamic objects and the lights that shade per pixel.
   const bool casters_changed = s.dynamic_objects.update(s.scene, s.runtime);
@@ -360,6 +333,8 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   // The frame.
   const int width = s.settings.width, height = s.settings.height;
   glBindFramebuffer(GL_FRAMEBUFFER, to_default_framebuffer ? 0 : s.target.framebuffer());
+  // The lit passes write display colour and radiance (the clear too).
+  if (!to_default_framebuffer) s.target.drawRadiance(true);
   glViewport(0, 0, width, height);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -371,6 +346,7 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   glClearColor(0, 0, 0, 1);
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  if (!to_default_framebuffer) s.target.clearRadiance();  // surface kind 0 where nothing is drawn
   const glm::mat4 clip_from_world =
       glm::perspective(camera.yfov_rad, float(width) / float(height), camera.near_m, camera.far_m) *
       glm::lookAt(eye, centre, up);
@@ -381,7 +357,11 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   glUseProgram(s.static_program.id());
   s.setSharedUniforms(clip_from_world, view, int(baked_lights), view == ShadingView::kRuntime ? light_count : int(baked_lights));
   glUniform1i(b::kUseDeltas, static_deltas ? 1 : 0);
-  if (static_deltas) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kVertexDeltas, s.vertex_deltas.vertexDeltaBuffer());
+  if (static_deltas) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kDeltaElements, resources.delta_elements);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kDeltaSlots, resources.delta_slots);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kVertexDeltas, resources.vertex_deltas);
+  }
   glBindVertexArray(s.static_vao);
   uint32_t bound_material = UINT32_MAX, bound_page = UINT32_MAX;
   float bound_emission_scale = 1.0f;
@@ -400,10 +380,8 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
     }
     if (batch.page != bound_page) {
       glBindTextureUnit(b::kLightmapUnit, s.lightmaps.texture(batch.page));
-      // The runtime's deltas in lightmap space (runtime patches finer than
-      // the mesh's vertices can carry); the vertex path stays for hosts
-      // without them.
-      const bool delta_map = runtime_view && s.runtime != nullptr && batch.page < delta_maps.size();
+      // The runtime's deltas in lightmap space, when it makes them.
+      const bool delta_map = batch.page < delta_maps.size();
       glUniform1i(b::kUseDeltaMap, delta_map ? 1 : 0);
       if (delta_map) glBindTextureUnit(b::kDeltaMapUnit, delta_maps[batch.page]);
       bound_page = batch.page;
@@ -426,6 +404,9 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
 
   glBindVertexArray(0);
   glUseProgram(0);
+  // A host's HUD drawn next writes output 0 only: with both attachments
+  // drawn, its unwritten output 1 would leave undefined radiance.
+  if (!to_default_framebuffer) s.target.drawRadiance(false);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glFinish();  // honest timings on any driver (RenderStats::shading_ms)
   Status error = gl::checkGlError("SceneRenderer::render");
@@ -461,6 +442,21 @@ Status SceneRenderer::writePng(const std::string& path) const {
   return gl::writeRgbPng(path, impl_->target.width(), impl_->target.height(), readPixels());
 }
 
+std::vector<float> SceneRenderer::readRadiance() const {
+  if (!impl_->has_offscreen_frame) return {};
+  return impl_->target.readRadiance();
+}
+
+std::vector<uint8_t> SceneRenderer::readSurfaceKinds() const {
+  if (!impl_->has_offscreen_frame) return {};
+  return impl_->target.readSurfaceKinds();
+}
+
+Status SceneRenderer::writeExr(const std::string& path) const {
+  if (!impl_->has_offscreen_frame) return Status(StatusCode::kInvalidInput, path + ": no offscreen frame rendered yet");
+  return gl::writeRgbExr(path, impl_->target.width(), impl_->target.height(), readRadiance());
+}
+
 int SceneRenderer::width() const { return impl_->settings.width; }
 int SceneRenderer::height() const { return impl_->settings.height; }
 
@@ -492,9 +488,6 @@ std::vector<ResourceUse> SceneRenderer::resources() const {
                     ""));
   out.push_back(use("lightmap textures", s.lightmaps.glObjects(), "its own copy: drawn without a runtime",
                     s.lightmaps.borrowed() ? "borrowed from the runtime (counted there): one copy" : "no lightmap pages"));
-  out.push_back(use("vertex delta interpolation buffers", s.vertex_deltas.glObjects(),
-                    "runtime deltas smoothed over welded vertices",
-                    s.runtime == nullptr ? "no runtime: baked lighting only" : "the bake has no runtime patches"));
   out.push_back(use("light shadow maps", s.shadows.glObjects(),
                     std::to_string(s.shadows.lightCount()) +
                         " lights drawn per pixel (runtime lights; baked ones while dynamic objects need them)",
@@ -506,7 +499,7 @@ std::vector<ResourceUse> SceneRenderer::resources() const {
                             "no dynamic objects drawn");
   dynamic.cpu_bytes = s.dynamic_objects.hostBytes();
   out.push_back(dynamic);
-  out.push_back(use("offscreen target (colour + depth)", s.target.glObjects(),
+  out.push_back(use("offscreen target (colour + radiance + depth)", s.target.glObjects(),
                     std::to_string(s.settings.width) + " x " + std::to_string(s.settings.height), ""));
   return out;
 }

@@ -1,7 +1,7 @@
 #pragma once
 // Binding points and uniform locations shared by the SceneRenderer's C++
 // and its GLSL (shaders/lit_static.*, lit_dynamic.*, svit_shading.frag,
-// shadow_depth.*, delta_to_vertices.comp). The shaders spell the same
+// shadow_depth.*, svit_runtime_delta.frag). The shaders spell the same
 // numbers in their layout() qualifiers; change both together.
 
 #include <cstdint>
@@ -10,9 +10,9 @@ namespace svit::gl::render_binding {
 
 // ---- shader storage buffers ----
 inline constexpr uint32_t kPatchDeltas = 0;        ///< runtime's vec4 per patch (lux)
-inline constexpr uint32_t kDeltaOffsets = 1;       ///< per welded vertex: first entry (CSR)
-inline constexpr uint32_t kDeltaEntries = 2;       ///< (patch, weight bits) pairs
-inline constexpr uint32_t kVertexDeltas = 3;       ///< vec4 per welded vertex (lux)
+inline constexpr uint32_t kDeltaElements = 1;     ///< per bake element: (n, first slot) (ShadingResources)
+inline constexpr uint32_t kDeltaSlots = 2;        ///< per slot: its sub-triangle's welded vertices, used
+inline constexpr uint32_t kVertexDeltas = 3;       ///< vec4 per welded runtime vertex (lux)
 inline constexpr uint32_t kLights = 4;             ///< GpuLight array
 
 // ---- texture units ----
@@ -48,7 +48,7 @@ inline constexpr int kEmissiveRotation = 15;
 inline constexpr int kMaterialFlags = 16;    ///< ivec2: (double sided, alpha mask)
 inline constexpr int kAlphaCutoff = 17;      ///< float
 // Static only.
-inline constexpr int kUseDeltas = 18;        ///< int: vertex deltas bound
+inline constexpr int kUseDeltas = 18;        ///< int: the runtime's delta buffers bound
 inline constexpr int kUseDeltaMap = 19;      ///< int: the runtime's delta map bound (lit_static.frag)
 inline constexpr int kEmissionScale = 24;    ///< float: the batch's bake emitter scale (lit_static.frag)
 // Dynamic only: probe grid.
@@ -59,8 +59,5 @@ inline constexpr int kUseProbes = 22;        ///< int
 inline constexpr int kBakedLightEnd = 23;    ///< int: lights [0, this) are the baked ones (the runtime's patch values include them)
 // Shadow depth pass.
 inline constexpr int kShadowClipFromWorld = 0;  ///< mat4 (shadow_depth.vert)
-
-// Compute pass.
-inline constexpr int kComputeVertexCount = 0;  ///< uint (delta_to_vertices.comp)
 
 }  // namespace svit::gl::render_binding

@@ -2,9 +2,10 @@
 // The static geometry as the SceneRenderer draws it: the bake's static
 // triangles (BakeData::triangle_uvs order) in world space with their
 // lightmap UVs, grouped into draw batches by (material, lightmap page, bake
-// emitter of an emissive patch), and
-// the welded vertices the runtime's per-patch deltas are interpolated at.
-// CPU only (no GL): built once at SceneRenderer::create.
+// emitter of an emissive patch), each corner naming its bake elements so
+// the fragment shader can look the runtime's delta up per runtime patch
+// (shaders/svit_runtime_delta.frag). CPU only (no GL): built once at
+// SceneRenderer::create.
 
 #include <cstdint>
 #include <vector>
@@ -24,7 +25,9 @@ struct StaticVertex {
   float uv0[2];            ///< TEXCOORD_0 (0 when the mesh has none)
   float uv1[2];            ///< TEXCOORD_1 (0 when the mesh has none)
   float uv_lightmap[2];    ///< page coordinates, v down the rows
-  uint32_t delta_vertex[2];  ///< welded vertex of the front and of the back side
+  /// Bake element (triangle * 2 + side) of the front and of the back side:
+  /// where svit_runtime_delta.frag finds the runtime's delta.
+  uint32_t delta_element[2];
 };
 static_assert(sizeof(StaticVertex) == 56, "lit_static.vert reads this layout");
 
@@ -44,30 +47,14 @@ struct StaticBatch {
   uint32_t vertex_count = 0;
 };
 
-/// How each welded vertex's delta is made from the patches around it
-/// (CSR): delta[v] = sum over i in [offsets[v], offsets[v+1]) of
-/// weights[i] * patch_delta[patches[i]]; a vertex's weights sum to 1.
-struct DeltaInterpolation {
-  uint32_t vertex_count = 0;
-  std::vector<uint32_t> offsets;  ///< vertex_count + 1
-  std::vector<uint32_t> patches;
-  std::vector<float> weights;
-};
-
 struct StaticMesh {
   std::vector<StaticVertex> vertices;  ///< sorted by batch
   std::vector<StaticBatch> batches;
-  /// Empty (vertex_count 0, every delta_vertex 0) when the bake has no patches.
-  DeltaInterpolation deltas;
   Aabb bounds;  ///< world, of all static triangles
 };
 
-/// Builds the static mesh of `scene` as `bake` lit it. Welded vertices join
-/// triangle sides whose corners share position (to 1e-6 of the scene's
-/// extent) and shading normal (to about 0.5 degree), so hard edges stay
-/// hard; each welded vertex takes the area-weighted mean of the patches of
-/// the sides around it (DESIGN.md "Patches": a delta interpolated on
-/// screen). Errors name the bake element: the bake's static triangle count
+/// Builds the static mesh of `scene` as `bake` lit it. Errors name the
+/// bake element: the bake's static triangle count
 /// differs from the level's (another level or version), an instance, mesh
 /// triangle or page out of range, a dynamic instance in the list, a patch
 /// element out of range.

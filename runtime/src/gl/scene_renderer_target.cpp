@@ -2,8 +2,11 @@
 
 #include <epoxy/gl.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "gl_program.h"
@@ -20,11 +23,16 @@ Expected<OffscreenTarget> OffscreenTarget::create(int width, int height) {
   out.height_ = height;
   glCreateTextures(GL_TEXTURE_2D, 1, &out.colour_);
   glTextureStorage2D(out.colour_, 1, GL_RGBA8, width, height);
+  // RGBA, not RGB: GL 4.5 does not require RGB32F to be colour-renderable.
+  glCreateTextures(GL_TEXTURE_2D, 1, &out.radiance_);
+  glTextureStorage2D(out.radiance_, 1, GL_RGBA32F, width, height);
   glCreateRenderbuffers(1, &out.depth_);
   glNamedRenderbufferStorage(out.depth_, GL_DEPTH_COMPONENT32F, width, height);
   glCreateFramebuffers(1, &out.framebuffer_);
   glNamedFramebufferTexture(out.framebuffer_, GL_COLOR_ATTACHMENT0, out.colour_, 0);
+  glNamedFramebufferTexture(out.framebuffer_, GL_COLOR_ATTACHMENT1, out.radiance_, 0);
   glNamedFramebufferRenderbuffer(out.framebuffer_, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, out.depth_);
+  out.drawRadiance(false);
   const GLenum status = glCheckNamedFramebufferStatus(out.framebuffer_, GL_DRAW_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE) {
     return Status(StatusCode::kInternal, "render target " + std::to_string(width) + "x" + std::to_string(height) +
@@ -42,6 +50,7 @@ OffscreenTarget& OffscreenTarget::operator=(OffscreenTarget&& other) noexcept {
     release();
     framebuffer_ = std::exchange(other.framebuffer_, 0);
     colour_ = std::exchange(other.colour_, 0);
+    radiance_ = std::exchange(other.radiance_, 0);
     depth_ = std::exchange(other.depth_, 0);
     width_ = std::exchange(other.width_, 0);
     height_ = std::exchange(other.height_, 0);
@@ -54,25 +63,64 @@ OffscreenTarget::~OffscreenTarget() { release(); }
 void OffscreenTarget::release() {
   if (framebuffer_ != 0) glDeleteFramebuffers(1, &framebuffer_);
   if (colour_ != 0) glDeleteTextures(1, &colour_);
+  if (radiance_ != 0) glDeleteTextures(1, &radiance_);
   if (depth_ != 0) glDeleteRenderbuffers(1, &depth_);
-  framebuffer_ = colour_ = depth_ = 0;
+  framebuffer_ = colour_ = radiance_ = depth_ = 0;
 }
+
+void OffscreenTarget::drawRadiance(bool on) const {
+  const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glNamedFramebufferDrawBuffers(framebuffer_, on ? 2 : 1, both);
+}
+
+namespace {
+
+// Reads `attachment` as RGB (or RGBA), 3 (4) `T` per pixel, and flips the
+// rows to top first (GL's first row is the bottom).
+template <typename T>
+std::vector<T> readTopDown(uint32_t framebuffer, GLenum attachment, int width, int height, GLenum format = GL_RGB) {
+  constexpr GLenum kType = std::is_same_v<T, float> ? GL_FLOAT : GL_UNSIGNED_BYTE;
+  const size_t row = size_t(width) * (format == GL_RGBA ? 4 : 3);
+  std::vector<T> bottom_up(row * size_t(height));
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glNamedFramebufferReadBuffer(framebuffer, attachment);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
+  glReadPixels(0, 0, width, height, format, kType, bottom_up.data());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glNamedFramebufferReadBuffer(framebuffer, GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  std::vector<T> top_down(bottom_up.size());
+  for (int y = 0; y < height; ++y) {
+    std::memcpy(&top_down[size_t(y) * row], &bottom_up[size_t(height - 1 - y) * row], row * sizeof(T));
+  }
+  return top_down;
+}
+
+}  // namespace
 
 std::vector<uint8_t> OffscreenTarget::readRgb() const {
   if (framebuffer_ == 0) return {};
-  const size_t row = size_t(width_) * 3;
-  std::vector<uint8_t> bottom_up(row * size_t(height_));
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glNamedFramebufferReadBuffer(framebuffer_, GL_COLOR_ATTACHMENT0);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
-  glReadPixels(0, 0, width_, height_, GL_RGB, GL_UNSIGNED_BYTE, bottom_up.data());
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  std::vector<uint8_t> top_down(bottom_up.size());
-  for (int y = 0; y < height_; ++y) {
-    std::memcpy(&top_down[size_t(y) * row], &bottom_up[size_t(height_ - 1 - y) * row], row);
-  }
-  return top_down;
+  return readTopDown<uint8_t>(framebuffer_, GL_COLOR_ATTACHMENT0, width_, height_);
+}
+
+// A float attachment reads back unclamped (GL_CLAMP_READ_COLOR defaults to
+// GL_FIXED_ONLY): radiance above 1 cd/m2 survives.
+std::vector<float> OffscreenTarget::readRadiance() const {
+  if (framebuffer_ == 0) return {};
+  return readTopDown<float>(framebuffer_, GL_COLOR_ATTACHMENT1, width_, height_);
+}
+
+void OffscreenTarget::clearRadiance() const {
+  const float zero[4] = {0, 0, 0, 0};
+  glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 1, zero);
+}
+
+std::vector<uint8_t> OffscreenTarget::readSurfaceKinds() const {
+  if (framebuffer_ == 0) return {};
+  const std::vector<float> rgba = readTopDown<float>(framebuffer_, GL_COLOR_ATTACHMENT1, width_, height_, GL_RGBA);
+  std::vector<uint8_t> kinds(rgba.size() / 4);
+  for (size_t i = 0; i < kinds.size(); ++i) kinds[i] = uint8_t(std::lround(std::clamp(rgba[i * 4 + 3], 0.0f, 255.0f)));
+  return kinds;
 }
 
 }  // namespace svit::gl

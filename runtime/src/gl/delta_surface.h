@@ -1,0 +1,51 @@
+#pragma once
+// The runtime's displayed deltas as a shader looks them up per pixel, at
+// the resolution of the runtime patches rather than of the static mesh's
+// vertices (a two-triangle wall has four vertices, and runtime patches cut
+// bake triangles into n x n sub-triangles): for a static triangle side
+// (bake element) and barycentrics inside it, the sub-triangle under the
+// point and the delta interpolated between its welded vertices, exactly as
+// Runtime::irradianceAt does on the CPU (RuntimePatches::subTriangle).
+// shaders/svit_runtime_delta.frag is the GLSL side; the three buffers are
+// ShadingResources::delta_elements, delta_slots and vertex_deltas.
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gl_memory.h"
+#include "runtime_patches.h"
+
+namespace svit::gl {
+
+class DeltaSurfaceBuffers {
+ public:
+  /// Uploads the tessellation tables of `patches` and allocates the vertex
+  /// deltas (zeros). Needs a current GL 4.5 context.
+  static DeltaSurfaceBuffers create(const RuntimePatches& patches);
+  DeltaSurfaceBuffers() = default;
+  DeltaSurfaceBuffers(DeltaSurfaceBuffers&& other) noexcept;
+  DeltaSurfaceBuffers& operator=(DeltaSurfaceBuffers&& other) noexcept;
+  DeltaSurfaceBuffers(const DeltaSurfaceBuffers&) = delete;
+  DeltaSurfaceBuffers& operator=(const DeltaSurfaceBuffers&) = delete;
+  ~DeltaSurfaceBuffers();
+
+  /// Replaces the per-welded-vertex deltas (lux, `patches.vertex_count` of them).
+  void upload(const std::vector<glm::dvec3>& vertex_values);
+
+  bool allocated() const { return vertex_deltas_ != 0; }
+  uint32_t elementBuffer() const { return elements_; }
+  uint32_t slotBuffer() const { return slots_; }
+  uint32_t vertexDeltaBuffer() const { return vertex_deltas_; }
+  std::vector<GlObject> glObjects() const {
+    return {glBufferObject(elements_), glBufferObject(slots_), glBufferObject(vertex_deltas_)};
+  }
+
+ private:
+  void release();
+  uint32_t elements_ = 0, slots_ = 0, vertex_deltas_ = 0;
+  uint32_t vertex_count_ = 0;
+};
+
+}  // namespace svit::gl

@@ -1,0 +1,186 @@
+// The picture a player sees (issue 19): the runtime view of the Cornell
+// box with its tall box dynamic, against the baked view of a bake in which
+// the box is static at the same pose (another seed), in linear radiance
+// (tests/gl/picture_metric.h). The baked-only view of the dynamic level
+// (doing nothing at run time) is the baseline the runtime must beat in
+// every frame; two static bakes of different seeds give the noise floor.
+// Label `gl` (xvfb-run).
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "../bench/moved_level.h"
+#include "gl_test_context.h"
+#include "picture_metric.h"
+#include "scene_renderer_test_util.h"
+#include "svit/runtime.h"
+#include "svit/scene_renderer.h"
+
+namespace svit {
+namespace {
+
+using namespace svit::render_test;  // NOLINT: test helpers
+using test::comparePictures;
+using test::LinearFrame;
+using test::PictureError;
+using test::readLinearFrame;
+
+// Bakes good enough that their own noise sits well below the errors measured.
+constexpr TestBake kRuntimeBake{1, 0.1, 8};
+constexpr TestBake kReferenceBake{2, 0.1, 8};
+constexpr TestBake kSecondReferenceBake{3, 0.1, 8};
+constexpr int kSamplesPerFrame = 24;  // RuntimeSettings::max_samples_per_frame: deterministic frames
+constexpr int kFrames = 16;
+
+std::string writeLevel(const std::string& name, const std::string& body) {
+  const fs::path path = fs::temp_directory_path() / "svit_scene_renderer_test" / (name + ".json");
+  fs::create_directories(path.parent_path());
+  std::ofstream(path) << body;
+  return path.string();
+}
+
+// The Cornell box with the tall box dynamic where the glTF has it.
+std::string cornellStillBoxLevel() {
+  return writeLevel("cornell_still_box", R"({"gltf": ")" + cornellGltf() + R"(", "dynamic": ["tallBox"]})");
+}
+std::string cornellStaticLevel() {
+  return writeLevel("cornell_static", R"({"gltf": ")" + cornellGltf() + R"("})");
+}
+
+// The tall box moved 25 cm and turned 30 degrees (the sample level's path key).
+constexpr Vec3 kMovedTranslation{0.25f, 0, 0.1f};
+constexpr Quat kMovedRotation{0, 0.2588190f, 0, 0.9659258f};
+
+Mat4 placeAt(Vec3 t, Quat q) {
+  const glm::mat4 m = glm::translate(glm::mat4(1), glm::vec3(t.x, t.y, t.z)) *
+                      glm::mat4_cast(glm::quat(q.w, q.x, q.y, q.z));
+  Mat4 out;
+  for (int i = 0; i < 16; ++i) out.m[size_t(i)] = m[i / 4][i % 4];
+  return out;
+}
+
+SceneRendererSettings fixedExposure() {
+  SceneRendererSettings settings;
+  settings.width = 320;
+  settings.height = 180;
+  settings.auto_exposure = false;
+  settings.exposure = 1;
+  return settings;
+}
+
+// The baked view of `level` (no runtime): a reference picture.
+LinearFrame bakedPicture(const BakedLevel& level, const Camera& camera) {
+  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, fixedExposure());
+  EXPECT_TRUE(renderer.ok()) << renderer.status().message();
+  if (!renderer.ok()) return {};
+  EXPECT_TRUE((*renderer)->render(camera, ShadingView::kBakedOnly).ok());
+  return readLinearFrame(**renderer);
+}
+
+struct Walk {
+  PictureError baked_only;        ///< the dynamic level's baked view: doing nothing
+  std::vector<PictureError> frames;  ///< the runtime view after each update
+};
+
+// A runtime of `level` with the view set, the object placed at `pose`,
+// kFrames updates of kSamplesPerFrame samples, the runtime view after each
+// against `reference`.
+Walk walkAgainst(const BakedLevel& level, const Mat4& pose, const LinearFrame& reference, const Camera& camera,
+                 const std::string& png_prefix) {
+  Walk walk;
+  RuntimeSettings settings;
+  settings.max_samples_per_frame = kSamplesPerFrame;
+  settings.delta_textures = false;  // the per-pixel lookup, as svit-walk shades
+  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(level.scene, level.bake, level.dir, settings);
+  EXPECT_TRUE(runtime.ok()) << runtime.status().message();
+  if (!runtime.ok()) return walk;
+  EXPECT_TRUE((*runtime)->setObjectTransform((*runtime)->objects().at(0), pose).ok());
+  RuntimeView view;
+  view.position = camera.position;
+  view.look_at = camera.look_at;
+  view.yfov_rad = camera.yfov_rad;
+  view.aspect = 16.0f / 9.0f;
+  EXPECT_TRUE((*runtime)->setView(view).ok());
+  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, runtime->get(), fixedExposure());
+  EXPECT_TRUE(renderer.ok()) << renderer.status().message();
+  if (!renderer.ok()) return walk;
+  EXPECT_TRUE((*renderer)->render(camera, ShadingView::kBakedOnly).ok());
+  walk.baked_only = comparePictures(readLinearFrame(**renderer), reference);
+  std::printf("baked-only: static %.4f, object %.4f against %.4f (%+.1f %%)\n", walk.baked_only.static_rel_rms,
+              walk.baked_only.dynamic_mean, walk.baked_only.dynamic_reference_mean,
+              100 * walk.baked_only.dynamicMeanError());
+  for (int frame = 0; frame < kFrames; ++frame) {
+    const FrameStats stats = (*runtime)->update(0);
+    EXPECT_TRUE(stats.error.empty()) << stats.error;
+    EXPECT_TRUE((*renderer)->render(camera, ShadingView::kRuntime).ok());
+    walk.frames.push_back(comparePictures(readLinearFrame(**renderer), reference));
+    const PictureError& e = walk.frames.back();
+    std::printf("frame %2d: static %.4f (baked-only %.4f), object %.4f against %.4f (%+.1f %%), %u pending\n", frame,
+                e.static_rel_rms, walk.baked_only.static_rel_rms, e.dynamic_mean, e.dynamic_reference_mean,
+                100 * e.dynamicMeanError(), stats.emitters_pending);
+  }
+  EXPECT_TRUE((*renderer)->writePng(pngPath(png_prefix + "_runtime.png")).ok());
+  return walk;
+}
+
+struct Bounds {
+  double noise_floor = 0;  ///< static error between two references of different seeds
+};
+
+Bounds noiseFloor(const LinearFrame& reference, const Camera& camera) {
+  const LinearFrame second = bakedPicture(bakedLevel(cornellStaticLevel(), kSecondReferenceBake), camera);
+  Bounds b;
+  b.noise_floor = comparePictures(second, reference).static_rel_rms;
+  std::printf("noise floor (two static bakes): %.4f\n", b.noise_floor);
+  return b;
+}
+
+// What every walk must show: never worse than doing nothing on the static
+// surfaces, converged to a third of the baked-only error (above the
+// references' own noise), and the object lit within 15 % of the reference.
+void expectConverges(const Walk& walk, const Bounds& bounds) {
+  ASSERT_EQ(walk.frames.size(), size_t(kFrames));
+  for (size_t f = 0; f < walk.frames.size(); ++f) {
+    EXPECT_LE(walk.frames[f].static_rel_rms, walk.baked_only.static_rel_rms * 1.001) << "frame " << f;
+  }
+  const PictureError& settled = walk.frames.back();
+  const double floor = std::sqrt(2.0) * bounds.noise_floor;  // the runtime's bake and the reference both noisy
+  EXPECT_LE(settled.static_rel_rms, std::max(walk.baked_only.static_rel_rms / 3, floor))
+      << "baked-only " << walk.baked_only.static_rel_rms << ", noise floor " << bounds.noise_floor;
+  EXPECT_GT(settled.dynamic_pixels, 100u);
+  EXPECT_LE(std::abs(settled.dynamicMeanError()), 0.15)
+      << settled.dynamic_mean << " against " << settled.dynamic_reference_mean;
+}
+
+TEST(RuntimePicture, CornellBoxWhereItStandsConvergesToTheStaticBake) {
+  test::GlTestContext context;
+  SVIT_REQUIRE_GL(context);
+  const Camera camera = cornellFrontCamera();
+  const LinearFrame reference = bakedPicture(bakedLevel(cornellStaticLevel(), kReferenceBake), camera);
+  const Bounds bounds = noiseFloor(reference, camera);
+  const Walk walk = walkAgainst(bakedLevel(cornellStillBoxLevel(), kRuntimeBake), Mat4{}, reference, camera,
+                                "svit_picture_cornell_still");
+  expectConverges(walk, bounds);
+}
+
+TEST(RuntimePicture, CornellBoxMovedConvergesToTheStaticBakeThere) {
+  test::GlTestContext context;
+  SVIT_REQUIRE_GL(context);
+  const Camera camera = cornellFrontCamera();
+  const std::string work = (fs::temp_directory_path() / "svit_scene_renderer_test").string();
+  const std::string moved = test::writeLevelWithNodeStatic(cornellStillBoxLevel(), "tallBox", kMovedTranslation,
+                                                           kMovedRotation, work, "cornell_box_moved");
+  const LinearFrame reference = bakedPicture(bakedLevel(moved, kReferenceBake), camera);
+  const Bounds bounds = noiseFloor(bakedPicture(bakedLevel(cornellStaticLevel(), kReferenceBake), camera), camera);
+  const Walk walk = walkAgainst(bakedLevel(cornellStillBoxLevel(), kRuntimeBake),
+                                placeAt(kMovedTranslation, kMovedRotation), reference, camera,
+                                "svit_picture_cornell_moved");
+  expectConverges(walk, bounds);
+}
+
+}  // namespace
+}  // namespace svit
