@@ -45,7 +45,7 @@ layout(location = 24) uniform float u_emission_scale;  // the lamp's dimmer (Sce
 vec3 svitDirectIrradiance(vec3 p, vec3 n);
 vec3 svitDisplay(vec3 radiance);
 vec3 svitDeltaFalseColour(vec3 delta, vec3 under);
-vec3 svitRuntimeDelta(uint element, vec2 corner_weights);
+vec4 svitRuntimeDelta(uint element, vec2 corner_weights);
 
 const float kPi = 3.14159265358979;
 // Alpha of o_radiance: svit::SurfaceKind (the picture metric tells static
@@ -80,18 +80,20 @@ void main() {
     vec2 uv = transformUv(u_emissive_texture_use.y == 1 ? v_uv1 : v_uv0, u_emissive_transform, u_emissive_rotation);
     emission *= texture(u_emissive_texture, uv).rgb;
   }
-  vec3 delta = vec3(0.0);
+  // rgb: added irradiance; w: the lightmap's factor minus 1 (dimmed lamps).
+  vec4 delta = vec4(0.0);
   if (u_use_delta_map != 0) {
-    delta = texture(u_delta_map, v_uv_lightmap).rgb;
+    delta = texture(u_delta_map, v_uv_lightmap);
   } else if (u_use_deltas != 0) {
     delta = svitRuntimeDelta(front ? v_delta_element.x : v_delta_element.y, v_corner_weights);
   }
+  vec3 change = irradiance * delta.w + delta.rgb;
   if (u_view == 2) {
-    o_colour = vec4(svitDeltaFalseColour(delta, svitDisplay(base.rgb * irradiance / kPi + emission)), 1.0);
+    o_colour = vec4(svitDeltaFalseColour(change, svitDisplay(base.rgb * irradiance / kPi + emission)), 1.0);
     o_radiance = vec4(o_colour.rgb, kSurfaceKind);
     return;
   }
-  if (u_view == 1) irradiance += delta + svitDirectIrradiance(v_position, n);
+  if (u_view == 1) irradiance += change + svitDirectIrradiance(v_position, n);
   // A delta may overshoot the baked value (a shadow deeper than the light).
   irradiance = max(irradiance, vec3(0.0));
   o_radiance = vec4(base.rgb * irradiance / kPi + emission, kSurfaceKind);

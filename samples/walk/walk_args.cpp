@@ -54,7 +54,8 @@ void printUsage(FILE* out) {
   std::fprintf(out,
                "usage: svit-walk LEVEL --bake OUT [--headless] [--script S.json] [--frames N]\n"
                "                 [--frames-out DIR] [--stats FILE] [--probe POINTS --probe-out FILE]\n"
-               "                 [--width W --height H] [--view baked|runtime|delta] [--budget-ms B] [--fps F]\n"
+               "                 [--width W --height H] [--view baked|runtime|delta] [--budget-ms B]\n"
+               "                 [--samples-per-frame N] [--fps F]\n"
                "                 [--overlay] [--exposure E] [--frames-format png|exr]\n"
                "  LEVEL            a .gltf/.glb or level .json\n"
                "  --bake OUT       the bake directory (OUT/bake.svit) written by svit-bake for LEVEL\n"
@@ -69,8 +70,10 @@ void printUsage(FILE* out) {
                "                   irradiance 'r g b' (lux) per point after the last frame\n"
                "  --width W --height H  frame size in pixels (default 640 x 360)\n"
                "  --view V         baked, runtime (default) or delta\n"
-               "  --budget-ms B    runtime update budget per frame (0 = settle fully; default 0\n"
-               "                   headless, 8 in a window)\n"
+               "  --budget-ms B    runtime update budget per frame, ms (0 = no time limit; default\n"
+               "                   0 headless, 8 in a window)\n"
+               "  --samples-per-frame N  point samples (index maps) per frame, 0 = no limit (default\n"
+               "                   32 headless unless --budget-ms is given: reproducible frames)\n"
                "  --fps F          simulated frames per second (default: the script's, else 30)\n"
                "  --overlay        headless: draw the statistics overlay on the frames (a window\n"
                "                   shows it from the start; F1 toggles it)\n"
@@ -126,6 +129,10 @@ ParsedArgs parseWalkArgs(int argc, const char* const* argv) {
       double b = 0;
       if (!value(v) || !parseDouble(v, 0, 1e6, b)) return fail("--budget-ms needs a number in [0, 1e6]");
       o.budget_ms = b;
+    } else if (arg == "--samples-per-frame") {
+      int n = 0;
+      if (!value(v) || !parseInt(v, 0, 1000000, n)) return fail(badValue(arg, v, "an integer in [0, 1000000]"));
+      o.samples_per_frame = n;
     } else if (arg == "--fps") {
       double f = 0;
       if (!value(v) || !parseDouble(v, 1e-3, 1000, f)) return fail("--fps needs a number in (0, 1000]");

@@ -28,11 +28,20 @@ struct WalkOptions {
   std::string probe_out;   ///< --probe-out FILE
   int width = 640, height = 360;
   std::optional<ShadingView> view;  ///< --view, default runtime
-  std::optional<double> budget_ms;  ///< --budget-ms; default 0 (settle) headless, 8 in a window
+  std::optional<double> budget_ms;  ///< --budget-ms; default 0 (no time limit) headless, 8 in a window
+  /// --samples-per-frame N (RuntimeSettings::max_samples_per_frame, 0 = no
+  /// limit); default kHeadlessSamplesPerFrame headless unless --budget-ms is
+  /// given, else 0.
+  std::optional<int> samples_per_frame;
   std::optional<float> fps;         ///< --fps; default the script's, else 30
   bool overlay = false;             ///< --overlay: statistics drawn on the headless PNG frames
   std::optional<float> exposure;    ///< --exposure E: fixed (finite, > 0), auto exposure off; default auto
 };
+
+/// The headless default: a deterministic budget in point samples, so every
+/// frame is reproducible and a level walks in minutes (settling fully every
+/// frame took minutes per frame on Sponza).
+inline constexpr int kHeadlessSamplesPerFrame = 32;
 
 /// What parsing found: options, a request for help, or a usage error.
 struct ParsedArgs {

@@ -68,7 +68,9 @@ Expected<std::unique_ptr<WalkSession>> openSession(const WalkOptions& options) {
   if (!gl.ok()) return gl.status();
   s.gl_renderer = gl->renderer;
   RuntimeSettings runtime_settings;
-  runtime_settings.delta_textures = false;  // SceneRenderer interpolates the patch delta buffer
+  runtime_settings.delta_textures = false;  // SceneRenderer looks the deltas up per pixel
+  runtime_settings.max_samples_per_frame = options.samples_per_frame.value_or(
+      options.headless && !options.budget_ms ? kHeadlessSamplesPerFrame : 0);
   Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(s.scene, s.bake, options.bake_dir, runtime_settings);
   if (!runtime.ok()) return runtime.status();
   s.runtime = std::move(runtime).value();

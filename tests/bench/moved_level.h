@@ -20,9 +20,12 @@ namespace svit::test {
 /// glTF node or a level.json object) static at `translation`/`rotation`
 /// (its local TRS: the benchmarked nodes are roots). A glTF node is moved in
 /// a rewritten glTF next to it. Its path and `dynamic` entry are dropped;
-/// every other dynamic node stays dynamic. Returns the level's path.
+/// every other dynamic node stays dynamic, or with `every_object_static`
+/// is made static where the level puts it (a reference for a picture that
+/// shows them all). Returns the level's path.
 inline std::string writeLevelWithNodeStatic(const std::string& level_path, const std::string& node, Vec3 translation,
-                                            Quat rotation, const std::string& work_dir, const std::string& name) {
+                                            Quat rotation, const std::string& work_dir, const std::string& name,
+                                            bool every_object_static = false) {
   namespace fs = std::filesystem;
   nlohmann::json level = nlohmann::json::parse(std::ifstream(level_path));
   const fs::path gltf = (fs::path(level_path).parent_path() / level["gltf"].get<std::string>()).lexically_normal();
@@ -37,19 +40,27 @@ inline std::string writeLevelWithNodeStatic(const std::string& level_path, const
       object.erase("dynamic");
       found = true;
     }
+    if (every_object_static) {
+      for (nlohmann::json& object : level["objects"]) object.erase("dynamic");
+    }
   }
-  if (!found) {  // a glTF node: move it (and clear its dynamic mark) in a copy of the glTF
+  if (!found || every_object_static) {  // move it (and clear dynamic marks) in a copy of the glTF
     Expected<Scene> scene = loadGltf(gltf.string());
     SVIT_SETUP_CHECK(scene.ok(), scene.status().message());
     const int index = scene->findNode(node);
-    SVIT_SETUP_CHECK(index >= 0, "no node " + node);
-    Node& n = scene->nodes[size_t(index)];
-    n.translation = translation;
-    n.rotation = rotation;
-    n.has_trs = true;
-    n.dynamic = false;
+    SVIT_SETUP_CHECK(found || index >= 0, "no node " + node);
+    if (!found) {
+      Node& n = scene->nodes[size_t(index)];
+      n.translation = translation;
+      n.rotation = rotation;
+      n.has_trs = true;
+      n.dynamic = false;
+    }
+    for (size_t i = 0; i < scene->nodes.size(); ++i) {
+      if (every_object_static) scene->nodes[i].dynamic = false;
+    }
     for (Instance& instance : scene->instances) {
-      if (instance.node == index) instance.dynamic = false;
+      if (instance.node == index || every_object_static) instance.dynamic = false;
     }
     const std::string moved_gltf = work_dir + "/" + name + ".gltf";
     SVIT_SETUP_CHECK(writeGltf(*scene, moved_gltf).ok(), moved_gltf);
@@ -58,14 +69,14 @@ inline std::string writeLevelWithNodeStatic(const std::string& level_path, const
   if (level.contains("dynamic")) {
     nlohmann::json kept = nlohmann::json::array();
     for (const nlohmann::json& d : level["dynamic"]) {
-      if (!(d.is_string() && d.get<std::string>() == node)) kept.push_back(d);
+      if (!every_object_static && !(d.is_string() && d.get<std::string>() == node)) kept.push_back(d);
     }
     level["dynamic"] = kept;
   }
   if (level.contains("paths")) {
     nlohmann::json kept = nlohmann::json::array();
     for (const nlohmann::json& p : level["paths"]) {
-      if (!(p["node"].is_string() && p["node"].get<std::string>() == node)) kept.push_back(p);
+      if (!every_object_static && !(p["node"].is_string() && p["node"].get<std::string>() == node)) kept.push_back(p);
     }
     level["paths"] = kept;
   }

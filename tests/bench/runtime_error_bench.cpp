@@ -35,6 +35,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench_bake.h"
 #include "moved_level.h"
 #include "svit/gl_context.h"
 #include "svit/runtime.h"
@@ -69,36 +70,6 @@ std::vector<Case> cases() {
            16}};
 }
 
-// Bakes `level` into `dir` (quality-bound, seed 7: deterministic) unless a
-// bake with the same stamp is there.
-BakedLevel bakeOnce(const std::string& level, const std::string& dir, double quality) {
-  std::ostringstream stamp;
-  stamp << level << " quality " << quality << " seed 7";
-  std::ifstream old(dir + "/stamp");
-  const std::string previous((std::istreambuf_iterator<char>(old)), std::istreambuf_iterator<char>());
-  if (previous != stamp.str() || !std::filesystem::exists(dir + "/bake.svit")) {
-    baker::BakeOptions options;
-    options.level_path = level;
-    options.out_dir = dir;
-    options.quality = quality;
-    options.seed = 7;
-    const auto t0 = std::chrono::steady_clock::now();
-    Expected<baker::BakeResult> result = baker::bakeLevel(options, nullptr, nullptr);
-    SVIT_SETUP_CHECK(result.ok(), result.status().message());
-    std::printf("baked %s in %.1f s\n", dir.c_str(),
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    std::ofstream(dir + "/stamp") << stamp.str();
-  }
-  BakedLevel out;
-  out.dir = dir;
-  Expected<Scene> scene = loadLevel(level);
-  SVIT_SETUP_CHECK(scene.ok(), scene.status().message());
-  out.scene = std::move(scene).value();
-  Expected<BakeData> bake = readBakeFile(dir + "/bake.svit");
-  SVIT_SETUP_CHECK(bake.ok(), bake.status().message());
-  out.bake = std::move(bake).value();
-  return out;
-}
 
 Mat4 placeAt(Vec3 t, Quat q) {
   return fromGlmMat(glm::translate(glm::mat4(1), glm::vec3(t.x, t.y, t.z)) * glm::mat4_cast(glm::quat(q.w, q.x, q.y, q.z)));

@@ -29,7 +29,8 @@ inline LinearFrame readLinearFrame(const SceneRenderer& renderer) {
 }
 
 struct PictureError {
-  double static_rel_rms = 0;  ///< over static pixels, relative to the reference's mean there
+  double static_rms = 0;      ///< of the luminance difference over static pixels, cd/m2
+  double static_rel_rms = 0;  ///< static_rms relative to the reference's mean there
   double static_reference_mean = 0;
   uint32_t static_pixels = 0;
   double dynamic_mean = 0;            ///< the shown frame's, over the dynamic object's pixels
@@ -68,7 +69,8 @@ inline PictureError comparePictures(const LinearFrame& shown, const LinearFrame&
   }
   if (out.static_pixels > 0) {
     out.static_reference_mean = static_ref / out.static_pixels;
-    out.static_rel_rms = std::sqrt(static_sq / out.static_pixels) / std::max(out.static_reference_mean, 1e-30);
+    out.static_rms = std::sqrt(static_sq / out.static_pixels);
+    out.static_rel_rms = out.static_rms / std::max(out.static_reference_mean, 1e-30);
   }
   if (out.dynamic_pixels > 0) {
     out.dynamic_mean = dynamic_sum / out.dynamic_pixels;

@@ -125,6 +125,10 @@ for bad in 0 nan -1; do
 done
 expect_exit frames_format_tiff 2 -- "$walk" "$level" --bake "$work/cornell" --headless --frames-format tiff
 expect_err frames_format_tiff_message "--frames-format needs png or exr (got 'tiff')"
+for bad in -1 x; do
+  expect_exit "samples_per_frame_$bad" 2 -- "$walk" "$level" --bake "$work/cornell" --headless --samples-per-frame "$bad"
+  expect_err "samples_per_frame_${bad}_message" "--samples-per-frame needs an integer in [0, 1000000] (got '$bad')"
+done
 
 # --frames-format exr: the frame is an OpenEXR file (magic 76 2f 31 01) of
 # the linear radiance, none beside it as PNG. The radiance does not depend

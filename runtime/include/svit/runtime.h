@@ -91,7 +91,7 @@ struct RuntimeSettings {
   /// measured against).
   bool refresh_all = false;
   /// Lightmap-space delta pages (ShadingResources::delta_textures) for hosts
-  /// that shade with lightmap(uv) + delta(uv). The per-pixel lookup
+  /// that shade with lightmap(uv) * (1 + delta(uv).a) + delta(uv).rgb. The per-pixel lookup
   /// (ShadingResources::vertex_deltas) shows the same deltas without them:
   /// a host shading with it (SceneRenderer does when the pages are absent)
   /// sets this false and pays neither the textures nor their per-update
@@ -195,7 +195,10 @@ struct FrameStats {
 /// What the host binds to shade static geometry (shadingSources()).
 struct ShadingResources {
   /// GL buffer (std430 vec4 per patch, patchDeltas() order): displayed
-  /// irradiance delta, lux, RGB in xyz. 0 when the level has no runtime content.
+  /// irradiance delta, lux, RGB in xyz; w: the factor on the lightmap under
+  /// a static patch minus 1 (baked emitters dimmed or off:
+  /// setBakedEmitterScale); shade with lightmap * (1 + w) + xyz. 0 when the
+  /// level has no runtime content.
   uint32_t patch_delta_buffer = 0;
   uint32_t patch_count = 0;
   /// Lightmap pages as GL_RGB32F textures (irradiance, lux), bake page order.
@@ -204,15 +207,17 @@ struct ShadingResources {
   /// shaders/svit_runtime_delta.frag (svitRuntimeDelta(element, weights)):
   /// per bake element (static triangle * 2 + side) its tessellation (uvec2
   /// n, first slot); per slot the welded vertices of its sub-triangle
-  /// (uvec4, w = 1 when used); per welded vertex the delta (vec4, lux).
-  /// Exactly what irradianceAt adds, at any mesh resolution. 0 until the
+  /// (uvec4, w = 1 when used); per welded vertex the delta (vec4: lux, and
+  /// the lightmap's factor minus 1). Exactly what irradianceAt adds, at any
+  /// mesh resolution. 0 until the
   /// first update that had runtime content.
   uint32_t delta_elements = 0;
   uint32_t delta_slots = 0;
   uint32_t vertex_deltas = 0;
-  /// Per page: the displayed delta (lux, RGB) in the same lightmap
+  /// Per page (RGBA32F): the displayed delta (lux, RGB; alpha the factor
+  /// minus 1, as above) in the same lightmap
   /// coordinates at half resolution, interpolated across runtime patches;
-  /// shade with lightmap(uv) + delta(uv). Empty until the first update that
+  /// shade with lightmap(uv) * (1 + delta(uv).a) + delta(uv).rgb. Empty until the first update that
   /// had runtime content.
   std::vector<uint32_t> delta_textures;
 };
@@ -325,7 +330,8 @@ class Runtime {
 
   // ---- results ----
   /// Runtime irradiance (lux, RGB) at a static surface point: the baked
-  /// lightmap there (as svit-probe reads it) plus the patch delta. Points
+  /// lightmap there (as svit-probe reads it) times the factor dimmed baked
+  /// emitters give it, plus the patch delta. Points
   /// farther than `max_distance_m` from static geometry give NaN.
   Rgb irradianceAt(const Vec3& point, const Vec3& normal, float max_distance_m = 0.05f) const;
   /// Displayed irradiance delta of every patch (static runtime patches,

@@ -6,13 +6,14 @@
 namespace svit::gl {
 
 std::vector<DeltaPage> rasteriseDeltas(const RuntimePatches& patches, const std::vector<glm::dvec3>& vertex_values,
+                                       const std::vector<glm::dvec3>& scale_minus_one,
                                        const std::vector<std::pair<int, int>>& page_sizes) {
   std::vector<DeltaPage> pages(page_sizes.size());
   std::vector<std::vector<uint8_t>> written(pages.size());
   for (size_t p = 0; p < pages.size(); ++p) {
     pages[p].width = std::max(1, page_sizes[p].first / 2);
     pages[p].height = std::max(1, page_sizes[p].second / 2);
-    pages[p].rgb.assign(size_t(pages[p].width) * size_t(pages[p].height) * 3, 0.0f);
+    pages[p].rgba.assign(size_t(pages[p].width) * size_t(pages[p].height) * 4, 0.0f);
     written[p].assign(size_t(pages[p].width) * size_t(pages[p].height), 0);
   }
   const size_t subs = patches.triangles.triangleCount();
@@ -25,11 +26,12 @@ std::vector<DeltaPage> rasteriseDeltas(const RuntimePatches& patches, const std:
       if (page >= pages.size()) continue;
       DeltaPage& out = pages[page];
       glm::dvec2 uv[3];
-      glm::dvec3 value[3];
+      glm::dvec4 value[3];
       for (int k = 0; k < 3; ++k) {
         const Vec2& t = patches.triangle_uvs[s * 3 + size_t(k)];
         uv[k] = {t.x * out.width, t.y * out.height};
-        value[k] = vertex_values[patches.triangle_vertices[s * 3 + size_t(k)]];
+        const uint32_t vertex = patches.triangle_vertices[s * 3 + size_t(k)];
+        value[k] = glm::dvec4(vertex_values[vertex], scale_minus_one[vertex].x);
       }
       const glm::dvec2 e1 = uv[1] - uv[0], e2 = uv[2] - uv[0];
       const double det = e1.x * e2.y - e1.y * e2.x;
@@ -51,10 +53,8 @@ std::vector<DeltaPage> rasteriseDeltas(const RuntimePatches& patches, const std:
             w1 = std::clamp(w1, 0.0, 1.0);
             w2 = std::clamp(w2, 0.0, 1.0 - w1);
           }
-          const glm::dvec3 v = value[0] * (1 - w1 - w2) + value[1] * w1 + value[2] * w2;
-          out.rgb[texel * 3] = float(v.x);
-          out.rgb[texel * 3 + 1] = float(v.y);
-          out.rgb[texel * 3 + 2] = float(v.z);
+          const glm::dvec4 v = value[0] * (1 - w1 - w2) + value[1] * w1 + value[2] * w2;
+          for (int c = 0; c < 4; ++c) out.rgba[texel * 4 + size_t(c)] = float(v[c]);
           written[page][texel] = 1;
         }
       }

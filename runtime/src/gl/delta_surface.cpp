@@ -56,13 +56,15 @@ DeltaSurfaceBuffers DeltaSurfaceBuffers::create(const RuntimePatches& patches) {
   return out;
 }
 
-void DeltaSurfaceBuffers::upload(const std::vector<glm::dvec3>& vertex_values) {
+void DeltaSurfaceBuffers::upload(const std::vector<glm::dvec3>& vertex_values,
+                                 const std::vector<glm::dvec3>& scale_minus_one) {
   if (vertex_deltas_ == 0 || vertex_count_ == 0) return;
   std::vector<float> packed(size_t(vertex_count_) * 4, 0.0f);
   for (size_t v = 0; v < vertex_values.size() && v < vertex_count_; ++v) {
     packed[v * 4] = float(vertex_values[v].x);
     packed[v * 4 + 1] = float(vertex_values[v].y);
     packed[v * 4 + 2] = float(vertex_values[v].z);
+    if (v < scale_minus_one.size()) packed[v * 4 + 3] = float(scale_minus_one[v].x);
   }
   glNamedBufferSubData(vertex_deltas_, 0, GLsizeiptr(packed.size() * sizeof(float)), packed.data());
 }

@@ -5,7 +5,9 @@
 // bake triangles into n x n sub-triangles): for a static triangle side
 // (bake element) and barycentrics inside it, the sub-triangle under the
 // point and the delta interpolated between its welded vertices, exactly as
-// Runtime::irradianceAt does on the CPU (RuntimePatches::subTriangle).
+// Runtime::irradianceAt does on the CPU (RuntimePatches::subTriangle); the
+// w of each vertex is the factor on the lightmap minus 1 (dimmed baked
+// emitters, runtime_light_scale.cpp).
 // shaders/svit_runtime_delta.frag is the GLSL side; the three buffers are
 // ShadingResources::delta_elements, delta_slots and vertex_deltas.
 
@@ -31,8 +33,9 @@ class DeltaSurfaceBuffers {
   DeltaSurfaceBuffers& operator=(const DeltaSurfaceBuffers&) = delete;
   ~DeltaSurfaceBuffers();
 
-  /// Replaces the per-welded-vertex deltas (lux, `patches.vertex_count` of them).
-  void upload(const std::vector<glm::dvec3>& vertex_values);
+  /// Replaces the per-welded-vertex deltas (lux) and light scales minus 1
+  /// (the x of `scale_minus_one`), `patches.vertex_count` of each.
+  void upload(const std::vector<glm::dvec3>& vertex_values, const std::vector<glm::dvec3>& scale_minus_one);
 
   bool allocated() const { return vertex_deltas_ != 0; }
   uint32_t elementBuffer() const { return elements_; }

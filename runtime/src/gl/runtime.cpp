@@ -531,9 +531,15 @@ Rgb Runtime::irradianceAt(const Vec3& point, const Vec3& normal, float max_dista
     if (hit->side == 1) std::swap(s1, s2);  // back-side sub-triangles are wound the other way
     const std::vector<glm::dvec3>& v = impl_->vertexDeltas();
     const uint32_t* corner = &impl_->patches.triangle_vertices[size_t(sub) * 3];
-    const glm::dvec3 d = v[corner[0]] * double(1 - s1 - s2) + v[corner[1]] * double(s1) + v[corner[2]] * double(s2);
+    auto at = [&](const std::vector<glm::dvec3>& values) {
+      return values[corner[0]] * double(1 - s1 - s2) + values[corner[1]] * double(s1) + values[corner[2]] * double(s2);
+    };
+    const glm::dvec3 d = at(v);
+    // The lightmap's factor (dimmed baked emitters), then the added light.
+    const double factor = 1.0 + (impl_->vertex_scales.empty() ? 0.0 : at(impl_->vertex_scales).x);
     // A delta never takes more light than there is (shading clamps the same way).
-    e = {std::max(0.0f, float(e.r + d.x)), std::max(0.0f, float(e.g + d.y)), std::max(0.0f, float(e.b + d.z))};
+    e = {std::max(0.0f, float(e.r * factor + d.x)), std::max(0.0f, float(e.g * factor + d.y)),
+         std::max(0.0f, float(e.b * factor + d.z))};
   }
   return e;
 }

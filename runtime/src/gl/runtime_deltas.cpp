@@ -24,28 +24,23 @@ DeltaTerms Runtime::Impl::deltaTerms(const Emitter& e) const {
     case EmitterKind::kBakedLight:
     case EmitterKind::kSun:
     case EmitterKind::kSky: {
-      if (!e.has_baseline) break;
-      // Baked light is in the lightmap: only what changed is a delta.
+      // Baked light is in the lightmap, scaled there by the light scale:
+      // what objects change of it is a delta, at the emitter's scale.
+      if (!e.has_baseline || !e.has_current) break;
       const double scale = bake_emitter_scale[e.bake_emitter];
-      if (e.has_current) {
-        t.on_current = e.flux * scale;
-        t.on_baseline = -e.flux;
-      } else {
-        t.on_baseline = e.flux * (scale - 1.0);
-      }
+      t.on_current = e.flux * scale;
+      t.on_baseline = -e.flux * scale;
       break;
     }
     case EmitterKind::kStaticPatch: {
+      // A bright patch (or a lamp) sends what objects change of its light,
+      // at the factor its own baked light now has.
       if (e.needs_baseline && e.has_baseline && e.has_current) {
-        t.on_current = e.flux;
-        t.on_baseline = -e.flux;
-      }
-      if (e.bake_emitter != kInvalidId && e.has_current) {
-        // A dimmed lamp: the change of its own emission.
-        const double scale = bake_emitter_scale[e.bake_emitter];
-        glm::dvec3 emitted(0.0);
-        for (uint32_t r : patches.shooter_members[e.index]) emitted += patches.emission[r] * double(receivers[r].area_m2);
-        t.on_current += emitted * (scale - 1.0);
+        const double scale = e.bake_emitter != kInvalidId ? double(bake_emitter_scale[e.bake_emitter])
+                             : e.index < group_light_scale.size() ? group_light_scale[e.index]
+                                                                  : 1.0;
+        t.on_current = e.flux * scale;
+        t.on_baseline = -e.flux * scale;
       }
       break;
     }

@@ -127,6 +127,10 @@ struct Runtime::Impl {
   std::vector<RuntimeLightState> lights;
   std::vector<int> scene_light_to_light;  ///< Scene::lights index -> light id (-1)
   std::vector<float> bake_emitter_scale;  ///< per BakeData emitter, 1 = as baked
+  /// Per static receiver: the factor on its baked light the scaled emitters
+  /// give (runtime_light_scale.cpp); per static group its area mean. Empty
+  /// while every baked emitter is as baked.
+  std::vector<double> light_scale, group_light_scale;
 
   std::vector<Emitter> emitters;
   std::vector<uint32_t> group_emitter;  ///< per group: its emitter or kInvalidId
@@ -142,10 +146,17 @@ struct Runtime::Impl {
   std::vector<glm::dvec3> runtime_direct; ///< direct irradiance of runtime lights, lux (shaded per pixel)
   std::vector<Rgb> display;               ///< what shading adds (temporally blended), lux
   mutable std::vector<glm::dvec3> vertex_deltas;  ///< delta_total at the welded vertices (lazy)
+  mutable std::vector<glm::dvec3> vertex_scales;  ///< light scale minus 1 there (x), empty: none
   mutable bool vertex_deltas_stale = true;
   const std::vector<glm::dvec3>& vertexDeltas() const {
     if (vertex_deltas_stale) {
       vertex_deltas = rt::vertexValues(patches, delta_total);
+      vertex_scales.clear();
+      if (!light_scale.empty()) {
+        std::vector<glm::dvec3> scale(static_receivers);
+        for (uint32_t r = 0; r < static_receivers; ++r) scale[r] = glm::dvec3(light_scale[r] - 1.0);
+        vertex_scales = rt::vertexValues(patches, scale);
+      }
       vertex_deltas_stale = false;
     }
     return vertex_deltas;
@@ -199,6 +210,10 @@ struct Runtime::Impl {
   void refreshSamples(Emitter& e);
   Status gatherShares(std::vector<uint32_t> emitter_ids, bool baseline, FrameStats& stats);
   DeltaTerms deltaTerms(const Emitter& e) const;
+  // Baked emitters' scales as a factor on the baked light (runtime_light_scale.cpp).
+  bool isPrimaryBakedEmitter(const Emitter& e) const;
+  void updateLightScale();
+  double lightScaleOf(uint32_t receiver) const;
   /// Takes an emitter's terms on `current` out of first_flux/direct_flux;
   /// call before replacing `current`.
   void retractCurrent(Emitter& e);

@@ -320,6 +320,7 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
 void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint32_t>>& wanted) {
   const auto t0 = Clock::now();
   const size_t n = receivers.size();
+  updateLightScale();
   sumEmitterDeltas();
   const std::vector<glm::dvec3>& first = first_flux;
   const std::vector<glm::dvec3>& direct = direct_flux;
@@ -401,6 +402,7 @@ void Runtime::Impl::uploadDisplay(FrameStats& stats) {
     packed[r * 4] = d.r;
     packed[r * 4 + 1] = d.g;
     packed[r * 4 + 2] = d.b;
+    packed[r * 4 + 3] = r < static_receivers ? float(lightScaleOf(uint32_t(r)) - 1.0) : 0.0f;
   }
   // An object not lit yet shows zeros: shading keeps the probes' light.
   for (const rt::DynamicObject& object : objects) {
@@ -419,16 +421,22 @@ void Runtime::Impl::uploadDisplay(FrameStats& stats) {
     ++gl_objects_created;
   }
   glNamedBufferSubData(delta_buffer, 0, GLsizeiptr(n * 4 * sizeof(float)), packed.data());
-  // The static deltas at the welded vertices of the runtime patches, as
-  // shading interpolates them per pixel.
-  std::vector<glm::dvec3> shown(static_receivers);
-  for (uint32_t r = 0; r < static_receivers; ++r) shown[r] = dvec(display[r]);
+  // The static deltas and light scales at the welded vertices of the
+  // runtime patches, as shading interpolates them per pixel.
+  std::vector<glm::dvec3> shown(static_receivers), scale(static_receivers);
+  for (uint32_t r = 0; r < static_receivers; ++r) {
+    shown[r] = dvec(display[r]);
+    scale[r] = glm::dvec3(lightScaleOf(r) - 1.0);
+  }
   const std::vector<glm::dvec3> shown_at_vertices = rt::vertexValues(patches, shown);
+  const std::vector<glm::dvec3> scale_at_vertices =
+      light_scale.empty() ? std::vector<glm::dvec3>(patches.vertex_count, glm::dvec3(0.0))
+                          : rt::vertexValues(patches, scale);
   if (!delta_surface.allocated()) {
     delta_surface = rt::DeltaSurfaceBuffers::create(patches);
     gl_objects_created += 3;
   }
-  delta_surface.upload(shown_at_vertices);
+  delta_surface.upload(shown_at_vertices, scale_at_vertices);
   if (!settings.delta_textures) {
     stats.upload_ms += msSince(t0);
     return;
@@ -436,12 +444,12 @@ void Runtime::Impl::uploadDisplay(FrameStats& stats) {
   // The same deltas in lightmap space.
   std::vector<std::pair<int, int>> sizes;
   for (const LightmapImage& page : pages) sizes.push_back({page.width, page.height});
-  const std::vector<rt::DeltaPage> atlas = rt::rasteriseDeltas(patches, shown_at_vertices, sizes);
+  const std::vector<rt::DeltaPage> atlas = rt::rasteriseDeltas(patches, shown_at_vertices, scale_at_vertices, sizes);
   if (delta_textures.empty()) {
     delta_textures.resize(atlas.size());
     glCreateTextures(GL_TEXTURE_2D, GLsizei(atlas.size()), delta_textures.data());
     for (size_t p = 0; p < atlas.size(); ++p) {
-      glTextureStorage2D(delta_textures[p], 1, GL_RGB32F, atlas[p].width, atlas[p].height);
+      glTextureStorage2D(delta_textures[p], 1, GL_RGBA32F, atlas[p].width, atlas[p].height);
       glTextureParameteri(delta_textures[p], GL_TEXTURE_MIN_FILTER, GL_LINEAR);
       glTextureParameteri(delta_textures[p], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
       glTextureParameteri(delta_textures[p], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -450,7 +458,8 @@ void Runtime::Impl::uploadDisplay(FrameStats& stats) {
     gl_objects_created += uint32_t(atlas.size());
   }
   for (size_t p = 0; p < atlas.size(); ++p) {
-    glTextureSubImage2D(delta_textures[p], 0, 0, 0, atlas[p].width, atlas[p].height, GL_RGB, GL_FLOAT, atlas[p].rgb.data());
+    glTextureSubImage2D(delta_textures[p], 0, 0, 0, atlas[p].width, atlas[p].height, GL_RGBA, GL_FLOAT,
+                        atlas[p].rgba.data());
   }
   stats.upload_ms += msSince(t0);
 }
