@@ -9,8 +9,9 @@
 // is shaded here per pixel): the triangle's indirect light is what the
 // runtime gives minus the baked lights' direct light at the centroid, and the
 // probe grid only spreads it over the triangle (the probes' value at the
-// centroid is moved onto the runtime's). A triangle the runtime has not lit
-// yet (exactly zero) keeps the probes' light. Link with svit_shading.frag.
+// centroid is moved onto the runtime's). An object the runtime has not lit
+// yet (w of its delta-buffer entry 0: not every emitter reaching it has
+// rendered) keeps the probes' light. Link with svit_shading.frag.
 // Bindings: runtime/src/gl/scene_renderer_bindings.h.
 
 in vec3 v_position;
@@ -20,6 +21,7 @@ flat in vec3 v_emission;
 flat in vec3 v_centroid;
 flat in vec3 v_face_normal;
 flat in vec3 v_patch_irradiance;
+flat in uint v_patch_lit;
 flat in uint v_double_sided;
 
 layout(location = 0) out vec4 o_colour;    // display sRGB
@@ -72,7 +74,7 @@ void main() {
   vec3 n = normalize(v_normal) * side;
   vec3 indirect = probeIrradiance(v_position, n);
   vec3 correction = vec3(0.0);
-  if (u_view != 0 && any(notEqual(v_patch_irradiance, vec3(0.0)))) {
+  if (u_view != 0 && v_patch_lit != 0u) {
     vec3 nf = v_face_normal * side;
     // Fixed PCF rotation: every pixel of the triangle gets the same estimate.
     vec3 baked_direct = svitDirectIrradianceRange(v_centroid, nf, 0, u_baked_light_end, 0.0);

@@ -1,7 +1,8 @@
 #version 450 core
 // Dynamic objects where the runtime has them this frame: world-space
 // triangles with per-triangle albedo and emission, and the runtime's
-// irradiance of each triangle's patch. Vertex layout:
+// irradiance of each triangle's patch (w = 1 once the runtime has lit the
+// object). Vertex layout:
 // runtime/src/gl/scene_renderer_dynamic_objects.h (DynamicVertex).
 
 layout(location = 0) in vec3 a_position;  // world, metres
@@ -24,6 +25,7 @@ flat out vec3 v_emission;
 flat out vec3 v_centroid;
 flat out vec3 v_face_normal;
 flat out vec3 v_patch_irradiance;
+flat out uint v_patch_lit;  // 1: the runtime's value holds every emitter reaching the object
 flat out uint v_double_sided;
 
 void main() {
@@ -33,8 +35,9 @@ void main() {
   v_emission = a_emission;
   v_centroid = a_centroid;
   v_face_normal = a_face_normal;
-  v_patch_irradiance =
-      u_use_deltas != 0 && a_patch_sided.x != 0xffffffffu ? patch_delta[a_patch_sided.x].xyz : vec3(0.0);
+  bool has_patch = u_use_deltas != 0 && a_patch_sided.x != 0xffffffffu;
+  v_patch_irradiance = has_patch ? patch_delta[a_patch_sided.x].xyz : vec3(0.0);
+  v_patch_lit = has_patch && patch_delta[a_patch_sided.x].w > 0.5 ? 1u : 0u;
   v_double_sided = a_patch_sided.y;
   gl_Position = u_clip_from_world * vec4(a_position, 1.0);
 }

@@ -86,7 +86,8 @@ TEST(ResourceAudit, StaticLevelHoldsOnlyItsLightmaps) {
 
   // The host asks for the textures: exactly one GL copy of the pages.
   runtime.shadingResources();
-  const ResourceUse& textures = find(runtime.resources(), "lightmap textures");
+  const std::vector<ResourceUse> shaded = runtime.resources();
+  const ResourceUse& textures = find(shaded, "lightmap textures");
   EXPECT_TRUE(textures.allocated);
   EXPECT_EQ(textures.gl_objects, level.bake.pages.size());
   EXPECT_EQ(textures.gpu_bytes, page_bytes);
@@ -146,8 +147,14 @@ TEST(ResourceAudit, DynamicLevelAccountsForWhatItMade) {
   view.look_at = {0, 1, 0};
   view.aspect = 2;
   ASSERT_TRUE(runtime.setView(view).ok());
+  // The first update settled everything: the box moves, so this one has
+  // work and ranks it for the view (an idle update makes no view pass).
+  Mat4 moved;
+  moved.m[12] = 0.05f;
+  ASSERT_TRUE(runtime.setObjectTransform(runtime.objects().at(0), moved).ok());
   runtime.update(0);
-  const ResourceUse& pass = find(runtime.resources(), "camera id pass (importance)");
+  const std::vector<ResourceUse> viewed = runtime.resources();
+  const ResourceUse& pass = find(viewed, "camera id pass (importance)");
   EXPECT_TRUE(pass.allocated);
   EXPECT_EQ(pass.gpu_bytes, uint64_t(settings.view_pass_width) * uint64_t(settings.view_pass_width / 2) * 12u);
 

@@ -203,7 +203,9 @@ struct ShadingResources {
   /// GL buffer (std430 vec4 per patch, patchDeltas() order): displayed
   /// irradiance delta, lux, RGB in xyz; w: the factor on the lightmap under
   /// a static patch minus 1 (baked emitters dimmed or off:
-  /// setBakedEmitterScale); shade with lightmap * (1 + w) + xyz. 0 when the
+  /// setBakedEmitterScale; shade with lightmap * (1 + w) + xyz), and for a
+  /// dynamic object's patch 1 once every emitter reaching the object has
+  /// rendered since it appeared (0: shade it by the probe grid). 0 when the
   /// level has no runtime content.
   uint32_t patch_delta_buffer = 0;
   uint32_t patch_count = 0;

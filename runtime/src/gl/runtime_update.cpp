@@ -404,13 +404,11 @@ void Runtime::Impl::uploadDisplay(FrameStats& stats) {
     packed[r * 4 + 2] = d.b;
     packed[r * 4 + 3] = r < static_receivers ? float(lightScaleOf(uint32_t(r)) - 1.0) : 0.0f;
   }
-  // An object not lit yet shows zeros: shading keeps the probes' light.
+  // A dynamic receiver's w says whether its object is lit: shading keeps
+  // the probes' light for one that is not (Impl::updateObjectsLit).
   for (const rt::DynamicObject& object : objects) {
-    if (object.lit) continue;
     const size_t end = std::min(n, size_t(object.first_receiver) + object.albedo.size());
-    for (size_t r = object.first_receiver; r < end; ++r) {
-      for (int c = 0; c < 3; ++c) packed[r * 4 + size_t(c)] = 0.0f;
-    }
+    for (size_t r = object.first_receiver; r < end; ++r) packed[r * 4 + 3] = object.lit ? 1.0f : 0.0f;
   }
   if (delta_buffer_receivers < n) {
     // Grows only when objects are added; a steady scene never allocates.
