@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Picture error against time along the demo walk (Cornell box) and, when
-# ../shared/scenes is there, a Sponza walk: bench_picture per level, then
+# Picture error against time along the demo walk (Cornell box), the house's
+# walk and, when ../shared/scenes is there, a Sponza walk: bench_picture per level, then
 # docs/performance.md's picture section and docs/images/picture_error.svg
 # regenerated from the JSON (picture_report.py). Headless: under xvfb-run
 # without a display. Bakes are kept in WORK and reused.
@@ -21,6 +21,10 @@ runs=()
 "${xvfb[@]}" "$bench" --level "$root/samples/levels/cornell/level.json" --work "$work/cornell" \
   --json "$work/cornell.json" --frames 90 --reference-frames 0,2,5,10,20,30,45,60,89 --png-prefix "$work/cornell"
 runs+=("$work/cornell.json")
+"${xvfb[@]}" "$bench" --level "$root/samples/levels/house/level.json" --work "$work/house" \
+  --json "$work/house.json" --frames 90 --reference-frames 0,30,60,89 --quality 1 --time 60 --exposure 0.05 \
+  --png-prefix "$work/house"
+runs+=("$work/house.json")
 if [[ "$sponza_s" != 0 && -f "$root/../shared/scenes/sponza/Sponza.gltf" ]]; then
   "${xvfb[@]}" "$bench" --level "$root/samples/levels/sponza/level.json" --work "$work/sponza" \
     --json "$work/sponza.json" --frames 60 --reference-frames 0,45 --quality 1 --time "$sponza_s" \
