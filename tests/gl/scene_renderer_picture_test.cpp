@@ -86,6 +86,37 @@ LinearFrame bakedPicture(const BakedLevel& level, const Camera& camera) {
   return readLinearFrame(**renderer);
 }
 
+// A runtime of `level` (the per-pixel delta lookup, as svit-walk shades)
+// with `samples_per_frame` (0: none) and a renderer over it.
+struct Viewer {
+  std::unique_ptr<Runtime> runtime;
+  std::unique_ptr<SceneRenderer> renderer;
+};
+
+Viewer makeViewer(const BakedLevel& level, int samples_per_frame) {
+  RuntimeSettings settings;
+  settings.max_samples_per_frame = samples_per_frame;
+  settings.delta_textures = false;
+  Viewer v;
+  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(level.scene, level.bake, level.dir, settings);
+  EXPECT_TRUE(runtime.ok()) << runtime.status().message();
+  if (!runtime.ok()) return v;
+  v.runtime = std::move(runtime).value();
+  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, v.runtime.get(), fixedExposure());
+  EXPECT_TRUE(renderer.ok()) << renderer.status().message();
+  if (renderer.ok()) v.renderer = std::move(renderer).value();
+  return v;
+}
+
+RuntimeView viewOf(const Camera& camera) {
+  RuntimeView view;
+  view.position = camera.position;
+  view.look_at = camera.look_at;
+  view.yfov_rad = camera.yfov_rad;
+  view.aspect = float(fixedExposure().width) / float(fixedExposure().height);
+  return view;
+}
+
 struct Walk {
   PictureError baked_only;        ///< the dynamic level's baked view: doing nothing
   std::vector<PictureError> frames;  ///< the runtime view after each update
@@ -97,41 +128,31 @@ struct Walk {
 Walk walkAgainst(const BakedLevel& level, const std::string& node, const Mat4& pose, const LinearFrame& reference,
                  const Camera& camera, const std::string& png_prefix, int frames = kFrames) {
   Walk walk;
-  RuntimeSettings settings;
-  settings.max_samples_per_frame = kSamplesPerFrame;
-  settings.delta_textures = false;  // the per-pixel lookup, as svit-walk shades
-  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(level.scene, level.bake, level.dir, settings);
-  EXPECT_TRUE(runtime.ok()) << runtime.status().message();
-  if (!runtime.ok()) return walk;
-  const ObjectId object = (*runtime)->objectForNode(level.scene.findNode(node));
+  Viewer v = makeViewer(level, kSamplesPerFrame);
+  if (!v.renderer) return walk;
+  Runtime& runtime = *v.runtime;
+  SceneRenderer& renderer = *v.renderer;
+  const ObjectId object = runtime.objectForNode(level.scene.findNode(node));
   EXPECT_NE(object, kInvalidId) << node;
-  EXPECT_TRUE((*runtime)->setObjectTransform(object, pose).ok());
-  RuntimeView view;
-  view.position = camera.position;
-  view.look_at = camera.look_at;
-  view.yfov_rad = camera.yfov_rad;
-  view.aspect = float(fixedExposure().width) / float(fixedExposure().height);
-  EXPECT_TRUE((*runtime)->setView(view).ok());
-  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, runtime->get(), fixedExposure());
-  EXPECT_TRUE(renderer.ok()) << renderer.status().message();
-  if (!renderer.ok()) return walk;
-  EXPECT_TRUE((*renderer)->render(camera, ShadingView::kBakedOnly).ok());
-  walk.baked_only = comparePictures(readLinearFrame(**renderer), reference);
+  EXPECT_TRUE(runtime.setObjectTransform(object, pose).ok());
+  EXPECT_TRUE(runtime.setView(viewOf(camera)).ok());
+  EXPECT_TRUE(renderer.render(camera, ShadingView::kBakedOnly).ok());
+  walk.baked_only = comparePictures(readLinearFrame(renderer), reference);
   std::printf("baked-only: static %.4f, object %.4f against %.4f (%+.1f %%)\n", walk.baked_only.static_rel_rms,
               walk.baked_only.dynamic_mean, walk.baked_only.dynamic_reference_mean,
               100 * walk.baked_only.dynamicMeanError());
   for (int frame = 0; frame < frames; ++frame) {
-    const FrameStats stats = (*runtime)->update(0);
+    const FrameStats stats = runtime.update(0);
     EXPECT_TRUE(stats.error.empty()) << stats.error;
-    EXPECT_TRUE((*renderer)->render(camera, ShadingView::kRuntime).ok());
-    walk.frames.push_back(comparePictures(readLinearFrame(**renderer), reference));
+    EXPECT_TRUE(renderer.render(camera, ShadingView::kRuntime).ok());
+    walk.frames.push_back(comparePictures(readLinearFrame(renderer), reference));
     const PictureError& e = walk.frames.back();
     std::printf("frame %2d: static %.4f (baked-only %.4f), object %.4f against %.4f (%+.1f %%), %u pending\n", frame,
                 e.static_rel_rms, walk.baked_only.static_rel_rms, e.dynamic_mean, e.dynamic_reference_mean,
                 100 * e.dynamicMeanError(), stats.emitters_pending);
   }
   // Runtime view, reference, difference (red brighter, blue darker).
-  EXPECT_TRUE(test::writeComparisonPng(pngPath(png_prefix + ".png"), readLinearFrame(**renderer), reference, 1).ok());
+  EXPECT_TRUE(test::writeComparisonPng(pngPath(png_prefix + ".png"), readLinearFrame(renderer), reference, 1).ok());
   return walk;
 }
 
@@ -201,36 +222,28 @@ TEST(RuntimePicture, DemoFirstFramesAreNoWorseThanBakedOnly) {
   SVIT_REQUIRE_GL(context);
   const Camera camera = cornellFrontCamera();
   const BakedLevel& level = bakedLevel(cornellStillBoxLevel(), kRuntimeBake);
-  RuntimeSettings settings;
-  settings.max_samples_per_frame = 32;  // svit-walk's headless default
-  settings.delta_textures = false;
-  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(level.scene, level.bake, level.dir, settings);
-  ASSERT_TRUE(runtime.ok()) << runtime.status().message();
-  const ObjectId box = (*runtime)->objectForNode(level.scene.findNode("tallBox"));
-  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, runtime->get(), fixedExposure());
-  ASSERT_TRUE(renderer.ok()) << renderer.status().message();
-  RuntimeView view;
-  view.position = camera.position;
-  view.look_at = camera.look_at;
-  view.yfov_rad = camera.yfov_rad;
-  view.aspect = float(fixedExposure().width) / float(fixedExposure().height);
-  ASSERT_TRUE((*runtime)->setView(view).ok());
+  Viewer v = makeViewer(level, 32);  // svit-walk's headless default
+  ASSERT_TRUE(v.renderer);
+  Runtime& runtime = *v.runtime;
+  SceneRenderer& renderer = *v.renderer;
+  const ObjectId box = runtime.objectForNode(level.scene.findNode("tallBox"));
+  ASSERT_TRUE(runtime.setView(viewOf(camera)).ok());
   const std::string work = (fs::temp_directory_path() / "svit_scene_renderer_test").string();
   for (int frame = 0; frame <= 20; ++frame) {
     const float a = float(frame) / 90.0f;  // 30 frames a second, 3 s to the key
     const Vec3 t{kMovedTranslation.x * a, 0, kMovedTranslation.z * a};
     const glm::quat q = glm::slerp(glm::quat(1, 0, 0, 0), glm::quat(kMovedRotation.w, 0, kMovedRotation.y, 0), a);
     const Quat r{q.x, q.y, q.z, q.w};
-    ASSERT_TRUE((*runtime)->setObjectTransform(box, placeAt(t, r)).ok());
-    (*runtime)->update(0);
+    ASSERT_TRUE(runtime.setObjectTransform(box, placeAt(t, r)).ok());
+    runtime.update(0);
     if (frame % 10 != 0) continue;
     const std::string posed = test::writeLevelWithNodeStatic(cornellStillBoxLevel(), "tallBox", t, r, work,
                                                              "cornell_demo_frame_" + std::to_string(frame));
     const LinearFrame reference = bakedPicture(bakedLevel(posed, kReferenceBake), camera);
-    ASSERT_TRUE((*renderer)->render(camera, ShadingView::kRuntime).ok());
-    const PictureError shown = comparePictures(readLinearFrame(**renderer), reference);
-    ASSERT_TRUE((*renderer)->render(camera, ShadingView::kBakedOnly).ok());
-    const PictureError baked_only = comparePictures(readLinearFrame(**renderer), reference);
+    ASSERT_TRUE(renderer.render(camera, ShadingView::kRuntime).ok());
+    const PictureError shown = comparePictures(readLinearFrame(renderer), reference);
+    ASSERT_TRUE(renderer.render(camera, ShadingView::kBakedOnly).ok());
+    const PictureError baked_only = comparePictures(readLinearFrame(renderer), reference);
     std::printf("demo frame %2d: static %.4f, baked-only %.4f\n", frame, shown.static_rel_rms,
                 baked_only.static_rel_rms);
     EXPECT_LE(shown.static_rel_rms, baked_only.static_rel_rms) << "frame " << frame;
@@ -268,15 +281,13 @@ TEST(RuntimePicture, CornellLampOffIsBlackAndDimmedIsHalf) {
   SVIT_REQUIRE_GL(context);
   const Camera camera = cornellFrontCamera();
   const BakedLevel& level = bakedLevel(cornellStillBoxLevel(), kRuntimeBake);
-  RuntimeSettings settings;
-  settings.delta_textures = false;
-  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(level.scene, level.bake, level.dir, settings);
-  ASSERT_TRUE(runtime.ok()) << runtime.status().message();
-  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, runtime->get(), fixedExposure());
-  ASSERT_TRUE(renderer.ok()) << renderer.status().message();
-  (*runtime)->update(0);
-  ASSERT_TRUE((*renderer)->render(camera, ShadingView::kRuntime).ok());
-  const LinearFrame lit = readLinearFrame(**renderer);
+  Viewer v = makeViewer(level, 0);
+  ASSERT_TRUE(v.renderer);
+  Runtime& runtime = *v.runtime;
+  SceneRenderer& renderer = *v.renderer;
+  runtime.update(0);
+  ASSERT_TRUE(renderer.render(camera, ShadingView::kRuntime).ok());
+  const LinearFrame lit = readLinearFrame(renderer);
   const double lit_mean = test::meanLuminance(lit, SurfaceKind::kStatic);
   std::vector<uint32_t> lamp;
   for (uint32_t e = 0; e < level.bake.emitters.size(); ++e) {
@@ -285,14 +296,14 @@ TEST(RuntimePicture, CornellLampOffIsBlackAndDimmedIsHalf) {
   ASSERT_FALSE(lamp.empty());
   for (float scale : {0.0f, 0.5f}) {
     for (uint32_t e : lamp) {
-      ASSERT_TRUE((*runtime)->setBakedEmitterScale(e, scale).ok());
-      ASSERT_TRUE((*renderer)->setBakedEmitterScale(e, scale).ok());
+      ASSERT_TRUE(runtime.setBakedEmitterScale(e, scale).ok());
+      ASSERT_TRUE(renderer.setBakedEmitterScale(e, scale).ok());
     }
-    (*runtime)->update(0);
-    ASSERT_TRUE((*renderer)->render(camera, ShadingView::kRuntime).ok());
+    runtime.update(0);
+    ASSERT_TRUE(renderer.render(camera, ShadingView::kRuntime).ok());
     LinearFrame expected = lit;
-    for (float& v : expected.rgb) v *= scale;
-    const LinearFrame dimmed = readLinearFrame(**renderer);
+    for (float& value : expected.rgb) value *= scale;
+    const LinearFrame dimmed = readLinearFrame(renderer);
     // RMS against the scaled lit picture, relative to the lit picture's mean.
     const PictureError e = comparePictures(dimmed, expected);
     const double residue = e.static_rms / lit_mean;
