@@ -41,9 +41,9 @@ struct DynamicObject {
   Mat4 world_from_object;
   bool visible = true;
   bool removed = false;
-  /// Every emitter whose reach meets it has had its shares rendered since
-  /// it appeared (Runtime::Impl::updateObjectsLit): until then shading
-  /// shows it by the probe grid, not by a partial sum of the emitters.
+  /// The emitters reaching it that carry all but 5 % of its light have had
+  /// their shares rendered since it appeared (Runtime::Impl::updateObjectsLit):
+  /// until then shading shows it by the probe grid, not by a partial sum.
   bool lit = false;
   uint64_t shown_revision = 0;  ///< Impl::shares_revisions when it was added or shown
   uint32_t first_receiver = 0;  ///< its triangles' receivers are first_receiver + t

@@ -374,19 +374,37 @@ void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint3
   stats.bounce_ms += msSince(t0);
 }
 
-// An object is lit once every emitter that carries light to it (a baked
-// light, the sun, the sky, a lamp or bright patch: those with a baseline)
-// has rendered shares since the object appeared. A partial sum of its
-// emitters would draw it darker than the probe grid does (black after the
-// first update), so it keeps the probes until then. Once lit, later moves
-// refresh its emitters one by one from values that are already whole.
+// An object is lit once the emitters that carry light to it (a baked light,
+// the sun, the sky, a lamp or bright patch: those with a baseline) and have
+// rendered shares since it appeared carry all but kUnlitShare of its light,
+// each weighed by flux over squared distance from its source to the object.
+// A partial sum of its emitters would draw it darker than the probe grid
+// does (black after the first update), so it keeps the probes until then;
+// waiting for every last dim emitter would keep it there for as long as
+// importance caching lets those wait. Once lit, later moves refresh its
+// emitters one by one from values that are already nearly whole.
 void Runtime::Impl::updateObjectsLit() {
+  constexpr double kUnlitShare = 0.05;
   for (rt::DynamicObject& object : objects) {
-    if (object.lit || !object.visible || object.removed) continue;
-    object.lit = std::none_of(emitters.begin(), emitters.end(), [&](const Emitter& e) {
-      const bool carries = e.needs_baseline && reaches(e, object.bounds);
-      return carries && (!e.has_current || e.current_revision <= object.shown_revision);
-    });
+    if (object.lit || !object.visible || object.removed || object.bounds.empty()) continue;
+    const glm::dvec3 low(toGlm(object.bounds.min)), high(toGlm(object.bounds.max));
+    const glm::dvec3 centre = 0.5 * (low + high);
+    const double radius2 = 0.25 * glm::dot(high - low, high - low);
+    double total = 0, missing = 0;
+    for (const Emitter& e : emitters) {
+      if (!e.needs_baseline || !reaches(e, object.bounds)) continue;
+      // The sun's and sky's source is their window over the level, about as
+      // far as it is wide: flux over squared distance is then about their
+      // illuminance, as it is a lamp's irradiance.
+      const glm::dvec3 source = e.source_box.empty() ? centre
+                                                     : 0.5 * (glm::dvec3(toGlm(e.source_box.min)) +
+                                                              glm::dvec3(toGlm(e.source_box.max)));
+      const glm::dvec3 d = source - centre;
+      const double weight = std::max(0.0, lum(e.flux)) / std::max(glm::dot(d, d), radius2);
+      total += weight;
+      if (!e.has_current || e.current_revision <= object.shown_revision) missing += weight;
+    }
+    object.lit = missing <= kUnlitShare * total;
   }
 }
 
