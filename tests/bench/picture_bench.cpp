@@ -11,8 +11,6 @@
 //        [--exposure 1] [--png-prefix P]
 // Runs under xvfb-run; bakes go to DIR and are reused while their stamp matches.
 
-#include <GLFW/glfw3.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -25,6 +23,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../gl/gl_test_context.h"
 #include "../gl/picture_comparison_png.h"
 #include "../gl/picture_metric.h"
 #include "bench_bake.h"
@@ -110,17 +109,6 @@ bool parseArgs(int argc, char** argv, Options& o) {
   return argc % 2 == 1 && !o.level.empty() && !o.work.empty() && !o.json.empty() && o.frames > 0;
 }
 
-GLFWwindow* hiddenContext() {
-  if (glfwInit() != GLFW_TRUE) return nullptr;
-  glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-  GLFWwindow* window = glfwCreateWindow(64, 64, "bench_picture", nullptr, nullptr);
-  if (window) glfwMakeContextCurrent(window);
-  return window;
-}
-
 RuntimeView viewOf(const Camera& c, const SceneRendererSettings& s) {
   RuntimeView v;
   v.position = c.position;
@@ -142,7 +130,8 @@ int main(int argc, char** argv) {
                          "[--exposure 1] [--png-prefix P]\n");
     return 2;
   }
-  if (!hiddenContext()) {
+  const GlTestContext context;
+  if (!context.ok()) {
     std::fprintf(stderr, "bench_picture: no GL 4.5 context (run under xvfb-run -a)\n");
     return 1;
   }

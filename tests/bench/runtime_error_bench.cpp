@@ -71,10 +71,6 @@ std::vector<Case> cases() {
 }
 
 
-Mat4 placeAt(Vec3 t, Quat q) {
-  return fromGlmMat(glm::translate(glm::mat4(1), glm::vec3(t.x, t.y, t.z)) * glm::mat4_cast(glm::quat(q.w, q.x, q.y, q.z)));
-}
-
 // A runtime of the base level, its runtime lights off (the bakes leave
 // dynamic lights out; irradianceAt would add their bounce), settled with
 // every object at its start.

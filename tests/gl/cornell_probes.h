@@ -30,6 +30,12 @@ inline Mat4 fromGlmMat(const glm::mat4& m) {
   return out;
 }
 
+/// World transform T * R of a root node placed at `t`, turned by `q`.
+inline Mat4 placeAt(Vec3 t, Quat q) {
+  return fromGlmMat(glm::translate(glm::mat4(1), glm::vec3(t.x, t.y, t.z)) *
+                    glm::mat4_cast(glm::quat(q.w, q.x, q.y, q.z)));
+}
+
 // Brings the runtime to rest: updates without a budget until nothing is left.
 inline bool settle(Runtime& runtime, int max_frames = 12) {
   for (int i = 0; i < max_frames; ++i) {

@@ -11,8 +11,7 @@
 #include <cstdio>
 #include <memory>
 
-#include <glm/gtc/quaternion.hpp>
-
+#include "cornell_probes.h"
 #include "gl_test_context.h"
 #include "picture_comparison_png.h"
 #include "picture_metric.h"
@@ -33,10 +32,7 @@ test::LinearFrame settledRuntimePicture(const BakedLevel& level, bool delta_text
   if (!runtime.ok()) return {};
   // The tall box where the level's path takes it at 3 s (25 cm, 30 degrees):
   // its shadow and reflected light on the floor and walls.
-  const glm::mat4 m = glm::translate(glm::mat4(1), glm::vec3(0.25f, 0, 0.1f)) *
-                      glm::mat4_cast(glm::quat(0.9659258f, 0, 0.2588190f, 0));
-  Mat4 moved;
-  for (int i = 0; i < 16; ++i) moved.m[size_t(i)] = m[i / 4][i % 4];
+  const Mat4 moved = test::placeAt({0.25f, 0, 0.1f}, {0, 0.2588190f, 0, 0.9659258f});
   EXPECT_TRUE((*runtime)->setObjectTransform((*runtime)->objects().at(0), moved).ok());
   (*runtime)->update(0);
   EXPECT_EQ((*runtime)->shadingResources().delta_textures.empty(), !delta_textures);

@@ -26,6 +26,7 @@ namespace {
 
 using namespace svit::render_test;  // NOLINT: test helpers
 using test::comparePictures;
+using test::placeAt;
 using test::LinearFrame;
 using test::PictureError;
 using test::readLinearFrame;
@@ -59,14 +60,6 @@ std::string cornellStaticLevel() {
 // The tall box moved 25 cm and turned 30 degrees (the sample level's path key).
 constexpr Vec3 kMovedTranslation{0.25f, 0, 0.1f};
 constexpr Quat kMovedRotation{0, 0.2588190f, 0, 0.9659258f};
-
-Mat4 placeAt(Vec3 t, Quat q) {
-  const glm::mat4 m = glm::translate(glm::mat4(1), glm::vec3(t.x, t.y, t.z)) *
-                      glm::mat4_cast(glm::quat(q.w, q.x, q.y, q.z));
-  Mat4 out;
-  for (int i = 0; i < 16; ++i) out.m[size_t(i)] = m[i / 4][i % 4];
-  return out;
-}
 
 SceneRendererSettings fixedExposure() {
   SceneRendererSettings settings;

@@ -31,7 +31,8 @@ std::vector<DeltaPage> rasteriseDeltas(const RuntimePatches& patches, const std:
         const Vec2& t = patches.triangle_uvs[s * 3 + size_t(k)];
         uv[k] = {t.x * out.width, t.y * out.height};
         const uint32_t vertex = patches.triangle_vertices[s * 3 + size_t(k)];
-        value[k] = glm::dvec4(vertex_values[vertex], scale_minus_one[vertex].x);
+        const double scale = vertex < scale_minus_one.size() ? scale_minus_one[vertex].x : 0.0;
+        value[k] = glm::dvec4(vertex_values[vertex], scale);
       }
       const glm::dvec2 e1 = uv[1] - uv[0], e2 = uv[2] - uv[0];
       const double det = e1.x * e2.y - e1.y * e2.x;

@@ -34,7 +34,7 @@ class DeltaSurfaceBuffers {
   ~DeltaSurfaceBuffers();
 
   /// Replaces the per-welded-vertex deltas (lux) and light scales minus 1
-  /// (the x of `scale_minus_one`), `patches.vertex_count` of each.
+  /// (the x of `scale_minus_one`; empty: 0), `patches.vertex_count` of each.
   void upload(const std::vector<glm::dvec3>& vertex_values, const std::vector<glm::dvec3>& scale_minus_one);
 
   bool allocated() const { return vertex_deltas_ != 0; }

@@ -536,7 +536,8 @@ Rgb Runtime::irradianceAt(const Vec3& point, const Vec3& normal, float max_dista
     };
     const glm::dvec3 d = at(v);
     // The lightmap's factor (dimmed baked emitters), then the added light.
-    const double factor = 1.0 + (impl_->vertex_scales.empty() ? 0.0 : at(impl_->vertex_scales).x);
+    const std::vector<glm::dvec3>& scales = impl_->vertex_scales;
+    const double factor = 1.0 + (scales.empty() ? 0.0 : at(scales).x);
     // A delta never takes more light than there is (shading clamps the same way).
     e = {std::max(0.0f, float(e.r * factor + d.x)), std::max(0.0f, float(e.g * factor + d.y)),
          std::max(0.0f, float(e.b * factor + d.z))};

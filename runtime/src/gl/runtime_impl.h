@@ -146,17 +146,13 @@ struct Runtime::Impl {
   std::vector<glm::dvec3> runtime_direct; ///< direct irradiance of runtime lights, lux (shaded per pixel)
   std::vector<Rgb> display;               ///< what shading adds (temporally blended), lux
   mutable std::vector<glm::dvec3> vertex_deltas;  ///< delta_total at the welded vertices (lazy)
-  mutable std::vector<glm::dvec3> vertex_scales;  ///< light scale minus 1 there (x), empty: none
+  /// The light scale minus 1 (x) at the welded vertices, as the last
+  /// uploadDisplay showed it; empty while every baked emitter is as baked.
+  std::vector<glm::dvec3> vertex_scales;
   mutable bool vertex_deltas_stale = true;
   const std::vector<glm::dvec3>& vertexDeltas() const {
     if (vertex_deltas_stale) {
       vertex_deltas = rt::vertexValues(patches, delta_total);
-      vertex_scales.clear();
-      if (!light_scale.empty()) {
-        std::vector<glm::dvec3> scale(static_receivers);
-        for (uint32_t r = 0; r < static_receivers; ++r) scale[r] = glm::dvec3(light_scale[r] - 1.0);
-        vertex_scales = rt::vertexValues(patches, scale);
-      }
       vertex_deltas_stale = false;
     }
     return vertex_deltas;

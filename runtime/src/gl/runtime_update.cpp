@@ -445,9 +445,9 @@ void Runtime::Impl::uploadDisplay(FrameStats& stats) {
     scale[r] = glm::dvec3(lightScaleOf(r) - 1.0);
   }
   const std::vector<glm::dvec3> shown_at_vertices = rt::vertexValues(patches, shown);
-  const std::vector<glm::dvec3> scale_at_vertices =
-      light_scale.empty() ? std::vector<glm::dvec3>(patches.vertex_count, glm::dvec3(0.0))
-                          : rt::vertexValues(patches, scale);
+  // Empty while every baked emitter is as baked (a factor of 1 everywhere).
+  vertex_scales = light_scale.empty() ? std::vector<glm::dvec3>{} : rt::vertexValues(patches, scale);
+  const std::vector<glm::dvec3>& scale_at_vertices = vertex_scales;
   if (!delta_surface.allocated()) {
     delta_surface = rt::DeltaSurfaceBuffers::create(patches);
     gl_objects_created += 3;
