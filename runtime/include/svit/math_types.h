@@ -34,6 +34,14 @@ struct Aabb {
   Vec3 min{1e30f, 1e30f, 1e30f};
   Vec3 max{-1e30f, -1e30f, -1e30f};
   bool empty() const { return min.x > max.x || min.y > max.y || min.z > max.z; }
+  /// The box holding all of space: what a parallel light (the sun) or an
+  /// emitter of unknown reach may touch.
+  static Aabb everything() {
+    return {{-kEverywhere, -kEverywhere, -kEverywhere}, {kEverywhere, kEverywhere, kEverywhere}};
+  }
+  bool isEverything() const { return max.x >= kEverywhere; }
+  /// Beyond any level's coordinates, and still finite in float.
+  static constexpr float kEverywhere = 3e38f;
 };
 
 /// Relative luminance Y of linear Rec.709 RGB (ITU-R BT.709 weights).
