@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "gl_handle.h"
 #include "svit/status.h"
 #include "walk_stats.h"
 
@@ -46,7 +47,9 @@ class StatsOverlay {
 
  private:
   StatsOverlay() = default;
-  uint32_t program_ = 0, vao_ = 0, buffer_ = 0;
+  gl::GlProgram program_;
+  gl::GlVertexArray vao_;
+  gl::GlBuffer buffer_;
   std::vector<float> vertices_;  // xy pixels, 6 per quad
   std::vector<char> scratch_;    // stb_easy_font_print's vertex output
 };

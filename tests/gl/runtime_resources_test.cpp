@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "gl_handle.h"
 #include "gl_memory.h"
 #include "gl_test_context.h"
 #include "runtime_test_util.h"
@@ -55,9 +56,9 @@ TEST(ResourceAudit, GlStorageIsMeasuredFromGl) {
   EXPECT_EQ(footprint.objects, 2u);
   EXPECT_EQ(footprint.bytes, 1234u + 64u * 64u * 6u * 8u);
 
-  glDeleteBuffers(1, &buffer);
-  for (GLuint t : {texture, array, cube}) glDeleteTextures(1, &t);
-  glDeleteRenderbuffers(1, &renderbuffer);
+  gl::deleteGlName(gl::GlKind::kBuffer, buffer);
+  for (GLuint t : {texture, array, cube}) gl::deleteGlName(gl::GlKind::kTexture, t);
+  gl::deleteGlName(gl::GlKind::kRenderbuffer, renderbuffer);
 }
 
 TEST(ResourceAudit, StaticLevelHoldsOnlyItsLightmaps) {

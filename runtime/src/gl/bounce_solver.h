@@ -103,12 +103,32 @@ class BounceSolver {
     int32_t group = -1;
   };
 
+  /// What one solve is given besides the first bounce.
+  struct SolveInputs {
+    const std::vector<Receiver>& receivers;
+    const std::vector<int32_t>& group_of;
+    const std::vector<const SparseShares*>& group_shares;
+    const std::vector<uint64_t>& group_revisions;
+  };
+
   void forget(size_t receivers, size_t groups);
   void grow(size_t receivers, size_t groups);
-  /// One incremental solve; false (state half-updated) when a round's last flag flipped.
+  /// One incremental solve; false (state half-updated) when a round's last
+  /// flag flipped. Its stages: the receivers and groups whose terms or
+  /// shares changed, the first bounce's change seeded, then per round the
+  /// change received and reflected, then shot; last, what was solved for kept.
   bool resolve(const std::vector<Receiver>& receivers, const std::vector<glm::dvec3>& first,
                const std::vector<int32_t>& group_of, const std::vector<const SparseShares*>& group_shares,
                const std::vector<uint64_t>& group_revisions);
+  static ReceiverTerms termsOf(const SolveInputs& in, size_t r);
+  bool sharesChanged(const SolveInputs& in, size_t g) const;
+  std::vector<uint32_t> changedReceivers(const SolveInputs& in) const;
+  std::vector<uint32_t> reshotGroups(const SolveInputs& in) const;
+  void seedFirstDeltas(const std::vector<glm::dvec3>& first, size_t receivers);
+  void appendRound(size_t receivers, size_t groups);
+  void reflectRound(Round& round, const std::vector<uint32_t>& changed, const SolveInputs& in);
+  void shootRound(Round& round, const std::vector<uint32_t>& reshot, bool last, const SolveInputs& in);
+  void keepSolved(const std::vector<uint32_t>& changed, const std::vector<uint32_t>& reshot, const SolveInputs& in);
   void shoot(const SparseShares& shares, const glm::dvec3& flux);
   void finish(const std::vector<Receiver>& receivers, const std::vector<const SparseShares*>& group_shares);
 

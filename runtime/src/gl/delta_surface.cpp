@@ -32,13 +32,12 @@ std::vector<uint32_t> slotTable(const RuntimePatches& patches) {
   return table;
 }
 
-uint32_t immutableBuffer(const std::vector<uint32_t>& data) {
+GlBuffer immutableBuffer(const std::vector<uint32_t>& data) {
   // A zero-sized buffer store is an error: an empty table gets one entry.
   const std::vector<uint32_t> one(4, 0);
   const std::vector<uint32_t>& stored = data.empty() ? one : data;
-  uint32_t buffer = 0;
-  glCreateBuffers(1, &buffer);
-  glNamedBufferStorage(buffer, GLsizeiptr(stored.size() * sizeof(uint32_t)), stored.data(), 0);
+  GlBuffer buffer = createGlBuffer();
+  glNamedBufferStorage(buffer.id(), GLsizeiptr(stored.size() * sizeof(uint32_t)), stored.data(), 0);
   return buffer;
 }
 
@@ -50,15 +49,15 @@ DeltaSurfaceBuffers DeltaSurfaceBuffers::create(const RuntimePatches& patches) {
   out.slots_ = immutableBuffer(slotTable(patches));
   out.vertex_count_ = patches.vertex_count;
   const std::vector<float> zeros(std::max<size_t>(patches.vertex_count, 1) * 4, 0.0f);
-  glCreateBuffers(1, &out.vertex_deltas_);
-  glNamedBufferStorage(out.vertex_deltas_, GLsizeiptr(zeros.size() * sizeof(float)), zeros.data(),
+  out.vertex_deltas_ = createGlBuffer();
+  glNamedBufferStorage(out.vertex_deltas_.id(), GLsizeiptr(zeros.size() * sizeof(float)), zeros.data(),
                        GL_DYNAMIC_STORAGE_BIT);
   return out;
 }
 
 void DeltaSurfaceBuffers::upload(const std::vector<glm::dvec3>& vertex_values,
                                  const std::vector<glm::dvec3>& scale_minus_one) {
-  if (vertex_deltas_ == 0 || vertex_count_ == 0) return;
+  if (!vertex_deltas_ || vertex_count_ == 0) return;
   std::vector<float> packed(size_t(vertex_count_) * 4, 0.0f);
   for (size_t v = 0; v < vertex_values.size() && v < vertex_count_; ++v) {
     packed[v * 4] = float(vertex_values[v].x);
@@ -66,28 +65,21 @@ void DeltaSurfaceBuffers::upload(const std::vector<glm::dvec3>& vertex_values,
     packed[v * 4 + 2] = float(vertex_values[v].z);
     if (v < scale_minus_one.size()) packed[v * 4 + 3] = float(scale_minus_one[v].x);
   }
-  glNamedBufferSubData(vertex_deltas_, 0, GLsizeiptr(packed.size() * sizeof(float)), packed.data());
+  glNamedBufferSubData(vertex_deltas_.id(), 0, GLsizeiptr(packed.size() * sizeof(float)), packed.data());
 }
 
 DeltaSurfaceBuffers::DeltaSurfaceBuffers(DeltaSurfaceBuffers&& other) noexcept { *this = std::move(other); }
 
 DeltaSurfaceBuffers& DeltaSurfaceBuffers::operator=(DeltaSurfaceBuffers&& other) noexcept {
   if (this != &other) {
-    release();
-    elements_ = std::exchange(other.elements_, 0);
-    slots_ = std::exchange(other.slots_, 0);
-    vertex_deltas_ = std::exchange(other.vertex_deltas_, 0);
+    elements_ = std::move(other.elements_);
+    slots_ = std::move(other.slots_);
+    vertex_deltas_ = std::move(other.vertex_deltas_);
     vertex_count_ = std::exchange(other.vertex_count_, 0);
   }
   return *this;
 }
 
-DeltaSurfaceBuffers::~DeltaSurfaceBuffers() { release(); }
-
-void DeltaSurfaceBuffers::release() {
-  const GLuint buffers[] = {elements_, slots_, vertex_deltas_};
-  if (elements_ != 0 || slots_ != 0 || vertex_deltas_ != 0) glDeleteBuffers(3, buffers);
-  elements_ = slots_ = vertex_deltas_ = 0;
-}
+DeltaSurfaceBuffers::~DeltaSurfaceBuffers() = default;
 
 }  // namespace svit::gl

@@ -16,6 +16,7 @@
 
 #include <glm/glm.hpp>
 
+#include "gl_handle.h"
 #include "gl_memory.h"
 #include "runtime_patches.h"
 
@@ -37,17 +38,16 @@ class DeltaSurfaceBuffers {
   /// (the x of `scale_minus_one`; empty: 0), `patches.vertex_count` of each.
   void upload(const std::vector<glm::dvec3>& vertex_values, const std::vector<glm::dvec3>& scale_minus_one);
 
-  bool allocated() const { return vertex_deltas_ != 0; }
-  uint32_t elementBuffer() const { return elements_; }
-  uint32_t slotBuffer() const { return slots_; }
-  uint32_t vertexDeltaBuffer() const { return vertex_deltas_; }
+  bool allocated() const { return bool(vertex_deltas_); }
+  uint32_t elementBuffer() const { return elements_.id(); }
+  uint32_t slotBuffer() const { return slots_.id(); }
+  uint32_t vertexDeltaBuffer() const { return vertex_deltas_.id(); }
   std::vector<GlObject> glObjects() const {
-    return {glBufferObject(elements_), glBufferObject(slots_), glBufferObject(vertex_deltas_)};
+    return {glBufferObject(elements_.id()), glBufferObject(slots_.id()), glBufferObject(vertex_deltas_.id())};
   }
 
  private:
-  void release();
-  uint32_t elements_ = 0, slots_ = 0, vertex_deltas_ = 0;
+  GlBuffer elements_, slots_, vertex_deltas_;
   uint32_t vertex_count_ = 0;
 };
 

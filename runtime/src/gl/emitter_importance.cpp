@@ -52,73 +52,78 @@ double weighted(const SparseShares& s, const std::vector<double>& weight, const 
 
 }  // namespace
 
-GroupView groupView(const ViewWeights& view, const std::vector<ImportanceQuery>& queries) {
-  const size_t groups = view.group_shares.size(), n = view.weight.size();
-  GroupView out;
-  out.per_lumen.assign(groups, 0.0);
-  out.weight = view.weight;
-  out.weighted_blocks = blocksWhere(n, [&](size_t r) { return view.weight[r] != 0; });
-  // One direct sum per distinct set: a group's own shares are its
-  // emitter's current ones, which that emitter's query holds too (on the
-  // 8 x 8 house, 2.3 of 4.1 ms went to summing them twice).
-  std::unordered_map<const SparseShares*, double> direct_of;
-  auto directOf = [&](const SparseShares* s) {
-    const auto [it, fresh] = direct_of.try_emplace(s, 0.0);
-    if (fresh) it->second = weighted(*s, view.weight, out.weighted_blocks);
+namespace {
+
+// The direct view of each distinct share set, summed once: a group's own
+// shares are its emitter's current ones, which that emitter's query holds
+// too.
+class DirectViews {
+ public:
+  DirectViews(const ViewWeights& view, const std::vector<char>& weighted_blocks)
+      : view_(view), weighted_blocks_(weighted_blocks) {}
+  double of(const SparseShares* s) {
+    const auto [it, fresh] = direct_of_.try_emplace(s, 0.0);
+    if (fresh) it->second = weighted(*s, view_.weight, weighted_blocks_);
     return it->second;
-  };
-  std::vector<char> has_own(groups, 0);
-  for (size_t g = 0; g < groups; ++g) {
-    if (view.group_shares[g] == nullptr) continue;
-    out.per_lumen[g] = directOf(view.group_shares[g]);
-    has_own[g] = 1;
   }
-  auto borrowerOf = [&](uint32_t r) -> int32_t {
+
+ private:
+  const ViewWeights& view_;
+  const std::vector<char>& weighted_blocks_;
+  std::unordered_map<const SparseShares*, double> direct_of_;
+};
+
+// The group receiver `r` borrows a view for (one with no shares of its
+// own), or -1.
+struct Borrowers {
+  const ViewWeights& view;
+  const std::vector<char>& has_own;
+  int32_t of(uint32_t r) const {
     if (r >= view.group_of.size()) return -1;
     const int32_t g = view.group_of[r];
-    return g < 0 || size_t(g) >= groups || has_own[size_t(g)] ? -1 : g;
-  };
-  // Borrowed V: the flux-weighted mean direct view of the emitters lighting
-  // a group that has no shares of its own. Only groups lit by a set of
-  // non-zero direct view borrow anything; only their receivers are visited
-  // (for the mean's weights, in query order).
-  double largest = 0;
-  for (double v : out.per_lumen) largest = std::max(largest, v);
-  for (const ImportanceQuery& q : queries) {
-    for (const SparseShares* s : q.shares) {
-      out.direct.push_back(s == nullptr ? 0.0 : directOf(s));
-      largest = std::max(largest, out.direct.back());
-    }
+    return g < 0 || size_t(g) >= has_own.size() || has_own[size_t(g)] ? -1 : g;
   }
-  const double negligible = kNegligibleView * largest;
-  std::vector<double> direct = out.direct;  // what borrowing counts: negligible views cut
-  for (double& d : direct) {
-    if (d < negligible) d = 0;
-  }
-  std::vector<char> borrows(groups, 0);
+};
+
+// The groups lit by a set of non-zero direct view (`direct`, per set of
+// the queries) on a receiver that reflects: the only ones that borrow.
+std::vector<char> borrowingGroups(const ViewWeights& view, const std::vector<ImportanceQuery>& queries,
+                                  const std::vector<double>& direct, const Borrowers& borrowers) {
+  std::vector<char> borrows(borrowers.has_own.size(), 0);
   size_t k = 0;
   for (const ImportanceQuery& q : queries) {
     for (const SparseShares* s : q.shares) {
       if (direct[k++] == 0 || q.flux == 0) continue;
       for (uint32_t r : s->receivers) {
-        const int32_t g = borrowerOf(r);
+        const int32_t g = borrowers.of(r);
         if (g >= 0 && r < view.reflectance.size() && view.reflectance[r] != 0) borrows[size_t(g)] = 1;
       }
     }
   }
-  const std::vector<char> borrowing_blocks = blocksWhere(n, [&](size_t r) {
-    const int32_t g = borrowerOf(uint32_t(r));
+  return borrows;
+}
+
+// Borrowed V: the flux-weighted mean direct view of the emitters lighting
+// a group that has no shares of its own, into per_lumen. Only the
+// borrowing groups' receivers are visited (for the mean's weights, in
+// query order).
+void borrowViews(const ViewWeights& view, const std::vector<ImportanceQuery>& queries,
+                 const std::vector<double>& direct, const Borrowers& borrowers, const std::vector<char>& borrows,
+                 std::vector<double>& per_lumen) {
+  const size_t groups = borrows.size();
+  const std::vector<char> borrowing_blocks = blocksWhere(view.weight.size(), [&](size_t r) {
+    const int32_t g = borrowers.of(uint32_t(r));
     return g >= 0 && borrows[size_t(g)];
   });
   std::vector<double> borrowed(groups, 0.0), borrowed_weight(groups, 0.0);
-  k = 0;
+  size_t k = 0;
   for (const ImportanceQuery& q : queries) {
     for (const SparseShares* s : q.shares) {
       const double d = direct[k++];
       if (s == nullptr) continue;
       forEachMarked(*s, borrowing_blocks, [&](size_t i) {
         const uint32_t r = s->receivers[i];
-        const int32_t g = borrowerOf(r);
+        const int32_t g = borrowers.of(r);
         if (g < 0) return;
         const double w = q.flux * double(s->shares[i]) * view.reflectance[r];
         borrowed[size_t(g)] += w * d;
@@ -127,15 +132,56 @@ GroupView groupView(const ViewWeights& view, const std::vector<ImportanceQuery>&
     }
   }
   for (size_t g = 0; g < groups; ++g) {
-    if (!has_own[g] && borrowed_weight[g] > 0) out.per_lumen[g] = borrowed[g] / borrowed_weight[g];
-    if (out.per_lumen[g] < negligible) out.per_lumen[g] = 0;
+    if (!borrowers.has_own[g] && borrowed_weight[g] > 0) per_lumen[g] = borrowed[g] / borrowed_weight[g];
   }
+}
+
+// What each receiver reflects towards the view per lumen it receives.
+void reflectedView(const ViewWeights& view, GroupView& out) {
+  const size_t groups = out.per_lumen.size(), n = view.weight.size();
   out.reflected.assign(n, 0.0);
   for (size_t r = 0; r < n && r < view.group_of.size(); ++r) {
     const int32_t g = view.group_of[r];
     if (g >= 0 && size_t(g) < groups) out.reflected[r] = view.reflectance[r] * out.per_lumen[size_t(g)];
   }
   out.reflected_blocks = blocksWhere(n, [&](size_t r) { return out.reflected[r] != 0; });
+}
+
+}  // namespace
+
+GroupView groupView(const ViewWeights& view, const std::vector<ImportanceQuery>& queries) {
+  const size_t groups = view.group_shares.size(), n = view.weight.size();
+  GroupView out;
+  out.per_lumen.assign(groups, 0.0);
+  out.weight = view.weight;
+  out.weighted_blocks = blocksWhere(n, [&](size_t r) { return view.weight[r] != 0; });
+  DirectViews direct_views(view, out.weighted_blocks);
+  std::vector<char> has_own(groups, 0);
+  for (size_t g = 0; g < groups; ++g) {
+    if (view.group_shares[g] == nullptr) continue;
+    out.per_lumen[g] = direct_views.of(view.group_shares[g]);
+    has_own[g] = 1;
+  }
+  double largest = 0;
+  for (double v : out.per_lumen) largest = std::max(largest, v);
+  for (const ImportanceQuery& q : queries) {
+    for (const SparseShares* s : q.shares) {
+      out.direct.push_back(s == nullptr ? 0.0 : direct_views.of(s));
+      largest = std::max(largest, out.direct.back());
+    }
+  }
+  const double negligible = kNegligibleView * largest;
+  std::vector<double> direct = out.direct;  // what borrowing counts: negligible views cut
+  for (double& d : direct) {
+    if (d < negligible) d = 0;
+  }
+  const Borrowers borrowers{view, has_own};
+  const std::vector<char> borrows = borrowingGroups(view, queries, direct, borrowers);
+  borrowViews(view, queries, direct, borrowers, borrows, out.per_lumen);
+  for (size_t g = 0; g < groups; ++g) {
+    if (out.per_lumen[g] < negligible) out.per_lumen[g] = 0;
+  }
+  reflectedView(view, out);
   return out;
 }
 

@@ -2,17 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include <glm/glm.hpp>
 
 #include "glm_interop.h"
+#include "numeric.h"
 #include "sample_random.h"
 
 namespace svit::gl {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 float roll(uint64_t seed, uint64_t stream, uint64_t index, bool jitter) {
   return jitter ? float(2 * kPi) * uniform01(seed, stream ^ 0x726f6c6cull, index) : 0.0f;
@@ -116,7 +114,7 @@ std::vector<PointSample> skySamples(const Sky& sky, const ParallelWindow& window
         // the window, flux L d_omega A.
         const glm::dvec3 f = l * d_omega * window_area;
         flux += f;
-        weights.push_back(0.2126 * f.x + 0.7152 * f.y + 0.0722 * f.z);
+        weights.push_back(luminanceOf(f));
         out.push_back(parallelSample(-glm::vec3(towards_sky), window, 0.0f,
                                      roll(seed, 0x736b79ull, out.size(), jitter_roll)));
       }

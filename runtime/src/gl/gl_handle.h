@@ -50,6 +50,7 @@ using GlRenderbuffer = GlHandle<GlKind::kRenderbuffer>;
 using GlVertexArray = GlHandle<GlKind::kVertexArray>;
 using GlQuery = GlHandle<GlKind::kQuery>;
 using GlShader = GlHandle<GlKind::kShader>;
+using GlProgram = GlHandle<GlKind::kProgram>;  ///< linkProgram() (gl_program.h) makes them
 
 /// New names made with glCreate* (DSA, GL 4.5): initialised objects of their
 /// kind, ready for glNamed*/glTexture* calls.

@@ -40,39 +40,20 @@ std::string shaderLog(GLuint shader) {
 
 }  // namespace
 
-GlProgram& GlProgram::operator=(GlProgram&& other) noexcept {
-  if (this != &other) {
-    if (id_ != 0) glDeleteProgram(id_);
-    id_ = other.id_;
-    other.id_ = 0;
-  }
-  return *this;
-}
-
-GlProgram::~GlProgram() {
-  if (id_ != 0) glDeleteProgram(id_);
-}
-
 Expected<GlProgram> linkProgram(std::initializer_list<std::string_view> files,
                                 std::initializer_list<std::string_view> defines) {
   GlProgram program(glCreateProgram());
-  std::vector<GLuint> shaders;
-  auto cleanup = [&] {
-    for (GLuint s : shaders) glDeleteShader(s);
-  };
+  // Deleted once linked (or on an error): the program keeps what it needs.
+  std::vector<GlShader> shaders;
   for (std::string_view file : files) {
     const std::string_view text = shaderSource(file);
     if (text.empty()) {
-      cleanup();
       return Status(StatusCode::kInternal, "shader '" + std::string(file) + "' is not in shaders/");
     }
     Expected<GLenum> stage = stageOf(file);
-    if (!stage.ok()) {
-      cleanup();
-      return stage.status();
-    }
-    const GLuint shader = glCreateShader(*stage);
-    shaders.push_back(shader);
+    if (!stage.ok()) return stage.status();
+    shaders.emplace_back(glCreateShader(*stage));
+    const GLuint shader = shaders.back().id();
     const std::string source = withDefines(text, defines);
     const char* source_ptr = source.c_str();
     glShaderSource(shader, 1, &source_ptr, nullptr);
@@ -80,14 +61,12 @@ Expected<GlProgram> linkProgram(std::initializer_list<std::string_view> files,
     GLint ok = 0;
     glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
     if (!ok) {
-      const std::string log = shaderLog(shader);
-      cleanup();
-      return Status(StatusCode::kInternal, "shader '" + std::string(file) + "' does not compile: " + log);
+      return Status(StatusCode::kInternal, "shader '" + std::string(file) + "' does not compile: " + shaderLog(shader));
     }
     glAttachShader(program.id(), shader);
   }
   glLinkProgram(program.id());
-  cleanup();
+  shaders.clear();
   GLint linked = 0;
   glGetProgramiv(program.id(), GL_LINK_STATUS, &linked);
   if (!linked) {

@@ -20,8 +20,8 @@ void appendChunks(std::span<const float> positions, uint32_t first_triangle, boo
     c.first = first_triangle + begin;
     c.count = std::min(kChunkTriangles, part_end - begin);
     c.dynamic = dynamic;
-    c.lo = glm::dvec3(1e300);
-    c.hi = glm::dvec3(-1e300);
+    c.lo = glm::dvec3(kNoUpperBound);
+    c.hi = glm::dvec3(kNoLowerBound);
     for (size_t v = size_t(begin) * 3; v < size_t(begin + c.count) * 3; ++v) {
       const glm::dvec3 p(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
       c.lo = glm::min(c.lo, p);

@@ -14,14 +14,14 @@
 
 #include <glm/glm.hpp>
 
+#include "numeric.h"
+
 namespace svit::gl {
 
-// Small enough that a run's box is a small part of a room (a room of the
-// sample house is about 270 triangles; with 256 a run was a whole room, and
-// occlusion culling could hide none) and that the few triangles a moving
-// sample sees through a doorway cost little more than themselves (32
-// against 64: 36 % fewer triangles drawn on the 8 x 8 house), large enough
-// that a big level's runs stay few to test (Sponza: 8 k).
+// Small enough that a run's box is a small part of a room (a run as large
+// as a room leaves occlusion culling nothing to hide) and that the few
+// triangles a moving sample sees through a doorway cost little more than
+// themselves, large enough that a big level's runs stay few to test.
 inline constexpr uint32_t kChunkTriangles = 32;
 
 /// An order of triangles (by their centroids) in which every run of
@@ -92,7 +92,7 @@ void candidateChunks(std::span<const TriangleChunk> chunks, const Frustum& frust
 
 /// A world box, lo <= hi on every axis (or lo > hi: empty).
 struct Box {
-  glm::dvec3 lo{1e300}, hi{-1e300};
+  glm::dvec3 lo{kNoUpperBound}, hi{kNoLowerBound};
 };
 
 /// For a perspective face with a static set: drops from `face_chunks` the

@@ -7,12 +7,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
+
+#include "numeric.h"
 
 namespace svit::gl {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // Any unit vector perpendicular to unit `n`, a fixed function of n so a
 // sample's frame only turns when its roll does.

@@ -12,7 +12,7 @@ namespace {
 /// its cos / r^2 estimate at or above kSmallTexels of the largest texel
 /// solid angle (4 / res^2, at a face's centre), with a margin for float
 /// rounding. Such a pair would only read "not small", as a pair never
-/// visited does, so it need not be dispatched: on the 8 x 8 house most
+/// visited does, so it need not be dispatched: in a closed level most
 /// triangles a sample draws are near it and large.
 bool surelyNotSmall(const PreparedSample& s, const float* corners, int resolution) {
   if (s.layout == MapLayout::kParallel) return false;
@@ -29,18 +29,25 @@ bool surelyNotSmall(const PreparedSample& s, const float* corners, int resolutio
 }  // namespace
 
 void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) {
-  const int res = settings.resolution;
-  const uint32_t count = triangleCount();
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kReceiversBinding, receivers);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSamplesBinding, samples);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLayersBinding, layers);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccumulatorBinding, accumulators);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSmallFlagsBinding, small_flags);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPositionsBinding, positions);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCounterBinding, counter);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSeenBinding, seen);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTouchedBinding, touched);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTouchedListBinding, touched_list);
+  bindReductionInputs();
+  if (settings.small_polygon_fallback) {
+    collectFallbackPairs(batch);
+    dispatchFallback();
+  }
+  dispatchReduce();
+}
+
+void IndexMapRenderer::Impl::bindReductionInputs() {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kReceiversBinding, receivers.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSamplesBinding, samples.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLayersBinding, layers.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccumulatorBinding, accumulators.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSmallFlagsBinding, small_flags.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPositionsBinding, positions.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCounterBinding, counter.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSeenBinding, seen.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTouchedBinding, touched.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTouchedListBinding, touched_list.id());
   const bool fallback_on = settings.small_polygon_fallback;
   if (fallback_on && small_generation == std::numeric_limits<uint32_t>::max()) clearSmallFlags();
   ++small_generation;
@@ -49,63 +56,72 @@ void IndexMapRenderer::Impl::reduceBatch(std::span<const PreparedSample> batch) 
     glProgramUniform1ui(program, kStaticTrianglesLocation, GLuint(staticTriangleCount()));
     glProgramUniform1ui(program, kSmallGenerationLocation, small_generation);
   }
-  glBindTextureUnit(kIdMapUnit, id_map);
-  glBindTextureUnit(kDepthMapUnit, depth_map);
-  if (fallback_on) {
-    // Work items: one (triangle, sample) pair per invocation, for each
-    // triangle of a chunk the sample drew on some face and, with a static
-    // set, each static one of the set; so the pass costs what each sample
-    // drew, not the level, and its work groups are full (llvmpipe pays per
-    // group, ~8 us). A triangle left out is credited nothing by the sample
-    // anyway: outside every face (no vertex lands in the map), or hidden
-    // behind what the map drew (occlusion-culled, or out of its set: the
-    // set holds whatever the same sample saw of the static level, and only
-    // objects were added since). Its flag reads "not small", so any texel
-    // it wins in a depth tie is reduced as usual.
-    batch_pairs.clear();
-    for (size_t b = 0; b < batch.size(); ++b) {
-      const TriangleBits* set = batch[b].static_triangles;
-      const uint32_t own = batch[b].gpu.info[3];
-      for (size_t k = 0; k < chunks.size(); ++k) {
-        if (batch_drawn[b * chunks.size() + k] == 0) continue;
-        const TriangleChunk& c = chunks[k];
-        const float* corners = c.dynamic ? dynamic_positions.data() + size_t(c.first - staticTriangleCount()) * 9
-                                         : static_positions.data() + size_t(c.first) * 9;
-        for (uint32_t t = c.first; t < c.first + c.count; ++t, corners += 9) {
-          if (t == own || (set && !c.dynamic && !triangleInSet(*set, t))) continue;
-          if (surelyNotSmall(batch[b], corners, res)) continue;
-          batch_pairs.push_back(t);
-          batch_pairs.push_back(uint32_t(b));
-        }
+  glBindTextureUnit(kIdMapUnit, id_map.id());
+  glBindTextureUnit(kDepthMapUnit, depth_map.id());
+}
+
+// Work items: one (triangle, sample) pair per invocation, for each triangle
+// of a chunk the sample drew on some face and, with a static set, each
+// static one of the set; so the pass costs what each sample drew, not the
+// level, and its work groups are full (llvmpipe pays per group). A triangle
+// left out is credited nothing by the sample anyway: outside every face (no
+// vertex lands in the map), or hidden behind what the map drew
+// (occlusion-culled, or out of its set: the set holds whatever the same
+// sample saw of the static level, and only objects were added since). Its
+// flag reads "not small", so any texel it wins in a depth tie is reduced as
+// usual.
+void IndexMapRenderer::Impl::collectFallbackPairs(std::span<const PreparedSample> batch) {
+  const int res = settings.resolution;
+  batch_pairs.clear();
+  for (size_t b = 0; b < batch.size(); ++b) {
+    const TriangleBits* set = batch[b].static_triangles;
+    const uint32_t own = batch[b].gpu.info[3];
+    for (size_t k = 0; k < chunks.size(); ++k) {
+      if (batch_drawn[b * chunks.size() + k] == 0) continue;
+      const TriangleChunk& c = chunks[k];
+      const float* corners = c.dynamic ? dynamic_positions.data() + size_t(c.first - staticTriangleCount()) * 9
+                                       : static_positions.data() + size_t(c.first) * 9;
+      for (uint32_t t = c.first; t < c.first + c.count; ++t, corners += 9) {
+        if (t == own || (set && !c.dynamic && !triangleInSet(*set, t))) continue;
+        if (surelyNotSmall(batch[b], corners, res)) continue;
+        batch_pairs.push_back(t);
+        batch_pairs.push_back(uint32_t(b));
       }
     }
-    reserveUints(pairs, pairs_capacity, batch_pairs.size());
-    if (!batch_pairs.empty()) {
-      glNamedBufferSubData(pairs, 0, GLsizeiptr(batch_pairs.size() * sizeof(uint32_t)), batch_pairs.data());
-    }
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPairsBinding, pairs);
-    const GLuint p = fallback.id();
-    glUseProgram(p);
-    glProgramUniform1i(p, 0, res);
-    glProgramUniform1ui(p, 1, receiver_count);
-    glProgramUniform1ui(p, 2, count);
-    glProgramUniform1f(p, 4, kSmallTexels);
-    glProgramUniform1i(p, 5, settings.edge_taps ? 1 : 0);
-    glProgramUniform1i(p, 6, settings.neighbour_ids ? 1 : 0);
-    const GLuint pair_count = GLuint(batch_pairs.size() / 2);
-    glProgramUniform1ui(p, 8, pair_count);
-    // Pairs over x (<= 65535 groups of 64) and z.
-    const GLuint groups = (pair_count + kLocalSize - 1) / kLocalSize;
-    const GLuint x = std::min(groups, kMaxGroups);
-    if (groups > 0) glDispatchCompute(x, 1, (groups + x - 1) / x);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   }
+}
+
+void IndexMapRenderer::Impl::dispatchFallback() {
+  reserveUints(pairs, pairs_capacity, batch_pairs.size());
+  if (!batch_pairs.empty()) {
+    glNamedBufferSubData(pairs.id(), 0, GLsizeiptr(batch_pairs.size() * sizeof(uint32_t)), batch_pairs.data());
+  }
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPairsBinding, pairs.id());
+  const GLuint p = fallback.id();
+  glUseProgram(p);
+  glProgramUniform1i(p, 0, settings.resolution);
+  glProgramUniform1ui(p, 1, receiver_count);
+  glProgramUniform1ui(p, 2, triangleCount());
+  glProgramUniform1f(p, 4, kSmallTexels);
+  glProgramUniform1i(p, 5, settings.edge_taps ? 1 : 0);
+  glProgramUniform1i(p, 6, settings.neighbour_ids ? 1 : 0);
+  const GLuint pair_count = GLuint(batch_pairs.size() / 2);
+  glProgramUniform1ui(p, 8, pair_count);
+  // Pairs over x (<= 65535 groups of 64) and z.
+  const GLuint groups = (pair_count + kLocalSize - 1) / kLocalSize;
+  const GLuint x = std::min(groups, kMaxGroups);
+  if (groups > 0) glDispatchCompute(x, 1, (groups + x - 1) / x);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+void IndexMapRenderer::Impl::dispatchReduce() {
+  const int res = settings.resolution;
   const GLuint p = reduce.id();
   glUseProgram(p);
   glProgramUniform1i(p, 0, res);
   glProgramUniform1ui(p, 1, receiver_count);
-  glProgramUniform1ui(p, 2, count);
-  glProgramUniform1i(p, 3, fallback_on ? 1 : 0);
+  glProgramUniform1ui(p, 2, triangleCount());
+  glProgramUniform1i(p, 3, settings.small_polygon_fallback ? 1 : 0);
   const GLuint texel_runs = GLuint(res) * GLuint((res + kReduceRun - 1) / kReduceRun);
   glDispatchCompute((texel_runs + kLocalSize - 1) / kLocalSize, GLuint(batch_layers.size()), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -116,10 +132,10 @@ void IndexMapRenderer::Impl::compactTouched(uint32_t listed, size_t cells) {
   readback.resize(size_t(listed) * 2 * kCellBlock);
   if (listed > 0) {
     reserveUints(packed, packed_capacity, readback.size());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccumulatorBinding, accumulators);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTouchedBinding, touched);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTouchedListBinding, touched_list);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPackedBinding, packed);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kAccumulatorBinding, accumulators.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTouchedBinding, touched.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTouchedListBinding, touched_list.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPackedBinding, packed.id());
     const GLuint p = compact.id();
     glUseProgram(p);
     glProgramUniform1ui(p, 0, listed);
@@ -127,8 +143,8 @@ void IndexMapRenderer::Impl::compactTouched(uint32_t listed, size_t cells) {
     const GLuint x = std::min<GLuint>(listed, kMaxGroups);
     glDispatchCompute(x, 1, (listed + x - 1) / x);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glGetNamedBufferSubData(touched_list, 0, GLsizeiptr(listed * sizeof(uint32_t)), touched_blocks.data());
-    glGetNamedBufferSubData(packed, 0, GLsizeiptr(readback.size() * sizeof(uint32_t)), readback.data());
+    glGetNamedBufferSubData(touched_list.id(), 0, GLsizeiptr(listed * sizeof(uint32_t)), touched_blocks.data());
+    glGetNamedBufferSubData(packed.id(), 0, GLsizeiptr(readback.size() * sizeof(uint32_t)), readback.data());
   }
   accumulators_zero = true;
 }

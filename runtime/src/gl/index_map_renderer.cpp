@@ -1,5 +1,5 @@
 // Index shadow maps (thesis "Radiosity in dynamic scenes", Hrbek 2000, ch.
-// 5.2; DESIGN.md "Runtime: index shadow maps"). Per batch of point samples:
+// 5.2; docs/architecture.md "Runtime: index shadow maps"). Per batch of point samples:
 //   1. raster: each face of each sample's layout into one layer of an RG32UI
 //      array (receiver, triangle) with a reversed float depth array, drawing
 //      only the triangle runs whose boxes meet the face (index_map_culling),
@@ -32,6 +32,7 @@
 #include <utility>
 
 #include "index_map_renderer_impl.h"
+#include "numeric.h"
 #include "svit/gl_context.h"
 
 namespace svit::gl {
@@ -72,8 +73,6 @@ void setIdRasterState(bool scissor) {
 
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 std::string str(double v) {
   char buf[32];
@@ -177,8 +176,10 @@ void IndexMapRenderer::Impl::setTriangles(const MapTriangles& t, const char* whi
 IndexMapRenderer::IndexMapRenderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 IndexMapRenderer::~IndexMapRenderer() = default;
 
-Expected<std::unique_ptr<IndexMapRenderer>> IndexMapRenderer::create(const IndexMapSettings& settings) {
-  // Settings first: they need no context, and a bad one is the caller's to fix.
+namespace {
+
+// Settings first: they need no context, and a bad one is the caller's to fix.
+Status validateSettings(const IndexMapSettings& settings) {
   auto bad = [](const std::string& what) {
     return Status(StatusCode::kInvalidInput, "IndexMapSettings: " + what);
   };
@@ -198,11 +199,11 @@ Expected<std::unique_ptr<IndexMapRenderer>> IndexMapRenderer::create(const Index
                std::to_string(settings.max_batch_samples) + " needs " + str(map_bytes / (1 << 20)) +
                " MiB of maps (limit " + str(kMaxMapBytes / (1 << 20)) + ")");
   }
-  Expected<GlContextInfo> context = checkGlContext();
-  if (!context.ok()) return context.status();
-  // Errors the host left behind are not ours to report.
-  while (glGetError() != GL_NO_ERROR) {
-  }
+  return Status();
+}
+
+// The maps' size against this GL's limits.
+Status checkMapLimits(const IndexMapSettings& settings) {
   GLint max_size = 0, max_layers = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
@@ -212,58 +213,84 @@ Expected<std::unique_ptr<IndexMapRenderer>> IndexMapRenderer::create(const Index
                                                 " x " + std::to_string(layer_count) + " layers exceed this GL's " +
                                                 std::to_string(max_size) + " x " + std::to_string(max_layers));
   }
+  return Status();
+}
 
+}  // namespace
+
+Expected<std::unique_ptr<IndexMapRenderer>> IndexMapRenderer::create(const IndexMapSettings& settings) {
+  if (Status s = validateSettings(settings); !s.ok()) return s;
+  Expected<GlContextInfo> context = checkGlContext();
+  if (!context.ok()) return context.status();
+  // Errors the host left behind are not ours to report.
+  while (glGetError() != GL_NO_ERROR) {
+  }
+  if (Status s = checkMapLimits(settings); !s.ok()) return s;
   auto impl = std::make_unique<Impl>();
   impl->settings = settings;
-  Expected<GlProgram> raster = linkProgram({"index_map.vert", "index_map.frag"});
-  if (!raster.ok()) return raster.status();
-  Expected<GlProgram> reduce = linkProgram({"index_map_reduce.comp", "index_map_common.comp"});
-  if (!reduce.ok()) return reduce.status();
-  Expected<GlProgram> fallback = linkProgram({"index_map_fallback.comp", "index_map_common.comp"});
-  if (!fallback.ok()) return fallback.status();
-  Expected<GlProgram> compact = linkProgram({"index_map_compact.comp"});
-  if (!compact.ok()) return compact.status();
-  impl->raster = std::move(raster).value();
-  impl->reduce = std::move(reduce).value();
-  impl->fallback = std::move(fallback).value();
-  impl->compact = std::move(compact).value();
+  if (Status s = impl->linkPrograms(); !s.ok()) return s;
+  if (Status s = impl->createMaps(); !s.ok()) return s;
+  impl->createBuffers();
+  if (Status s = checkGlError("IndexMapRenderer::create"); !s.ok()) return s;
+  return std::unique_ptr<IndexMapRenderer>(new IndexMapRenderer(std::move(impl)));
+}
 
-  Impl& m = *impl;
-  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &m.id_map);
-  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &m.depth_map);
-  glTextureStorage3D(m.id_map, 1, GL_RG32UI, settings.resolution, settings.resolution, layer_count);
-  glTextureStorage3D(m.depth_map, 1, GL_DEPTH_COMPONENT32F, settings.resolution, settings.resolution, layer_count);
-  for (GLuint t : {m.id_map, m.depth_map}) {
+Status IndexMapRenderer::Impl::linkPrograms() {
+  Expected<GlProgram> linked_raster = linkProgram({"index_map.vert", "index_map.frag"});
+  if (!linked_raster.ok()) return linked_raster.status();
+  Expected<GlProgram> linked_reduce = linkProgram({"index_map_reduce.comp", "index_map_common.comp"});
+  if (!linked_reduce.ok()) return linked_reduce.status();
+  Expected<GlProgram> linked_fallback = linkProgram({"index_map_fallback.comp", "index_map_common.comp"});
+  if (!linked_fallback.ok()) return linked_fallback.status();
+  Expected<GlProgram> linked_compact = linkProgram({"index_map_compact.comp"});
+  if (!linked_compact.ok()) return linked_compact.status();
+  raster = std::move(linked_raster).value();
+  reduce = std::move(linked_reduce).value();
+  fallback = std::move(linked_fallback).value();
+  compact = std::move(linked_compact).value();
+  return Status();
+}
+
+Status IndexMapRenderer::Impl::createMaps() {
+  const int layer_count = settings.max_batch_samples * kCubeFaceCount;
+  id_map = createGlTexture(GL_TEXTURE_2D_ARRAY);
+  depth_map = createGlTexture(GL_TEXTURE_2D_ARRAY);
+  glTextureStorage3D(id_map.id(), 1, GL_RG32UI, settings.resolution, settings.resolution, layer_count);
+  glTextureStorage3D(depth_map.id(), 1, GL_DEPTH_COMPONENT32F, settings.resolution, settings.resolution, layer_count);
+  for (GLuint t : {id_map.id(), depth_map.id()}) {
     // Integer textures are incomplete with linear filters (texelFetch would read 0).
     glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   }
-  glCreateFramebuffers(1, &m.fbo);
-  glNamedFramebufferTextureLayer(m.fbo, GL_COLOR_ATTACHMENT0, m.id_map, 0, 0);
-  glNamedFramebufferTextureLayer(m.fbo, GL_DEPTH_ATTACHMENT, m.depth_map, 0, 0);
-  glNamedFramebufferDrawBuffer(m.fbo, GL_COLOR_ATTACHMENT0);
-  const GLenum fbo_status = glCheckNamedFramebufferStatus(m.fbo, GL_DRAW_FRAMEBUFFER);
+  fbo = createGlFramebuffer();
+  glNamedFramebufferTextureLayer(fbo.id(), GL_COLOR_ATTACHMENT0, id_map.id(), 0, 0);
+  glNamedFramebufferTextureLayer(fbo.id(), GL_DEPTH_ATTACHMENT, depth_map.id(), 0, 0);
+  glNamedFramebufferDrawBuffer(fbo.id(), GL_COLOR_ATTACHMENT0);
+  const GLenum fbo_status = glCheckNamedFramebufferStatus(fbo.id(), GL_DRAW_FRAMEBUFFER);
   if (fbo_status != GL_FRAMEBUFFER_COMPLETE) {
     char code[16];
     std::snprintf(code, sizeof code, "0x%04x", unsigned(fbo_status));
     return Status(StatusCode::kUnsupported, std::string("index map framebuffer (RG32UI + DEPTH32F array) is incomplete: ") + code);
   }
-  GLuint* buffers[] = {&m.set_indices, &m.positions, &m.receivers, &m.accumulators, &m.samples, &m.layers, &m.small_flags, &m.counter, &m.pairs,
-                      &m.seen, &m.touched, &m.touched_list, &m.packed};
-  for (GLuint* b : buffers) glCreateBuffers(1, b);
-  glNamedBufferData(m.samples, GLsizeiptr(sizeof(SampleGpu) * size_t(settings.max_batch_samples)), nullptr,
+  return Status();
+}
+
+void IndexMapRenderer::Impl::createBuffers() {
+  const int layer_count = settings.max_batch_samples * kCubeFaceCount;
+  GlBuffer* buffers[] = {&set_indices, &positions, &receivers, &accumulators, &samples, &layers,     &small_flags,
+                         &counter,     &pairs,     &seen,      &touched,      &touched_list, &packed};
+  for (GlBuffer* b : buffers) *b = createGlBuffer();
+  glNamedBufferData(samples.id(), GLsizeiptr(sizeof(SampleGpu) * size_t(settings.max_batch_samples)), nullptr,
                     GL_DYNAMIC_DRAW);
-  glNamedBufferData(m.layers, GLsizeiptr(4 * sizeof(uint32_t) * size_t(layer_count)), nullptr, GL_DYNAMIC_DRAW);
-  glNamedBufferData(m.counter, 2 * sizeof(uint32_t), nullptr, GL_DYNAMIC_DRAW);
-  glNamedBufferData(m.seen, sizeof(uint32_t), nullptr, GL_DYNAMIC_DRAW);  // bound even when unused
-  glCreateVertexArrays(1, &m.vao);
-  glEnableVertexArrayAttrib(m.vao, 0);
-  glVertexArrayAttribFormat(m.vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-  glVertexArrayAttribBinding(m.vao, 0, 0);
-  glVertexArrayVertexBuffer(m.vao, 0, m.positions, 0, GLsizei(3 * sizeof(float)));
-  glVertexArrayElementBuffer(m.vao, m.set_indices);
-  if (Status s = checkGlError("IndexMapRenderer::create"); !s.ok()) return s;
-  return std::unique_ptr<IndexMapRenderer>(new IndexMapRenderer(std::move(impl)));
+  glNamedBufferData(layers.id(), GLsizeiptr(4 * sizeof(uint32_t) * size_t(layer_count)), nullptr, GL_DYNAMIC_DRAW);
+  glNamedBufferData(counter.id(), 2 * sizeof(uint32_t), nullptr, GL_DYNAMIC_DRAW);
+  glNamedBufferData(seen.id(), sizeof(uint32_t), nullptr, GL_DYNAMIC_DRAW);  // bound even when unused
+  vao = createGlVertexArray();
+  glEnableVertexArrayAttrib(vao.id(), 0);
+  glVertexArrayAttribFormat(vao.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(vao.id(), 0, 0);
+  glVertexArrayVertexBuffer(vao.id(), 0, positions.id(), 0, GLsizei(3 * sizeof(float)));
+  glVertexArrayElementBuffer(vao.id(), set_indices.id());
 }
 
 MapTriangles inRunOrder(const MapTriangles& triangles) {
@@ -438,31 +465,9 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
     if (stats_out) *stats_out = stats;
     return Status();
   }
-  // The accumulators and block flags are left zero by every gather's
-  // compaction; only new storage (or an interrupted gather) needs clearing.
   const size_t blocks = (cells + kCellBlock - 1) / kCellBlock;
-  bool fresh = m.reserveUints(m.accumulators, m.accumulator_capacity, 2 * cells);
-  fresh |= m.reserveUints(m.touched, m.touched_capacity, blocks);
-  m.reserveUints(m.touched_list, m.touched_list_capacity, blocks);
-  const GLuint zero = 0;
-  if (fresh || !m.accumulators_zero) {
-    glClearNamedBufferData(m.accumulators, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-    glClearNamedBufferData(m.touched, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-  }
-  m.accumulators_zero = false;
-  glClearNamedBufferData(m.counter, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-  if (seen_words > 0) {
-    m.reserveUints(m.seen, m.seen_capacity, seen_words);
-    glClearNamedBufferSubData(m.seen, GL_R32UI, 0, GLsizeiptr(seen_words * sizeof(uint32_t)), GL_RED_INTEGER,
-                              GL_UNSIGNED_INT, &zero);
-  }
-
-  Aabb bounds = m.static_bounds;
-  for (const Vec3& v : {m.dynamic_bounds.min, m.dynamic_bounds.max}) {
-    if (m.dynamic_bounds.empty()) break;
-    bounds.min = {std::min(bounds.min.x, v.x), std::min(bounds.min.y, v.y), std::min(bounds.min.z, v.z)};
-    bounds.max = {std::max(bounds.max.x, v.x), std::max(bounds.max.y, v.y), std::max(bounds.max.z, v.z)};
-  }
+  m.clearSums(cells, blocks, seen_words);
+  const Aabb bounds = m.levelBounds();
   const double diagonal = bounds.empty() ? 0.0
                                          : std::hypot(double(bounds.max.x) - bounds.min.x,
                                                       double(bounds.max.y) - bounds.min.y,
@@ -472,56 +477,17 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
   {
     StateGuard guard;
     setIdRasterState(true);
-
-    std::vector<PreparedSample> batch;
-    batch.reserve(size_t(m.settings.max_batch_samples));
-    const size_t batch_size = size_t(m.settings.max_batch_samples);
-    for (size_t begin = 0; begin < sample_list.size(); begin += batch_size) {
-      const size_t end = std::min(sample_list.size(), begin + batch_size);
-      batch.clear();
-      m.batch_samples.clear();
-      m.batch_layers.clear();
-      for (size_t i = begin; i < end; ++i) {
-        batch.push_back(m.prepare(sample_list[i], uint32_t(i - begin), bounds, diagonal));
-        m.batch_samples.push_back(batch.back().gpu);
-      }
-      glNamedBufferSubData(m.samples, 0, GLsizeiptr(m.batch_samples.size() * sizeof(SampleGpu)),
-                           m.batch_samples.data());
-      auto t0 = Clock::now();
-      m.render(batch, stats);
-      glFinish();
-      stats.render_ms += msSince(t0);
-      glNamedBufferSubData(m.layers, 0, GLsizeiptr(m.batch_layers.size() * sizeof(m.batch_layers[0])),
-                           m.batch_layers.data());
-      t0 = Clock::now();
-      m.reduceBatch(batch);
-      glFinish();
-      stats.reduce_ms += msSince(t0);
-      stats.samples += uint32_t(batch.size());
-    }
+    m.renderBatches(sample_list, bounds, diagonal, stats);
     // The sums come back by touched block (inside the guard: the
     // compaction uses a program of its own).
     readback_start = Clock::now();
-    uint32_t counts[2] = {0, 0};  // credited triangles, listed blocks
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-    glGetNamedBufferSubData(m.counter, 0, sizeof counts, counts);
-    stats.fallback_triangles = counts[0];
-    listed = std::min<uint32_t>(counts[1], uint32_t(blocks));
-    m.compactTouched(listed, cells);
+    listed = m.compactSums(blocks, cells, stats);
   }
   if (seen_out) {
     seen_out->resize(seen_words);
-    if (seen_words > 0) glGetNamedBufferSubData(m.seen, 0, GLsizeiptr(seen_words * sizeof(uint32_t)), seen_out->data());
+    if (seen_words > 0) glGetNamedBufferSubData(m.seen.id(), 0, GLsizeiptr(seen_words * sizeof(uint32_t)), seen_out->data());
   }
-  shares.assign(cells, 0.0f);
-  for (size_t i = 0; i < listed; ++i) {
-    const size_t first = size_t(m.touched_blocks[i]) * kCellBlock;
-    const uint32_t* words = m.readback.data() + 2 * kCellBlock * i;
-    for (size_t c = 0; c < kCellBlock && first + c < cells; ++c) {
-      const double fixed = double(words[2 * c + 1]) * 4294967296.0 + double(words[2 * c]);
-      shares[first + c] = float(fixed / kFixedPoint);
-    }
-  }
+  m.unpackShares(listed, cells, shares);
   stats.readback_ms = msSince(readback_start);
   stats.buffer_allocations = std::exchange(m.allocations, 0u);
   if (Status s = checkGlError("IndexMapRenderer::gather"); !s.ok()) return s;
@@ -529,10 +495,105 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
   return Status();
 }
 
-Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int height, std::vector<uint32_t>& pixels) {
-  Impl& m = *impl_;
-  if (!m.static_error.ok()) return m.static_error;
-  if (!m.dynamic_error.ok()) return m.dynamic_error;
+// The accumulators and block flags are left zero by every gather's
+// compaction; only new storage (or an interrupted gather) needs clearing.
+void IndexMapRenderer::Impl::clearSums(size_t cells, size_t blocks, size_t seen_word_count) {
+  bool fresh = reserveUints(accumulators, accumulator_capacity, 2 * cells);
+  fresh |= reserveUints(touched, touched_capacity, blocks);
+  reserveUints(touched_list, touched_list_capacity, blocks);
+  const GLuint zero = 0;
+  if (fresh || !accumulators_zero) {
+    glClearNamedBufferData(accumulators.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glClearNamedBufferData(touched.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  }
+  accumulators_zero = false;
+  glClearNamedBufferData(counter.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  if (seen_word_count > 0) {
+    reserveUints(seen, seen_capacity, seen_word_count);
+    glClearNamedBufferSubData(seen.id(), GL_R32UI, 0, GLsizeiptr(seen_word_count * sizeof(uint32_t)), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &zero);
+  }
+}
+
+Aabb IndexMapRenderer::Impl::levelBounds() const {
+  Aabb bounds = static_bounds;
+  for (const Vec3& v : {dynamic_bounds.min, dynamic_bounds.max}) {
+    if (dynamic_bounds.empty()) break;
+    bounds.min = {std::min(bounds.min.x, v.x), std::min(bounds.min.y, v.y), std::min(bounds.min.z, v.z)};
+    bounds.max = {std::max(bounds.max.x, v.x), std::max(bounds.max.y, v.y), std::max(bounds.max.z, v.z)};
+  }
+  return bounds;
+}
+
+void IndexMapRenderer::Impl::renderBatches(std::span<const PointSample> sample_list, const Aabb& bounds,
+                                           double diagonal, GatherStats& stats) {
+  std::vector<PreparedSample> batch;
+  batch.reserve(size_t(settings.max_batch_samples));
+  const size_t batch_size = size_t(settings.max_batch_samples);
+  for (size_t begin = 0; begin < sample_list.size(); begin += batch_size) {
+    const size_t end = std::min(sample_list.size(), begin + batch_size);
+    batch.clear();
+    batch_samples.clear();
+    batch_layers.clear();
+    for (size_t i = begin; i < end; ++i) {
+      batch.push_back(prepare(sample_list[i], uint32_t(i - begin), bounds, diagonal));
+      batch_samples.push_back(batch.back().gpu);
+    }
+    glNamedBufferSubData(samples.id(), 0, GLsizeiptr(batch_samples.size() * sizeof(SampleGpu)),
+                         batch_samples.data());
+    auto t0 = Clock::now();
+    render(batch, stats);
+    glFinish();
+    stats.render_ms += msSince(t0);
+    glNamedBufferSubData(layers.id(), 0, GLsizeiptr(batch_layers.size() * sizeof(batch_layers[0])),
+                         batch_layers.data());
+    t0 = Clock::now();
+    reduceBatch(batch);
+    glFinish();
+    stats.reduce_ms += msSince(t0);
+    stats.samples += uint32_t(batch.size());
+  }
+}
+
+uint32_t IndexMapRenderer::Impl::compactSums(size_t blocks, size_t cells, GatherStats& stats) {
+  uint32_t counts[2] = {0, 0};  // credited triangles, listed blocks
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+  glGetNamedBufferSubData(counter.id(), 0, sizeof counts, counts);
+  stats.fallback_triangles = counts[0];
+  const uint32_t listed = std::min<uint32_t>(counts[1], uint32_t(blocks));
+  compactTouched(listed, cells);
+  return listed;
+}
+
+void IndexMapRenderer::Impl::unpackShares(uint32_t listed, size_t cells, std::vector<float>& shares) const {
+  shares.assign(cells, 0.0f);
+  for (size_t i = 0; i < listed; ++i) {
+    const size_t first = size_t(touched_blocks[i]) * kCellBlock;
+    const uint32_t* words = readback.data() + 2 * kCellBlock * i;
+    for (size_t c = 0; c < kCellBlock && first + c < cells; ++c) {
+      const double fixed = double(words[2 * c + 1]) * 4294967296.0 + double(words[2 * c]);
+      shares[first + c] = float(fixed / kFixedPoint);
+    }
+  }
+}
+
+namespace {
+
+// The view pass's frustum: |right.d| <= tx forward.d, |up.d| <= ty
+// forward.d, forward.d >= near.
+Frustum viewFrustum(const ViewFrame& view) {
+  Frustum frustum;
+  frustum.eye = glm::dvec3(view.eye.x, view.eye.y, view.eye.z);
+  const glm::dvec3 r(view.right.x, view.right.y, view.right.z), u(view.up.x, view.up.y, view.up.z),
+      f(view.forward.x, view.forward.y, view.forward.z);
+  const double tx = view.tan_half_x, ty = view.tan_half_y;
+  frustum.normal = {f * tx - r, f * tx + r, f * ty - u, f * ty + u, f, f};
+  frustum.offset = {0, 0, 0, 0, double(view.near_m), double(view.near_m)};
+  frustum.count = 5;
+  return frustum;
+}
+
+Status checkView(const ViewFrame& view, int width, int height) {
   if (width < 1 || height < 1 || width > 4096 || height > 4096) {
     return Status(StatusCode::kInvalidInput, "index map view pass: " + std::to_string(width) + " x " +
                                                  std::to_string(height) + " pixels is outside 1..4096");
@@ -546,86 +607,31 @@ Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int h
   if (!(view.tan_half_x > 0 && view.tan_half_y > 0 && view.near_m > 0)) {
     return Status(StatusCode::kInvalidInput, "index map view pass: field of view and near plane must be positive");
   }
-  if (width != m.view_width || height != m.view_height) {
-    if (m.view_fbo != 0) glDeleteFramebuffers(1, &m.view_fbo);
-    const GLuint old[] = {m.view_ids, m.view_depth};
-    for (GLuint t : old) {
-      if (t != 0) glDeleteTextures(1, &t);
-    }
-    glCreateTextures(GL_TEXTURE_2D, 1, &m.view_ids);
-    glTextureStorage2D(m.view_ids, 1, GL_RG32UI, width, height);
-    glCreateTextures(GL_TEXTURE_2D, 1, &m.view_depth);
-    glTextureStorage2D(m.view_depth, 1, GL_DEPTH_COMPONENT32F, width, height);
-    glCreateFramebuffers(1, &m.view_fbo);
-    glNamedFramebufferTexture(m.view_fbo, GL_COLOR_ATTACHMENT0, m.view_ids, 0);
-    glNamedFramebufferTexture(m.view_fbo, GL_DEPTH_ATTACHMENT, m.view_depth, 0);
-    glNamedFramebufferDrawBuffer(m.view_fbo, GL_COLOR_ATTACHMENT0);
-    m.view_width = width;
-    m.view_height = height;
-    ++m.allocations;
-  }
-  const uint32_t triangles = m.triangleCount();
+  return Status();
+}
+
+}  // namespace
+
+Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int height, std::vector<uint32_t>& pixels) {
+  Impl& m = *impl_;
+  if (!m.static_error.ok()) return m.static_error;
+  if (!m.dynamic_error.ok()) return m.dynamic_error;
+  if (Status s = checkView(view, width, height); !s.ok()) return s;
+  m.ensureViewTarget(width, height);
   {
     StateGuard guard;
     setIdRasterState(false);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.view_fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.view_fbo.id());
     glViewport(0, 0, width, height);
     const GLuint clear_id[4] = {kNoReceiver, kNoTriangle, 0, 0};
     const GLfloat clear_depth = 0.0f;
     glClearBufferuiv(GL_COLOR, 0, clear_id);
     glClearBufferfv(GL_DEPTH, 0, &clear_depth);
-    if (triangles > 0) {
-      const GLuint program = m.raster.id();
-      glUseProgram(program);
-      glBindVertexArray(m.vao);
-      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kReceiversBinding, m.receivers);
-      // The maps' perspective face with the rows scaled by the field of
-      // view: clip x = right.d / tan_half_x, w = forward.d.
-      const Vec3 rows[3] = {view.right, view.up, view.forward};
-      const float scale[3] = {1.0f / view.tan_half_x, 1.0f / view.tan_half_y, 1.0f};
-      GLfloat view_from_world[9];
-      for (int r = 0; r < 3; ++r) {
-        const float row[3] = {rows[r].x, rows[r].y, rows[r].z};
-        for (int c = 0; c < 3; ++c) view_from_world[r * 3 + c] = row[c] * scale[r];
-      }
-      glProgramUniform3f(program, 0, view.eye.x, view.eye.y, view.eye.z);
-      glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, view_from_world);
-      glProgramUniform1i(program, 2, 0);
-      glProgramUniform1f(program, 3, view.near_m);
-      // Only the runs that may meet the view's frustum: |right.d| <= tx
-      // forward.d, |up.d| <= ty forward.d, forward.d >= near.
-      Frustum frustum;
-      frustum.eye = glm::dvec3(view.eye.x, view.eye.y, view.eye.z);
-      const glm::dvec3 r(view.right.x, view.right.y, view.right.z), u(view.up.x, view.up.y, view.up.z),
-          f(view.forward.x, view.forward.y, view.forward.z);
-      const double tx = view.tan_half_x, ty = view.tan_half_y;
-      frustum.normal = {f * tx - r, f * tx + r, f * ty - u, f * ty + u, f, f};
-      frustum.offset = {0, 0, 0, 0, double(view.near_m), double(view.near_m)};
-      frustum.count = 5;
-      const glm::dvec3 no_box_lo(1.0), no_box_hi(0.0);
-      auto draw = [&](std::span<const uint32_t> list) { m.drawChunks(list, kNoTriangle); };
-      candidateChunks(m.chunks, frustum, no_box_lo, no_box_hi, nullptr, m.face_chunks);
-      if (!m.settings.occlusion_culling || m.face_chunks.size() < kOcclusionMinChunks) {
-        draw(m.face_chunks);
-      } else {
-        // As the maps' faces: the nearest chunks, then what they leave in view.
-        std::vector<uint32_t> rest;
-        splitNearest(m.chunks, m.face_chunks, frustum.eye, occlusionFirstTriangles(m.chunks, m.face_chunks),
-                     m.near_chunks, rest);
-        draw(m.near_chunks);
-        m.depth_scratch.resize(size_t(width) * size_t(height));
-        glGetTextureImage(m.view_depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
-                          GLsizei(m.depth_scratch.size() * sizeof(float)), m.depth_scratch.data());
-        buildDepthPyramid(m.depth_scratch, width, height, 0, m.pyramid);
-        const FaceProjection face{frustum.eye, r, u, f, 1.0 / tx, 1.0 / ty, double(view.near_m)};
-        m.keepUnhidden(rest, face, m.face_chunks);
-        draw(m.face_chunks);
-      }
-    }
+    if (m.triangleCount() > 0) m.rasterView(view, width, height);
   }
   const size_t count = size_t(width) * size_t(height);
   m.view_readback.resize(2 * count);
-  glGetTextureImage(m.view_ids, 0, GL_RG_INTEGER, GL_UNSIGNED_INT, GLsizei(m.view_readback.size() * sizeof(uint32_t)),
+  glGetTextureImage(m.view_ids.id(), 0, GL_RG_INTEGER, GL_UNSIGNED_INT, GLsizei(m.view_readback.size() * sizeof(uint32_t)),
                     m.view_readback.data());
   pixels.assign(m.receiver_count, 0u);
   for (size_t i = 0; i < count; ++i) {
@@ -635,18 +641,79 @@ Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int h
   return checkGlError("IndexMapRenderer::countViewPixels");
 }
 
+void IndexMapRenderer::Impl::ensureViewTarget(int width, int height) {
+  if (width == view_width && height == view_height) return;
+  view_fbo.reset();
+  view_ids.reset();
+  view_depth.reset();
+  view_ids = createGlTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(view_ids.id(), 1, GL_RG32UI, width, height);
+  view_depth = createGlTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(view_depth.id(), 1, GL_DEPTH_COMPONENT32F, width, height);
+  view_fbo = createGlFramebuffer();
+  glNamedFramebufferTexture(view_fbo.id(), GL_COLOR_ATTACHMENT0, view_ids.id(), 0);
+  glNamedFramebufferTexture(view_fbo.id(), GL_DEPTH_ATTACHMENT, view_depth.id(), 0);
+  glNamedFramebufferDrawBuffer(view_fbo.id(), GL_COLOR_ATTACHMENT0);
+  view_width = width;
+  view_height = height;
+  ++allocations;
+}
+
+void IndexMapRenderer::Impl::rasterView(const ViewFrame& view, int width, int height) {
+  const GLuint program = raster.id();
+  glUseProgram(program);
+  glBindVertexArray(vao.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kReceiversBinding, receivers.id());
+  // The maps' perspective face with the rows scaled by the field of
+  // view: clip x = right.d / tan_half_x, w = forward.d.
+  const Vec3 rows[3] = {view.right, view.up, view.forward};
+  const float scale[3] = {1.0f / view.tan_half_x, 1.0f / view.tan_half_y, 1.0f};
+  GLfloat view_from_world[9];
+  for (int r = 0; r < 3; ++r) {
+    const float row[3] = {rows[r].x, rows[r].y, rows[r].z};
+    for (int c = 0; c < 3; ++c) view_from_world[r * 3 + c] = row[c] * scale[r];
+  }
+  glProgramUniform3f(program, 0, view.eye.x, view.eye.y, view.eye.z);
+  glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, view_from_world);
+  glProgramUniform1i(program, 2, 0);
+  glProgramUniform1f(program, 3, view.near_m);
+  // Only the runs that may meet the view's frustum.
+  const Frustum frustum = viewFrustum(view);
+  const glm::dvec3 no_box_lo(1.0), no_box_hi(0.0);
+  auto draw = [&](std::span<const uint32_t> list) { drawChunks(list, kNoTriangle); };
+  candidateChunks(chunks, frustum, no_box_lo, no_box_hi, nullptr, face_chunks);
+  if (!settings.occlusion_culling || face_chunks.size() < kOcclusionMinChunks) {
+    draw(face_chunks);
+    return;
+  }
+  // As the maps' faces: the nearest chunks, then what they leave in view.
+  std::vector<uint32_t> rest;
+  splitNearest(chunks, face_chunks, frustum.eye, occlusionFirstTriangles(chunks, face_chunks), near_chunks, rest);
+  draw(near_chunks);
+  depth_scratch.resize(size_t(width) * size_t(height));
+  glGetTextureImage(view_depth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(depth_scratch.size() * sizeof(float)),
+                    depth_scratch.data());
+  buildDepthPyramid(depth_scratch, width, height, 0, pyramid);
+  const glm::dvec3 r(view.right.x, view.right.y, view.right.z), u(view.up.x, view.up.y, view.up.z),
+      f(view.forward.x, view.forward.y, view.forward.z);
+  const double tx = view.tan_half_x, ty = view.tan_half_y;
+  const FaceProjection face{frustum.eye, r, u, f, 1.0 / tx, 1.0 / ty, double(view.near_m)};
+  keepUnhidden(rest, face, face_chunks);
+  draw(face_chunks);
+}
+
 std::vector<GlObject> IndexMapRenderer::mapObjects() const {
   const Impl& m = *impl_;
-  std::vector<GlObject> out = {glTextureObject(m.id_map), glTextureObject(m.depth_map)};
-  for (GLuint b : {m.positions, m.receivers, m.accumulators, m.samples, m.layers, m.small_flags, m.counter, m.pairs,
-                   m.seen, m.set_indices, m.touched, m.touched_list, m.packed}) {
-    out.push_back(glBufferObject(b));
+  std::vector<GlObject> out = {glTextureObject(m.id_map.id()), glTextureObject(m.depth_map.id())};
+  for (const GlBuffer* b : {&m.positions, &m.receivers, &m.accumulators, &m.samples, &m.layers, &m.small_flags,
+                            &m.counter, &m.pairs, &m.seen, &m.set_indices, &m.touched, &m.touched_list, &m.packed}) {
+    out.push_back(glBufferObject(b->id()));
   }
   return out;
 }
 
 std::vector<GlObject> IndexMapRenderer::viewObjects() const {
-  return {glTextureObject(impl_->view_ids), glTextureObject(impl_->view_depth)};
+  return {glTextureObject(impl_->view_ids.id()), glTextureObject(impl_->view_depth.id())};
 }
 
 uint64_t IndexMapRenderer::hostBytes() const {

@@ -1,5 +1,5 @@
 #pragma once
-// Index shadow maps (thesis 5.2, DESIGN.md "Runtime: index shadow maps"):
+// Index shadow maps (thesis 5.2, docs/architecture.md "Runtime: index shadow maps"):
 // from each point sample of an emitter, rasterise the scene with receiver
 // ids as colour into an integer target laid out over the sample's emission
 // lobe, then reduce every map on the GPU into per-receiver shares of the

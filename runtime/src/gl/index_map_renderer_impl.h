@@ -16,6 +16,7 @@
 
 #include <glm/glm.hpp>
 
+#include "gl_handle.h"
 #include "gl_program.h"
 #include "index_map_culling.h"
 #include "index_map_layouts.h"
@@ -83,14 +84,17 @@ struct PreparedSample {
 struct IndexMapRenderer::Impl {
   IndexMapSettings settings;
   GlProgram raster, reduce, fallback, compact;
-  GLuint vao = 0, fbo = 0, id_map = 0, depth_map = 0;
-  GLuint view_fbo = 0, view_ids = 0, view_depth = 0;  // countViewPixels' target, made on first use
+  GlVertexArray vao;
+  GlFramebuffer fbo;
+  GlTexture id_map, depth_map;
+  GlFramebuffer view_fbo;  // countViewPixels' target, made on first use
+  GlTexture view_ids, view_depth;
   int view_width = 0, view_height = 0;
   std::vector<uint32_t> view_readback;  // scratch, 2 uints per pixel
-  GLuint positions = 0, receivers = 0, accumulators = 0, samples = 0, layers = 0, small_flags = 0, counter = 0;
-  GLuint pairs = 0;  // the fallback's work items, (triangle, sample) pairs, grow-only
+  GlBuffer positions, receivers, accumulators, samples, layers, small_flags, counter;
+  GlBuffer pairs;  // the fallback's work items, (triangle, sample) pairs, grow-only
   size_t pairs_capacity = 0;  // uints
-  GLuint seen = 0;  // per slot, a bit per static triangle its maps showed (gather's `seen`), grow-only
+  GlBuffer seen;  // per slot, a bit per static triangle its maps showed (gather's `seen`), grow-only
   size_t seen_capacity = 1;  // uints
   uint32_t seen_words = 0;   // per slot in this gather; 0 = not asked for
   std::vector<uint32_t> batch_pairs;  // scratch: the fallback's items (triangle, sample of the batch)
@@ -124,9 +128,9 @@ struct IndexMapRenderer::Impl {
   // Samples with a static set draw exactly its triangles that may meet
   // each face (and the dynamic runs that do) from one index list per face:
   // all the batch's lists are built and uploaded before its first draw, so
-  // the upload never waits on a draw. Spans of runs drew 4.6 (2 x 2) to 6.5
-  // (8 x 8) times as many triangles on the sample houses.
-  GLuint set_indices = 0;  // element buffer, grow-only
+  // the upload never waits on a draw. Spans of whole runs would draw several
+  // times as many triangles.
+  GlBuffer set_indices;  // element buffer, grow-only
   size_t set_indices_capacity = 0;  // uints
   std::vector<uint32_t> batch_indices;
   std::vector<std::array<uint32_t, 2>> face_index_ranges;  // per (sample, face): first index, count
@@ -145,7 +149,7 @@ struct IndexMapRenderer::Impl {
   // kCellBlock accumulators, the list of flagged blocks, and the packed
   // copy of their sums. All grow-only; the accumulators and flags are zero
   // between gathers (accumulators_zero), so none is cleared per gather.
-  GLuint touched = 0, touched_list = 0, packed = 0;
+  GlBuffer touched, touched_list, packed;
   size_t touched_capacity = 0, touched_list_capacity = 0, packed_capacity = 0;  // uints
   bool accumulators_zero = false;
   std::vector<uint32_t> touched_blocks;  // scratch: the listed blocks, in list order
@@ -158,21 +162,6 @@ struct IndexMapRenderer::Impl {
     LobeCoverage coverage;
   };
   mutable std::vector<CoverageEntry> coverage_cache;
-
-  ~Impl() {
-    const GLuint buffers[] = {positions, receivers, accumulators, samples, layers,       small_flags, counter,
-                              pairs,     seen,      set_indices,  touched, touched_list, packed};
-    for (GLuint b : buffers) {
-      if (b != 0) glDeleteBuffers(1, &b);
-    }
-    const GLuint textures[] = {id_map, depth_map, view_ids, view_depth};
-    for (GLuint t : textures) {
-      if (t != 0) glDeleteTextures(1, &t);
-    }
-    if (fbo != 0) glDeleteFramebuffers(1, &fbo);
-    if (view_fbo != 0) glDeleteFramebuffers(1, &view_fbo);
-    if (vao != 0) glDeleteVertexArrays(1, &vao);
-  }
 
   uint32_t triangleCount() const { return uint32_t((static_receivers.size() + dynamic_receivers.size()) / 2); }
   uint32_t staticTriangleCount() const { return uint32_t(static_receivers.size() / 2); }
@@ -200,14 +189,14 @@ struct IndexMapRenderer::Impl {
     return MapLayout::kCube;
   }
 
-  void growBuffer(GLuint buffer, size_t bytes) {
-    glNamedBufferData(buffer, GLsizeiptr(bytes), nullptr, GL_DYNAMIC_DRAW);
+  void growBuffer(const GlBuffer& buffer, size_t bytes) {
+    glNamedBufferData(buffer.id(), GLsizeiptr(bytes), nullptr, GL_DYNAMIC_DRAW);
     ++allocations;
   }
 
   // Grows a grow-only buffer of uints to hold `needed` (by half again at
   // least, so growth is rare); true when it was reallocated.
-  bool reserveUints(GLuint buffer, size_t& capacity, size_t needed) {
+  bool reserveUints(const GlBuffer& buffer, size_t& capacity, size_t needed) {
     if (needed <= capacity) return false;
     capacity = std::max(needed, capacity + capacity / 2);
     growBuffer(buffer, capacity * sizeof(uint32_t));
@@ -221,7 +210,7 @@ struct IndexMapRenderer::Impl {
 
   void clearSmallFlags() {
     const GLuint zero = 0;
-    glClearNamedBufferData(small_flags, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glClearNamedBufferData(small_flags.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     small_generation = 0;
   }
 
@@ -247,14 +236,14 @@ struct IndexMapRenderer::Impl {
     const size_t flags = size_t(settings.max_batch_samples) * count;
     if (settings.small_polygon_fallback && reserveUints(small_flags, small_flags_capacity, flags)) clearSmallFlags();
     if (all && !static_positions.empty()) {
-      glNamedBufferSubData(positions, 0, GLsizeiptr(static_positions.size() * sizeof(float)), static_positions.data());
-      glNamedBufferSubData(receivers, 0, GLsizeiptr(static_receivers.size() * sizeof(uint32_t)),
+      glNamedBufferSubData(positions.id(), 0, GLsizeiptr(static_positions.size() * sizeof(float)), static_positions.data());
+      glNamedBufferSubData(receivers.id(), 0, GLsizeiptr(static_receivers.size() * sizeof(uint32_t)),
                            static_receivers.data());
     }
     if (!dynamic_positions.empty()) {
-      glNamedBufferSubData(positions, GLintptr(static_count * 9 * sizeof(float)),
+      glNamedBufferSubData(positions.id(), GLintptr(static_count * 9 * sizeof(float)),
                            GLsizeiptr(dynamic_positions.size() * sizeof(float)), dynamic_positions.data());
-      glNamedBufferSubData(receivers, GLintptr(static_count * 2 * sizeof(uint32_t)),
+      glNamedBufferSubData(receivers.id(), GLintptr(static_count * 2 * sizeof(uint32_t)),
                            GLsizeiptr(dynamic_receivers.size() * sizeof(uint32_t)), dynamic_receivers.data());
     }
   }
@@ -291,10 +280,49 @@ struct IndexMapRenderer::Impl {
     return hidden;
   }
 
+  // Linking and GL objects, create()'s stages (index_map_renderer.cpp).
+  Status linkPrograms();
+  Status createMaps();  // the id and depth arrays and their framebuffer
+  void createBuffers();
+
+  // gather()'s stages (index_map_renderer.cpp): zero what the sums need,
+  // render and reduce batch by batch, list and read back the touched
+  // blocks (returns how many), turn the fixed-point sums into shares.
+  void clearSums(size_t cells, size_t blocks, size_t seen_word_count);
+  Aabb levelBounds() const;  // of both triangle sets
+  void renderBatches(std::span<const PointSample> sample_list, const Aabb& bounds, double diagonal,
+                     GatherStats& stats);
+  uint32_t compactSums(size_t blocks, size_t cells, GatherStats& stats);
+  void unpackShares(uint32_t listed, size_t cells, std::vector<float>& shares) const;
+
+  // countViewPixels()'s stages: the target at the view's size (remade when
+  // it changes), then the id raster of the view.
+  void ensureViewTarget(int width, int height);
+  void rasterView(const ViewFrame& view, int width, int height);
+
   Status validate(std::span<const PointSample> list, uint32_t slot_count) const;
   PreparedSample prepare(const PointSample& s, uint32_t batch_index, const Aabb& bounds, double diagonal) const;
+  // The raster pass (index_map_raster.cpp): binds the target, builds the
+  // static-set samples' index lists, draws every face once, then the
+  // occlusion-culled faces' later rounds.
   void render(std::span<const PreparedSample> batch, GatherStats& stats);
+  void bindRasterTarget() const;
+  void buildSetIndices(std::span<const PreparedSample> batch, GatherStats& stats);
+  void rasterFaces(std::span<const PreparedSample> batch, GatherStats& stats);
+  void rasterOcclusionRounds(std::span<const PreparedSample> batch, GatherStats& stats);
+  void useSample(const PreparedSample& s) const;  // the raster program's per-sample uniforms
+  void useLayer(GLint layer, int first_row) const;  // attaches a face's layer, scissors its rows
+  // Draws the listed chunks for sample `b`, never its own triangle (the
+  // ranges split around it), marking them drawn.
+  void drawForSample(std::span<const PreparedSample> batch, size_t b, std::span<const uint32_t> list,
+                     GatherStats& stats);
+  // The reduction (index_map_reduction.cpp): binds its inputs, lists and
+  // runs the small-polygon fallback's pairs when on, then the reduce pass.
   void reduceBatch(std::span<const PreparedSample> batch);
+  void bindReductionInputs();
+  void collectFallbackPairs(std::span<const PreparedSample> batch);  // into batch_pairs
+  void dispatchFallback();
+  void dispatchReduce();
 };
 
 }  // namespace svit::gl

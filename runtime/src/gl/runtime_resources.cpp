@@ -34,102 +34,127 @@ uint64_t patchBytes(const rt::RuntimePatches& p) {
          vectorBytes(p.element_n) + vectorBytes(p.element_first_slot) + vectorBytes(p.slots);
 }
 
-}  // namespace
+const std::string kNoContent = "the level has no dynamic objects and no runtime lights";
 
-std::vector<ResourceUse> Runtime::resources() const {
-  const Impl& r = *impl_;
-  const bool runtime_sections = r.bake.has_runtime_sections;
-  const std::string no_content = "the level has no dynamic objects and no runtime lights";
-  std::vector<ResourceUse> out;
-
+ResourceUse pagesUse(const rt::StaticLevel& level) {
   ResourceUse pages;
   pages.name = "lightmap pages (host copy)";
-  pages.allocated = !r.pages.empty();
-  for (const LightmapImage& page : r.pages) pages.cpu_bytes += vectorBytes(page.rgb);
+  pages.allocated = !level.pages.empty();
+  for (const LightmapImage& page : level.pages) pages.cpu_bytes += vectorBytes(page.rgb);
   pages.reason = "irradianceAt() and the lightmap textures read the baked irradiance from here";
-  out.push_back(pages);
+  return pages;
+}
 
-  std::vector<rt::GlObject> lightmap_objects;
-  for (uint32_t t : r.lightmap_textures) lightmap_objects.push_back(rt::glTextureObject(t));
-  ResourceUse lightmaps = rt::measuredUse("lightmap textures", lightmap_objects);
+ResourceUse lightmapTexturesUse(const rt::ShadingOutputs& outputs) {
+  ResourceUse lightmaps = rt::measuredUse("lightmap textures", outputs.lightmapObjects());
   lightmaps.reason = lightmaps.allocated ? "shadingResources() asked for them (SceneRenderer borrows these: one copy)"
                                          : "shadingResources() not called: a host with its own copy pays nothing here";
-  out.push_back(lightmaps);
+  return lightmaps;
+}
 
+ResourceUse patchesUse(const rt::StaticLevel& level, const rt::ShadingOutputs& outputs,
+                       const RuntimeSettings& settings) {
   ResourceUse patches;
   patches.name = "runtime patches (receivers, sub-triangles, map triangles)";
-  patches.allocated = runtime_sections;
-  if (runtime_sections) {
-    patches.cpu_bytes = patchBytes(r.patches) + mapTriangleBytes(r.static_map) + nestedBytes(r.patch_map_triangles) +
-                        vectorBytes(r.delta_total) + vectorBytes(r.runtime_direct) + vectorBytes(r.display) +
-                        vectorBytes(r.vertex_deltas) + vectorBytes(r.static_block_bounds);
-    patches.reason = std::to_string(r.static_receivers) + " patches, " + std::to_string(r.static_map.triangleCount()) +
-                     (r.settings.use_proxies ? " proxy" : " full-geometry") +
-                     " map triangles: the bake has runtime sections, so objects and lights may come at any time";
-  } else {
-    patches.reason = "the bake has no runtime sections (" + no_content + " when baked): static level";
+  patches.allocated = level.bake.has_runtime_sections;
+  if (!patches.allocated) {
+    patches.reason = "the bake has no runtime sections (" + kNoContent + " when baked): static level";
+    return patches;
   }
-  out.push_back(patches);
+  patches.cpu_bytes = patchBytes(level.patches) + mapTriangleBytes(level.static_map) +
+                      nestedBytes(level.patch_map_triangles) + outputs.hostBytes() +
+                      vectorBytes(level.static_block_bounds);
+  patches.reason = std::to_string(level.static_receivers) + " patches, " +
+                   std::to_string(level.static_map.triangleCount()) +
+                   (settings.use_proxies ? " proxy" : " full-geometry") +
+                   " map triangles: the bake has runtime sections, so objects and lights may come at any time";
+  return patches;
+}
 
-  ResourceUse objects;
-  objects.name = "dynamic objects (triangles, receivers)";
-  objects.allocated = !r.objects.empty();
-  for (const rt::DynamicObject& o : r.objects) {
-    objects.cpu_bytes += vectorBytes(o.object_positions) + vectorBytes(o.albedo) + vectorBytes(o.emission) +
-                         vectorBytes(o.shooter_bin) + vectorBytes(o.world_positions);
+ResourceUse objectsUse(const std::vector<rt::DynamicObject>& objects, const rt::MapTriangles& dynamic_map) {
+  ResourceUse use;
+  use.name = "dynamic objects (triangles, receivers)";
+  use.allocated = !objects.empty();
+  for (const rt::DynamicObject& o : objects) {
+    use.cpu_bytes += vectorBytes(o.object_positions) + vectorBytes(o.albedo) + vectorBytes(o.emission) +
+                     vectorBytes(o.shooter_bin) + vectorBytes(o.world_positions);
   }
-  objects.cpu_bytes += mapTriangleBytes(r.dynamic_map);
-  objects.reason = objects.allocated ? std::to_string(r.objects.size()) + " objects" : "no dynamic objects";
-  out.push_back(objects);
+  use.cpu_bytes += mapTriangleBytes(dynamic_map);
+  use.reason = use.allocated ? std::to_string(objects.size()) + " objects" : "no dynamic objects";
+  return use;
+}
 
+ResourceUse cachesUse(const std::vector<Emitter>& emitters, const rt::BounceSolver& bounce_solver,
+                      bool have_content) {
   ResourceUse caches;
   caches.name = "emitter caches (point samples, form factors)";
-  caches.allocated = !r.emitters.empty();
+  caches.allocated = !emitters.empty();
   uint32_t cached = 0;
-  for (const Emitter& e : r.emitters) {
+  for (const Emitter& e : emitters) {
     caches.cpu_bytes += vectorBytes(e.samples) + e.current.bytes() + e.baseline.bytes() + e.bake_shares.bytes();
-    cached += e.has_current ? 1u : 0u;
+    cached += e.hasCurrent() ? 1u : 0u;
   }
-  caches.cpu_bytes += r.bounce_solver.bytes();  // the last frame's bounce rounds and the shares they went through
-  caches.reason = caches.allocated ? std::to_string(r.emitters.size()) + " emitters, " + std::to_string(cached) +
+  caches.cpu_bytes += bounce_solver.bytes();  // the last frame's bounce rounds and the shares they went through
+  caches.reason = caches.allocated ? std::to_string(emitters.size()) + " emitters, " + std::to_string(cached) +
                                          " with maps cached"
-                                   : (r.have_content ? "no update() yet" : no_content);
-  out.push_back(caches);
+                                   : (have_content ? "no update() yet" : kNoContent);
+  return caches;
+}
 
+ResourceUse mapsUse(const rt::IndexMapRenderer* renderer, const RuntimeSettings& settings, bool have_content) {
   ResourceUse maps = rt::measuredUse("index maps, geometry and reduction buffers",
-                            r.renderer ? r.renderer->mapObjects() : std::vector<rt::GlObject>{});
-  if (r.renderer) maps.cpu_bytes = r.renderer->hostBytes();
-  maps.reason = maps.allocated ? std::to_string(r.settings.map_resolution) + "^2 maps, made on the first update with "
-                                                                             "dynamic content"
-                               : (r.have_content ? "no update() yet" : no_content + ": no emitter needs a map");
-  out.push_back(maps);
+                                     renderer ? renderer->mapObjects() : std::vector<rt::GlObject>{});
+  if (renderer) maps.cpu_bytes = renderer->hostBytes();
+  maps.reason = maps.allocated ? std::to_string(settings.map_resolution) + "^2 maps, made on the first update with "
+                                                                           "dynamic content"
+                               : (have_content ? "no update() yet" : kNoContent + ": no emitter needs a map");
+  return maps;
+}
 
+ResourceUse viewUse(const rt::IndexMapRenderer* renderer, const RuntimeSettings& settings) {
   ResourceUse view = rt::measuredUse("camera id pass (importance)",
-                                     r.renderer ? r.renderer->viewObjects() : std::vector<rt::GlObject>{});
+                                     renderer ? renderer->viewObjects() : std::vector<rt::GlObject>{});
   view.reason = view.allocated ? "setView() gave a camera: visible patches rank the emitters"
-                               : (!r.settings.importance_caching ? "importance caching is off"
-                                                                 : "no camera: setView() not called, or no maps needed");
-  out.push_back(view);
+                               : (!settings.importance_caching ? "importance caching is off"
+                                                               : "no camera: setView() not called, or no maps needed");
+  return view;
+}
 
-  ResourceUse deltas = rt::measuredUse("patch delta buffer", {rt::glBufferObject(r.delta_buffer)});
-  deltas.reason = deltas.allocated ? std::to_string(r.delta_buffer_receivers) + " patches: what shading adds"
-                                   : (r.have_content ? "no update() yet" : no_content + ": nothing to add to the lightmaps");
+/// The patch delta buffer, the delta surface and the delta textures.
+void deltaUses(const rt::StaticLevel& level, const rt::ShadingOutputs& outputs, const RuntimeSettings& settings,
+               bool have_content, std::vector<ResourceUse>& out) {
+  ResourceUse deltas = rt::measuredUse("patch delta buffer", {rt::glBufferObject(outputs.deltaBuffer())});
+  deltas.reason = deltas.allocated ? std::to_string(outputs.deltaBufferReceivers()) + " patches: what shading adds"
+                                   : (have_content ? "no update() yet" : kNoContent + ": nothing to add to the lightmaps");
   out.push_back(deltas);
 
-  ResourceUse surface = rt::measuredUse("delta surface buffers (per-pixel lookup)", r.delta_surface.glObjects());
-  surface.reason = surface.allocated ? std::to_string(r.patches.vertex_count) +
+  ResourceUse surface = rt::measuredUse("delta surface buffers (per-pixel lookup)", outputs.deltaSurface().glObjects());
+  surface.reason = surface.allocated ? std::to_string(level.patches.vertex_count) +
                                            " welded vertices of the runtime patches: svit_runtime_delta.frag"
                                      : deltas.reason;
   out.push_back(surface);
 
-  std::vector<rt::GlObject> delta_objects;
-  for (uint32_t t : r.delta_textures) delta_objects.push_back(rt::glTextureObject(t));
-  ResourceUse delta_pages = rt::measuredUse("delta textures (half-resolution pages)", delta_objects);
+  ResourceUse delta_pages = rt::measuredUse("delta textures (half-resolution pages)", outputs.deltaTextureObjects());
   delta_pages.reason = delta_pages.allocated ? "lightmap(uv) + delta(uv) shading (RuntimeSettings::delta_textures)"
-                      : !r.settings.delta_textures
-                          ? "RuntimeSettings::delta_textures off: the host looks deltas up per pixel"
-                          : deltas.reason;
+                       : !settings.delta_textures
+                           ? "RuntimeSettings::delta_textures off: the host looks deltas up per pixel"
+                           : deltas.reason;
   out.push_back(delta_pages);
+}
+
+}  // namespace
+
+std::vector<ResourceUse> Runtime::resources() const {
+  const Impl& r = *impl_;
+  std::vector<ResourceUse> out;
+  out.push_back(pagesUse(r.level));
+  out.push_back(lightmapTexturesUse(r.outputs));
+  out.push_back(patchesUse(r.level, r.outputs, r.settings));
+  out.push_back(objectsUse(r.objects, r.dynamic_map));
+  out.push_back(cachesUse(r.emitter_set.emitters, r.bounce_solver, r.have_content));
+  out.push_back(mapsUse(r.renderer.get(), r.settings, r.have_content));
+  out.push_back(viewUse(r.renderer.get(), r.settings));
+  deltaUses(r.level, r.outputs, r.settings, r.have_content, out);
   return out;
 }
 

@@ -2,7 +2,7 @@
 // interpolated runtime deltas + runtime lights) and the dynamic objects
 // (probe grid + lights + the runtime's patch deltas), tone mapped in the
 // shaders into an RGBA8 target, with the linear radiance beside it in an
-// RGBA32F one (DESIGN.md "Runtime"). Everything that
+// RGBA32F one (docs/architecture.md "Runtime"). Everything that
 // depends only on the level is built in create(); a frame allocates GL
 // objects only when something grows (more dynamic triangles or lights than
 // before), and does no work for features the level lacks.
@@ -22,9 +22,11 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl_handle.h"
 #include "gl_memory.h"
 #include "gl_program.h"
 #include "glm_interop.h"
+#include "numeric.h"
 #include "scene_renderer_bindings.h"
 #include "scene_renderer_dynamic_objects.h"
 #include "scene_renderer_lightmaps.h"
@@ -47,7 +49,6 @@ namespace b = gl::render_binding;
 // which puts typical walls (albedo ~0.7) at ~0.55 display value and leaves
 // headroom for the lit spots the log-mean discounts.
 constexpr double kExposureKey = 0.35;
-constexpr double kPi = 3.14159265358979323846;
 
 // A copy of what frames need from the level, so the caller's Scene need not
 // outlive the renderer: materials, instances, lights, sun, and the meshes
@@ -72,8 +73,6 @@ bool sceneHasDynamicInstances(const Scene& scene) {
   return std::any_of(scene.instances.begin(), scene.instances.end(), [](const Instance& i) { return i.dynamic; });
 }
 
-bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 Status validateSettings(const SceneRendererSettings& s) {
   auto bad = [](const std::string& what) { return Status(StatusCode::kInvalidInput, "SceneRendererSettings: " + what); };
   if (s.width < 1 || s.height < 1 || s.width > 16384 || s.height > 16384) {
@@ -87,6 +86,32 @@ Status validateSettings(const SceneRendererSettings& s) {
   return Status();
 }
 
+// What both lit passes of a frame share.
+struct FramePass {
+  glm::mat4 clip_from_world;
+  ShadingView view;
+  int baked_lights = 0;  // FrameLights before the runtime's
+  int light_count = 0;
+};
+
+// A camera that can be drawn from, or an error naming what is wrong.
+Status checkCamera(const Camera& camera) {
+  if (!finite(camera.position) || !finite(camera.look_at) || !finite(camera.up)) {
+    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera position, look_at or up is not finite");
+  }
+  const glm::vec3 eye = toGlm(camera.position), centre = toGlm(camera.look_at), up = toGlm(camera.up);
+  const glm::vec3 forward = centre - eye;
+  if (!(glm::length(forward) > 0) || !(glm::length(glm::cross(forward, up)) > 0)) {
+    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera looks nowhere (look_at == position or along up)");
+  }
+  if (!(camera.yfov_rad > 0 && camera.yfov_rad < 3.14159f) || !(camera.near_m > 0 && camera.far_m > camera.near_m)) {
+    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera yfov_rad " + std::to_string(camera.yfov_rad) +
+                                                 " or near/far " + std::to_string(camera.near_m) + "/" +
+                                                 std::to_string(camera.far_m) + " out of range");
+  }
+  return Status();
+}
+
 }  // namespace
 
 struct SceneRenderer::Impl {
@@ -97,7 +122,8 @@ struct SceneRenderer::Impl {
   std::vector<gl::StaticBatch> batches;
   uint32_t static_vertex_count = 0;
   Aabb static_bounds;
-  uint32_t static_vao = 0, static_buffer = 0;
+  gl::GlVertexArray static_vao;
+  gl::GlBuffer static_buffer;
 
   gl::GlProgram static_program, dynamic_program;
   gl::LightmapTextures lightmaps;
@@ -118,26 +144,33 @@ struct SceneRenderer::Impl {
   float exposure = 1;
   float delta_reference_lux = 1;
 
-  ~Impl() {
-    if (static_buffer != 0) glDeleteBuffers(1, &static_buffer);
-    if (static_vao != 0) glDeleteVertexArrays(1, &static_vao);
-  }
-
   void uploadStaticMesh(const gl::StaticMesh& mesh);
   float emitterScale(int emitter) const { return emitter >= 0 ? emitter_scale[size_t(emitter)] : 1.0f; }
   std::vector<gl::FrameLight> frameLights(bool with_runtime_lights, bool with_baked_lights, bool scale_baked,
                                           size_t* baked_count) const;
   void setSharedUniforms(const glm::mat4& clip_from_world, ShadingView view, int light_begin, int light_end) const;
+
+  // render()'s stages: the shadow maps of `lights` (casters: everything
+  // drawn); the target bound, its state set and cleared; the static mesh's
+  // batches; the dynamic objects; the target released.
+  void renderShadowMaps(const std::vector<gl::FrameLight>& lights, bool has_dynamic, bool casters_changed,
+                        RenderStats& stats);
+  void beginFrame(bool to_default_framebuffer) const;
+  void drawStatic(const FramePass& pass, const ShadingResources& resources, bool runtime_view,
+                  RenderStats& stats) const;
+  void drawDynamic(const FramePass& pass, uint32_t delta_buffer, RenderStats& stats) const;
+  void endFrame(bool to_default_framebuffer) const;
 };
 
 void SceneRenderer::Impl::uploadStaticMesh(const gl::StaticMesh& mesh) {
   batches = mesh.batches;
   static_vertex_count = uint32_t(mesh.vertices.size());
   static_bounds = mesh.bounds;
-  glCreateBuffers(1, &static_buffer);
-  glNamedBufferStorage(static_buffer, GLsizeiptr(mesh.vertices.size() * sizeof(gl::StaticVertex)),
+  static_buffer = gl::createGlBuffer();
+  glNamedBufferStorage(static_buffer.id(), GLsizeiptr(mesh.vertices.size() * sizeof(gl::StaticVertex)),
                        mesh.vertices.data(), 0);
-  glCreateVertexArrays(1, &static_vao);
+  static_vao = gl::createGlVertexArray();
+  const GLuint vao = static_vao.id();
   struct Attribute {
     GLint size;
     GLuint offset;
@@ -148,14 +181,14 @@ void SceneRenderer::Impl::uploadStaticMesh(const gl::StaticMesh& mesh) {
                                {2, offsetof(gl::StaticVertex, uv1)},
                                {2, offsetof(gl::StaticVertex, uv_lightmap)}};
   for (GLuint a = 0; a < 5; ++a) {
-    glEnableVertexArrayAttrib(static_vao, a);
-    glVertexArrayAttribFormat(static_vao, a, floats[a].size, GL_FLOAT, GL_FALSE, floats[a].offset);
-    glVertexArrayAttribBinding(static_vao, a, 0);
+    glEnableVertexArrayAttrib(vao, a);
+    glVertexArrayAttribFormat(vao, a, floats[a].size, GL_FLOAT, GL_FALSE, floats[a].offset);
+    glVertexArrayAttribBinding(vao, a, 0);
   }
-  glEnableVertexArrayAttrib(static_vao, 5);
-  glVertexArrayAttribIFormat(static_vao, 5, 2, GL_UNSIGNED_INT, offsetof(gl::StaticVertex, delta_element));
-  glVertexArrayAttribBinding(static_vao, 5, 0);
-  glVertexArrayVertexBuffer(static_vao, 0, static_buffer, 0, sizeof(gl::StaticVertex));
+  glEnableVertexArrayAttrib(vao, 5);
+  glVertexArrayAttribIFormat(vao, 5, 2, GL_UNSIGNED_INT, offsetof(gl::StaticVertex, delta_element));
+  glVertexArrayAttribBinding(vao, 5, 0);
+  glVertexArrayVertexBuffer(vao, 0, static_buffer.id(), 0, sizeof(gl::StaticVertex));
 }
 
 // Baked lights first (stable slots: their maps survive view switches and
@@ -284,19 +317,7 @@ Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scen
 Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView view, bool to_default_framebuffer) {
   Impl& s = *impl_;
   const auto start = std::chrono::steady_clock::now();
-  if (!finite(camera.position) || !finite(camera.look_at) || !finite(camera.up)) {
-    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera position, look_at or up is not finite");
-  }
-  const glm::vec3 eye = toGlm(camera.position), centre = toGlm(camera.look_at), up = toGlm(camera.up);
-  const glm::vec3 forward = centre - eye;
-  if (!(glm::length(forward) > 0) || !(glm::length(glm::cross(forward, up)) > 0)) {
-    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera looks nowhere (look_at == position or along up)");
-  }
-  if (!(camera.yfov_rad > 0 && camera.yfov_rad < 3.14159f) || !(camera.near_m > 0 && camera.far_m > camera.near_m)) {
-    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera yfov_rad " + std::to_string(camera.yfov_rad) +
-                                                 " or near/far " + std::to_string(camera.near_m) + "/" +
-                                                 std::to_string(camera.far_m) + " out of range");
-  }
+  if (Status valid = checkCamera(camera); !valid.ok()) return valid;
   RenderStats stats;
   const bool runtime_view = view != ShadingView::kBakedOnly;
 
@@ -304,9 +325,6 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   // runtime's lightmap-space maps when it makes them; dynamic: per patch).
   const ShadingResources resources =
       runtime_view && s.runtime != nullptr ? s.runtime->shadingResources() : ShadingResources{};
-  const uint32_t delta_buffer = resources.patch_delta_buffer;
-  const std::vector<uint32_t>& delta_maps = resources.delta_textures;
-  const bool static_deltas = delta_maps.empty() && resources.vertex_deltas != 0;
 
   // Dynamic objects and the lights that shade per pixel.
   const bool casters_changed = s.dynamic_objects.update(s.scene, s.runtime);
@@ -314,28 +332,51 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   size_t baked_lights = 0;
   const std::vector<gl::FrameLight> lights =
       s.frameLights(view == ShadingView::kRuntime, has_dynamic, runtime_view, &baked_lights);
-  Aabb bounds = s.static_bounds;
+  if (!lights.empty()) s.renderShadowMaps(lights, has_dynamic, casters_changed, stats);
+
+  // The frame.
+  s.beginFrame(to_default_framebuffer);
+  const int width = s.settings.width, height = s.settings.height;
+  const glm::vec3 eye = toGlm(camera.position), centre = toGlm(camera.look_at), up = toGlm(camera.up);
+  FramePass pass;
+  pass.clip_from_world = glm::perspective(camera.yfov_rad, float(width) / float(height), camera.near_m, camera.far_m) *
+                         glm::lookAt(eye, centre, up);
+  pass.view = view;
+  pass.baked_lights = int(baked_lights);
+  pass.light_count = int(lights.size());
+  if (!lights.empty()) s.shadows.bind();
+  s.drawStatic(pass, resources, runtime_view, stats);
+  if (has_dynamic) s.drawDynamic(pass, resources.patch_delta_buffer, stats);
+  s.endFrame(to_default_framebuffer);
+  Status error = gl::checkGlError("SceneRenderer::render");
+  if (!error.ok()) return error;
+  if (!to_default_framebuffer) s.has_offscreen_frame = true;
+  stats.shading_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+void SceneRenderer::Impl::renderShadowMaps(const std::vector<gl::FrameLight>& lights, bool has_dynamic,
+                                           bool casters_changed, RenderStats& stats) {
+  Aabb bounds = static_bounds;
   if (has_dynamic) {
-    const Aabb& d = s.dynamic_objects.bounds();
+    const Aabb& d = dynamic_objects.bounds();
     bounds.min = {std::min(bounds.min.x, d.min.x), std::min(bounds.min.y, d.min.y), std::min(bounds.min.z, d.min.z)};
     bounds.max = {std::max(bounds.max.x, d.max.x), std::max(bounds.max.y, d.max.y), std::max(bounds.max.z, d.max.z)};
   }
-  if (!lights.empty()) {
-    const std::vector<Aabb>& moved = s.dynamic_objects.movedBoxes();
-    stats.shadow_maps_rendered = s.shadows.update(lights, bounds, casters_changed, &moved, [&] {
-      glBindVertexArray(s.static_vao);
-      glDrawArrays(GL_TRIANGLES, 0, GLsizei(s.static_vertex_count));
-      s.dynamic_objects.draw();
-      stats.draw_calls += has_dynamic ? 2 : 1;
-    });
-  }
+  const std::vector<Aabb>& moved = dynamic_objects.movedBoxes();
+  stats.shadow_maps_rendered = shadows.update(lights, bounds, casters_changed, &moved, [&] {
+    glBindVertexArray(static_vao.id());
+    glDrawArrays(GL_TRIANGLES, 0, GLsizei(static_vertex_count));
+    dynamic_objects.draw();
+    stats.draw_calls += has_dynamic ? 2 : 1;
+  });
+}
 
-  // The frame.
-  const int width = s.settings.width, height = s.settings.height;
-  glBindFramebuffer(GL_FRAMEBUFFER, to_default_framebuffer ? 0 : s.target.framebuffer());
+void SceneRenderer::Impl::beginFrame(bool to_default_framebuffer) const {
+  glBindFramebuffer(GL_FRAMEBUFFER, to_default_framebuffer ? 0 : target.framebuffer());
   // The lit passes write display colour and radiance (the clear too).
-  if (!to_default_framebuffer) s.target.drawRadiance(true);
-  glViewport(0, 0, width, height);
+  if (!to_default_framebuffer) target.drawRadiance(true);
+  glViewport(0, 0, settings.width, settings.height);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
@@ -346,40 +387,41 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   glClearColor(0, 0, 0, 1);
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  if (!to_default_framebuffer) s.target.clearRadiance();  // surface kind 0 where nothing is drawn
-  const glm::mat4 clip_from_world =
-      glm::perspective(camera.yfov_rad, float(width) / float(height), camera.near_m, camera.far_m) *
-      glm::lookAt(eye, centre, up);
-  const int light_count = int(lights.size());
-  if (!lights.empty()) s.shadows.bind();
+  if (!to_default_framebuffer) target.clearRadiance();  // surface kind 0 where nothing is drawn
+}
 
-  // Static geometry: runtime lights only (baked lights are in the lightmap).
-  glUseProgram(s.static_program.id());
-  s.setSharedUniforms(clip_from_world, view, int(baked_lights), view == ShadingView::kRuntime ? light_count : int(baked_lights));
+// Static geometry: runtime lights only (baked lights are in the lightmap).
+void SceneRenderer::Impl::drawStatic(const FramePass& pass, const ShadingResources& resources, bool runtime_view,
+                                     RenderStats& stats) const {
+  const std::vector<uint32_t>& delta_maps = resources.delta_textures;
+  const bool static_deltas = delta_maps.empty() && resources.vertex_deltas != 0;
+  glUseProgram(static_program.id());
+  setSharedUniforms(pass.clip_from_world, pass.view, pass.baked_lights,
+                    pass.view == ShadingView::kRuntime ? pass.light_count : pass.baked_lights);
   glUniform1i(b::kUseDeltas, static_deltas ? 1 : 0);
   if (static_deltas) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kDeltaElements, resources.delta_elements);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kDeltaSlots, resources.delta_slots);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kVertexDeltas, resources.vertex_deltas);
   }
-  glBindVertexArray(s.static_vao);
+  glBindVertexArray(static_vao.id());
   uint32_t bound_material = UINT32_MAX, bound_page = UINT32_MAX;
   float bound_emission_scale = 1.0f;
   glUniform1f(b::kEmissionScale, 1.0f);
-  for (const gl::StaticBatch& batch : s.batches) {
+  for (const gl::StaticBatch& batch : batches) {
     if (batch.material != bound_material) {
-      s.materials.bind(s.scene.materials[batch.material]);
+      materials.bind(scene.materials[batch.material]);
       bound_material = batch.material;
     }
     // A dimmed lamp looks dimmed (the bake as baked in kBakedOnly).
     const float emission_scale =
-        runtime_view && batch.emitter != gl::kNoBakeEmitter ? s.emitterScale(int(batch.emitter)) : 1.0f;
+        runtime_view && batch.emitter != gl::kNoBakeEmitter ? emitterScale(int(batch.emitter)) : 1.0f;
     if (emission_scale != bound_emission_scale) {
       glUniform1f(b::kEmissionScale, emission_scale);
       bound_emission_scale = emission_scale;
     }
     if (batch.page != bound_page) {
-      glBindTextureUnit(b::kLightmapUnit, s.lightmaps.texture(batch.page));
+      glBindTextureUnit(b::kLightmapUnit, lightmaps.texture(batch.page));
       // The runtime's deltas in lightmap space, when it makes them.
       const bool delta_map = batch.page < delta_maps.size();
       glUniform1i(b::kUseDeltaMap, delta_map ? 1 : 0);
@@ -389,31 +431,29 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
     glDrawArrays(GL_TRIANGLES, GLint(batch.first_vertex), GLsizei(batch.vertex_count));
     ++stats.draw_calls;
   }
+}
 
-  // Dynamic objects: probes + baked lights, + runtime lights and deltas.
-  if (has_dynamic) {
-    glUseProgram(s.dynamic_program.id());
-    s.setSharedUniforms(clip_from_world, view, 0, view == ShadingView::kRuntime ? light_count : int(baked_lights));
-    glUniform1i(b::kBakedLightEnd, int(baked_lights));
-    glUniform1i(b::kUseDeltas, delta_buffer != 0 ? 1 : 0);
-    if (delta_buffer != 0) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kPatchDeltas, delta_buffer);
-    s.probes.bind();
-    s.dynamic_objects.draw();
-    ++stats.draw_calls;
-  }
+// Dynamic objects: probes + baked lights, + runtime lights and deltas.
+void SceneRenderer::Impl::drawDynamic(const FramePass& pass, uint32_t delta_buffer, RenderStats& stats) const {
+  glUseProgram(dynamic_program.id());
+  setSharedUniforms(pass.clip_from_world, pass.view, 0,
+                    pass.view == ShadingView::kRuntime ? pass.light_count : pass.baked_lights);
+  glUniform1i(b::kBakedLightEnd, pass.baked_lights);
+  glUniform1i(b::kUseDeltas, delta_buffer != 0 ? 1 : 0);
+  if (delta_buffer != 0) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kPatchDeltas, delta_buffer);
+  probes.bind();
+  dynamic_objects.draw();
+  ++stats.draw_calls;
+}
 
+void SceneRenderer::Impl::endFrame(bool to_default_framebuffer) const {
   glBindVertexArray(0);
   glUseProgram(0);
   // A host's HUD drawn next writes output 0 only: with both attachments
   // drawn, its unwritten output 1 would leave undefined radiance.
-  if (!to_default_framebuffer) s.target.drawRadiance(false);
+  if (!to_default_framebuffer) target.drawRadiance(false);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glFinish();  // honest timings on any driver (RenderStats::shading_ms)
-  Status error = gl::checkGlError("SceneRenderer::render");
-  if (!error.ok()) return error;
-  if (!to_default_framebuffer) s.has_offscreen_frame = true;
-  stats.shading_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return stats;
 }
 
 Status SceneRenderer::setBakedEmitterScale(uint32_t bake_emitter, float scale) {
@@ -479,7 +519,7 @@ std::vector<ResourceUse> SceneRenderer::resources() const {
     return out;
   };
   std::vector<ResourceUse> out;
-  out.push_back(use("static mesh vertex buffer", {gl::glBufferObject(s.static_buffer)},
+  out.push_back(use("static mesh vertex buffer", {gl::glBufferObject(s.static_buffer.id())},
                     std::to_string(s.static_vertex_count) + " vertices", "no static triangles"));
   const size_t skipped = s.materials.skippedCount();
   out.push_back(use("material textures", s.materials.glObjects(),

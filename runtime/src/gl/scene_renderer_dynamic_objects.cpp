@@ -76,8 +76,8 @@ DynamicObjectMeshes& DynamicObjectMeshes::operator=(DynamicObjectMeshes&& other)
     hash_ = other.hash_;
     uploaded_ = other.uploaded_;
     bounds_ = other.bounds_;
-    vao_ = std::exchange(other.vao_, 0);
-    buffer_ = std::exchange(other.buffer_, 0);
+    vao_ = std::move(other.vao_);
+    buffer_ = std::move(other.buffer_);
     capacity_ = std::exchange(other.capacity_, 0);
   }
   return *this;
@@ -86,13 +86,13 @@ DynamicObjectMeshes& DynamicObjectMeshes::operator=(DynamicObjectMeshes&& other)
 DynamicObjectMeshes::~DynamicObjectMeshes() { release(); }
 
 void DynamicObjectMeshes::release() {
-  if (buffer_ != 0) glDeleteBuffers(1, &buffer_);
-  if (vao_ != 0) glDeleteVertexArrays(1, &vao_);
-  buffer_ = vao_ = 0;
+  buffer_.reset();
+  vao_.reset();
   capacity_ = 0;
 }
 
-bool DynamicObjectMeshes::update(const Scene& scene, const Runtime* runtime) {
+std::vector<DynamicObjectMeshes::ObjectSpan> DynamicObjectMeshes::gatherVertices(const Scene& scene,
+                                                                                 const Runtime* runtime) {
   vertices_.clear();
   bounds_ = Aabb{};
   std::vector<ObjectSpan> objects;
@@ -137,8 +137,10 @@ bool DynamicObjectMeshes::update(const Scene& scene, const Runtime* runtime) {
       endObject(first);
     }
   }
-  const uint64_t hash = fnv1a64(vertices_.data(), vertices_.size() * sizeof(DynamicVertex));
-  const bool changed = !uploaded_ || hash != hash_;
+  return objects;
+}
+
+void DynamicObjectMeshes::findMovedBoxes(const std::vector<ObjectSpan>& objects) {
   moved_boxes_.clear();
   const bool same_objects = objects.size() == objects_.size();
   for (size_t o = 0; o < std::max(objects.size(), objects_.size()); ++o) {
@@ -147,38 +149,50 @@ bool DynamicObjectMeshes::update(const Scene& scene, const Runtime* runtime) {
     if (had && !objects_[o].bounds.empty()) moved_boxes_.push_back(objects_[o].bounds);
     if (has && !objects[o].bounds.empty()) moved_boxes_.push_back(objects[o].bounds);
   }
-  objects_ = std::move(objects);
-  hash_ = hash;
-  uploaded_ = true;
-  if (!changed || vertices_.empty()) return changed;
+}
+
+void DynamicObjectMeshes::upload() {
   if (vertices_.size() > capacity_) {
-    if (buffer_ != 0) glDeleteBuffers(1, &buffer_);
+    buffer_.reset();
     capacity_ = std::max(vertices_.size(), capacity_ * 2);
-    glCreateBuffers(1, &buffer_);
-    glNamedBufferStorage(buffer_, GLsizeiptr(capacity_ * sizeof(DynamicVertex)), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    if (vao_ == 0) {
-      glCreateVertexArrays(1, &vao_);
+    buffer_ = createGlBuffer();
+    glNamedBufferStorage(buffer_.id(), GLsizeiptr(capacity_ * sizeof(DynamicVertex)), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
+    if (!vao_) {
+      vao_ = createGlVertexArray();
+      const GLuint vao = vao_.id();
       const GLuint offsets[6] = {offsetof(DynamicVertex, position), offsetof(DynamicVertex, normal),
                                  offsetof(DynamicVertex, albedo),   offsetof(DynamicVertex, emission),
                                  offsetof(DynamicVertex, centroid), offsetof(DynamicVertex, face_normal)};
       for (GLuint a = 0; a < 6; ++a) {
-        glEnableVertexArrayAttrib(vao_, a);
-        glVertexArrayAttribFormat(vao_, a, 3, GL_FLOAT, GL_FALSE, offsets[a]);
-        glVertexArrayAttribBinding(vao_, a, 0);
+        glEnableVertexArrayAttrib(vao, a);
+        glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, offsets[a]);
+        glVertexArrayAttribBinding(vao, a, 0);
       }
-      glEnableVertexArrayAttrib(vao_, 6);
-      glVertexArrayAttribIFormat(vao_, 6, 2, GL_UNSIGNED_INT, offsetof(DynamicVertex, patch));
-      glVertexArrayAttribBinding(vao_, 6, 0);
+      glEnableVertexArrayAttrib(vao, 6);
+      glVertexArrayAttribIFormat(vao, 6, 2, GL_UNSIGNED_INT, offsetof(DynamicVertex, patch));
+      glVertexArrayAttribBinding(vao, 6, 0);
     }
-    glVertexArrayVertexBuffer(vao_, 0, buffer_, 0, sizeof(DynamicVertex));
+    glVertexArrayVertexBuffer(vao_.id(), 0, buffer_.id(), 0, sizeof(DynamicVertex));
   }
-  glNamedBufferSubData(buffer_, 0, GLsizeiptr(vertices_.size() * sizeof(DynamicVertex)), vertices_.data());
+  glNamedBufferSubData(buffer_.id(), 0, GLsizeiptr(vertices_.size() * sizeof(DynamicVertex)), vertices_.data());
+}
+
+bool DynamicObjectMeshes::update(const Scene& scene, const Runtime* runtime) {
+  std::vector<ObjectSpan> objects = gatherVertices(scene, runtime);
+  const uint64_t hash = fnv1a64(vertices_.data(), vertices_.size() * sizeof(DynamicVertex));
+  const bool changed = !uploaded_ || hash != hash_;
+  findMovedBoxes(objects);
+  objects_ = std::move(objects);
+  hash_ = hash;
+  uploaded_ = true;
+  if (changed && !vertices_.empty()) upload();
   return changed;
 }
 
 void DynamicObjectMeshes::draw() const {
-  if (vertices_.empty() || vao_ == 0) return;
-  glBindVertexArray(vao_);
+  if (vertices_.empty() || !vao_) return;
+  glBindVertexArray(vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, GLsizei(vertices_.size()));
 }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "gl_handle.h"
 #include "gl_memory.h"
 #include "svit/math_types.h"
 #include "svit/runtime.h"
@@ -53,7 +54,7 @@ class DynamicObjectMeshes {
   /// Draws the triangles (attributes 0..6 per DynamicVertex); no-op when empty.
   void draw() const;
 
-  std::vector<GlObject> glObjects() const { return {glBufferObject(buffer_)}; }
+  std::vector<GlObject> glObjects() const { return {glBufferObject(buffer_.id())}; }
   uint64_t hostBytes() const { return uint64_t(vertices_.capacity()) * sizeof(DynamicVertex); }
 
  private:
@@ -62,13 +63,20 @@ class DynamicObjectMeshes {
     uint64_t hash = 0;  ///< of its vertices
     Aabb bounds;
   };
+  /// update()'s stages: the triangles into vertices_ and bounds_, one span
+  /// per object; the boxes of the objects that differ from objects_; the
+  /// vertices into the buffer (grown when they do not fit).
+  std::vector<ObjectSpan> gatherVertices(const Scene& scene, const Runtime* runtime);
+  void findMovedBoxes(const std::vector<ObjectSpan>& objects);
+  void upload();
   std::vector<DynamicVertex> vertices_;
   std::vector<ObjectSpan> objects_;  ///< per drawn object, in draw order
   std::vector<Aabb> moved_boxes_;
   uint64_t hash_ = 0;
   bool uploaded_ = false;
   Aabb bounds_;
-  uint32_t vao_ = 0, buffer_ = 0;
+  GlVertexArray vao_;
+  GlBuffer buffer_;
   size_t capacity_ = 0;  ///< vertices the buffer holds
 };
 

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "gl_program.h"
+#include "numeric.h"
 #include "svit/lightmap_image.h"
 
 namespace svit::gl {
@@ -18,7 +19,7 @@ struct LogMean {
   size_t lit = 0;
   void add(const std::vector<float>& rgb) {
     for (size_t i = 0; i + 2 < rgb.size(); i += 3) {
-      const double y = 0.2126 * rgb[i] + 0.7152 * rgb[i + 1] + 0.0722 * rgb[i + 2];
+      const double y = luminanceOf(Rgb{rgb[i], rgb[i + 1], rgb[i + 2]});
       if (y > 0 && std::isfinite(y)) {
         log_sum += std::log(y);
         ++lit;
@@ -74,9 +75,9 @@ Expected<LightmapTextures> LightmapTextures::create(const BakeData& bake, const 
                                                    std::to_string(page.width) + "x" + std::to_string(page.height));
     }
     mean.add(image->rgb);
-    GLuint texture = 0;
-    glCreateTextures(GL_TEXTURE_2D, 1, &texture);
-    out.textures_.push_back(texture);  // owned from here: released on error
+    out.owned_textures_.push_back(createGlTexture(GL_TEXTURE_2D));  // owned from here: released on error
+    const GLuint texture = out.owned_textures_.back().id();
+    out.textures_.push_back(texture);
     glTextureStorage2D(texture, 1, GL_RGB32F, image->width, image->height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
@@ -98,21 +99,15 @@ LightmapTextures::LightmapTextures(LightmapTextures&& other) noexcept { *this = 
 
 LightmapTextures& LightmapTextures::operator=(LightmapTextures&& other) noexcept {
   if (this != &other) {
-    release();
-    textures_ = std::move(other.textures_);
-    other.textures_.clear();
+    owned_textures_ = std::exchange(other.owned_textures_, {});
+    textures_ = std::exchange(other.textures_, {});
     owned_ = other.owned_;
     log_mean_lux_ = other.log_mean_lux_;
   }
   return *this;
 }
 
-LightmapTextures::~LightmapTextures() { release(); }
-
-void LightmapTextures::release() {
-  if (owned_ && !textures_.empty()) glDeleteTextures(GLsizei(textures_.size()), textures_.data());
-  textures_.clear();
-}
+LightmapTextures::~LightmapTextures() = default;
 
 std::vector<GlObject> LightmapTextures::glObjects() const {
   std::vector<GlObject> out;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "gl_handle.h"
 #include "gl_memory.h"
 #include "svit/bake_file.h"
 #include "svit/status.h"
@@ -44,8 +45,8 @@ class LightmapTextures {
   bool borrowed() const { return !owned_; }
 
  private:
-  void release();
-  std::vector<uint32_t> textures_;
+  std::vector<uint32_t> textures_;      ///< per page, owned or borrowed
+  std::vector<GlTexture> owned_textures_;  ///< the same names when owned; empty when borrowed
   bool owned_ = true;
   double log_mean_lux_ = 0;
 };

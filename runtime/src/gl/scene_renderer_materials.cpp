@@ -42,7 +42,7 @@ void setTextureUniforms(const TextureRef& ref, bool present, int texture_locatio
 
 Expected<MaterialTextures> MaterialTextures::create(const Scene& scene) {
   MaterialTextures out;
-  out.textures_.assign(scene.textures.size(), 0);
+  out.textures_.resize(scene.textures.size());
   std::vector<uint8_t> used(scene.textures.size(), 0);
   for (const Material& m : scene.materials) {
     if (usable(scene, m.base_color_texture)) used[size_t(m.base_color_texture.texture)] = 1;
@@ -72,9 +72,8 @@ Expected<MaterialTextures> MaterialTextures::create(const Scene& scene) {
       d[2] = grey ? s[0] : s[2];
       d[3] = t.channels == 2 ? s[1] : t.channels == 4 ? s[3] : 255;
     }
-    GLuint texture = 0;
-    glCreateTextures(GL_TEXTURE_2D, 1, &texture);
-    out.textures_[i] = texture;
+    out.textures_[i] = createGlTexture(GL_TEXTURE_2D);
+    const GLuint texture = out.textures_[i].id();
     glTextureStorage2D(texture, mipLevels(t.width, t.height), GL_SRGB8_ALPHA8, t.width, t.height);
     // glTF's first row is v = 0, GL's first row is t = 0: UVs address it as is.
     glTextureSubImage2D(texture, 0, 0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
@@ -85,46 +84,27 @@ Expected<MaterialTextures> MaterialTextures::create(const Scene& scene) {
     glTextureParameteri(texture, GL_TEXTURE_WRAP_T, glWrap(t.wrap_t));
   }
   const uint8_t white[4] = {255, 255, 255, 255};
-  glCreateTextures(GL_TEXTURE_2D, 1, &out.white_);
-  glTextureStorage2D(out.white_, 1, GL_SRGB8_ALPHA8, 1, 1);
-  glTextureSubImage2D(out.white_, 0, 0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, white);
+  out.white_ = createGlTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(out.white_.id(), 1, GL_SRGB8_ALPHA8, 1, 1);
+  glTextureSubImage2D(out.white_.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, white);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   Status error = checkGlError("uploading material textures");
   if (!error.ok()) return error;
   return out;
 }
 
-MaterialTextures::MaterialTextures(MaterialTextures&& other) noexcept { *this = std::move(other); }
-
-MaterialTextures& MaterialTextures::operator=(MaterialTextures&& other) noexcept {
-  if (this != &other) {
-    release();
-    textures_ = std::move(other.textures_);
-    other.textures_.clear();
-    white_ = std::exchange(other.white_, 0);
-  }
-  return *this;
-}
-
-MaterialTextures::~MaterialTextures() { release(); }
-
-void MaterialTextures::release() {
-  for (uint32_t t : textures_) {
-    if (t != 0) glDeleteTextures(1, &t);
-  }
-  textures_.clear();
-  if (white_ != 0) glDeleteTextures(1, &white_);
-  white_ = 0;
-}
+MaterialTextures::MaterialTextures(MaterialTextures&& other) noexcept = default;
+MaterialTextures& MaterialTextures::operator=(MaterialTextures&& other) noexcept = default;
+MaterialTextures::~MaterialTextures() = default;
 
 void MaterialTextures::bind(const Material& m) const {
   namespace b = render_binding;
   auto textureOf = [&](const TextureRef& ref) -> uint32_t {
-    return ref.texture >= 0 && size_t(ref.texture) < textures_.size() ? textures_[size_t(ref.texture)] : 0;
+    return ref.texture >= 0 && size_t(ref.texture) < textures_.size() ? textures_[size_t(ref.texture)].id() : 0;
   };
   const uint32_t base = textureOf(m.base_color_texture), emissive = textureOf(m.emissive_texture);
-  glBindTextureUnit(b::kBaseColorUnit, base != 0 ? base : white_);
-  glBindTextureUnit(b::kEmissiveUnit, emissive != 0 ? emissive : white_);
+  glBindTextureUnit(b::kBaseColorUnit, base != 0 ? base : white_.id());
+  glBindTextureUnit(b::kEmissiveUnit, emissive != 0 ? emissive : white_.id());
   glUniform4f(b::kBaseColor, m.base_color.r, m.base_color.g, m.base_color.b, m.base_alpha);
   glUniform3f(b::kEmissive, m.emissive_luminance.r, m.emissive_luminance.g, m.emissive_luminance.b);
   setTextureUniforms(m.base_color_texture, base != 0, b::kBaseTexture, b::kBaseTransform, b::kBaseRotation);
@@ -135,14 +115,14 @@ void MaterialTextures::bind(const Material& m) const {
 }
 
 std::vector<GlObject> MaterialTextures::glObjects() const {
-  std::vector<GlObject> out = {glTextureObject(white_)};
-  for (uint32_t t : textures_) out.push_back(glTextureObject(t));
+  std::vector<GlObject> out = {glTextureObject(white_.id())};
+  for (const GlTexture& t : textures_) out.push_back(glTextureObject(t.id()));
   return out;
 }
 
 size_t MaterialTextures::skippedCount() const {
   size_t skipped = 0;
-  for (uint32_t t : textures_) skipped += t == 0 ? 1 : 0;
+  for (const GlTexture& t : textures_) skipped += !t ? 1 : 0;
   return skipped;
 }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "gl_handle.h"
 #include "gl_memory.h"
 #include "svit/scene.h"
 #include "svit/status.h"
@@ -37,9 +38,8 @@ class MaterialTextures {
   size_t skippedCount() const;
 
  private:
-  void release();
-  std::vector<uint32_t> textures_;  ///< per Scene::textures entry; 0 = not uploaded
-  uint32_t white_ = 0;
+  std::vector<GlTexture> textures_;  ///< per Scene::textures entry; none = not uploaded
+  GlTexture white_;
 };
 
 }  // namespace svit::gl

@@ -27,38 +27,25 @@ Expected<ProbeGridTextures> ProbeGridTextures::create(const BakeProbeGrid& grid)
     for (size_t p = 0; p < probes; ++p) {
       for (int k = 0; k < 4; ++k) channel[p * 4 + size_t(k)] = grid.sh[p * 12 + size_t(k) * 3 + size_t(c)];
     }
-    glCreateTextures(GL_TEXTURE_3D, 1, &out.textures_[c]);
-    glTextureStorage3D(out.textures_[c], 1, GL_RGBA32F, GLsizei(grid.dims[0]), GLsizei(grid.dims[1]),
+    out.textures_[c] = createGlTexture(GL_TEXTURE_3D);
+    const GLuint texture = out.textures_[c].id();
+    glTextureStorage3D(texture, 1, GL_RGBA32F, GLsizei(grid.dims[0]), GLsizei(grid.dims[1]),
                        GLsizei(grid.dims[2]));
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage3D(out.textures_[c], 0, 0, 0, 0, GLsizei(grid.dims[0]), GLsizei(grid.dims[1]),
+    glTextureSubImage3D(texture, 0, 0, 0, 0, GLsizei(grid.dims[0]), GLsizei(grid.dims[1]),
                         GLsizei(grid.dims[2]), GL_RGBA, GL_FLOAT, channel.data());
-    glTextureParameteri(out.textures_[c], GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(out.textures_[c], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R}) {
-      glTextureParameteri(out.textures_[c], wrap, GL_CLAMP_TO_EDGE);
+      glTextureParameteri(texture, wrap, GL_CLAMP_TO_EDGE);
     }
   }
   return out;
 }
 
-ProbeGridTextures::ProbeGridTextures(ProbeGridTextures&& other) noexcept { *this = std::move(other); }
-
-ProbeGridTextures& ProbeGridTextures::operator=(ProbeGridTextures&& other) noexcept {
-  if (this != &other) {
-    release();
-    for (int c = 0; c < 3; ++c) textures_[c] = std::exchange(other.textures_[c], 0);
-    layout_ = other.layout_;
-  }
-  return *this;
-}
-
-ProbeGridTextures::~ProbeGridTextures() { release(); }
-
-void ProbeGridTextures::release() {
-  if (textures_[0] != 0) glDeleteTextures(3, textures_);
-  textures_[0] = textures_[1] = textures_[2] = 0;
-}
+ProbeGridTextures::ProbeGridTextures(ProbeGridTextures&& other) noexcept = default;
+ProbeGridTextures& ProbeGridTextures::operator=(ProbeGridTextures&& other) noexcept = default;
+ProbeGridTextures::~ProbeGridTextures() = default;
 
 void ProbeGridTextures::bind() const {
   namespace b = render_binding;
@@ -67,9 +54,9 @@ void ProbeGridTextures::bind() const {
   glUniform3f(b::kProbeSpacing, layout_.spacing.x, layout_.spacing.y, layout_.spacing.z);
   glUniform3f(b::kProbeDims, float(layout_.dims[0]), float(layout_.dims[1]), float(layout_.dims[2]));
   if (empty()) return;
-  glBindTextureUnit(b::kProbeUnitR, textures_[0]);
-  glBindTextureUnit(b::kProbeUnitG, textures_[1]);
-  glBindTextureUnit(b::kProbeUnitB, textures_[2]);
+  glBindTextureUnit(b::kProbeUnitR, textures_[0].id());
+  glBindTextureUnit(b::kProbeUnitG, textures_[1].id());
+  glBindTextureUnit(b::kProbeUnitB, textures_[2].id());
 }
 
 }  // namespace svit::gl

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 
+#include "gl_handle.h"
 #include "gl_memory.h"
 #include "svit/bake_file.h"
 #include "svit/status.h"
@@ -23,18 +24,17 @@ class ProbeGridTextures {
   ProbeGridTextures& operator=(const ProbeGridTextures&) = delete;
   ~ProbeGridTextures();
 
-  bool empty() const { return textures_[0] == 0; }
+  bool empty() const { return !textures_[0]; }
   /// Binds the textures and sets the grid uniforms of the current program
   /// (kProbeOrigin..kUseProbes of scene_renderer_bindings.h).
   void bind() const;
 
   std::vector<GlObject> glObjects() const {
-    return {glTextureObject(textures_[0]), glTextureObject(textures_[1]), glTextureObject(textures_[2])};
+    return {glTextureObject(textures_[0].id()), glTextureObject(textures_[1].id()), glTextureObject(textures_[2].id())};
   }
 
  private:
-  void release();
-  uint32_t textures_[3] = {0, 0, 0};
+  GlTexture textures_[3];  ///< the SH coefficients of R, G, B
   BakeProbeGrid layout_;  ///< origin, spacing, dims (sh left empty)
 };
 

@@ -71,16 +71,16 @@ LightShadowMaps& LightShadowMaps::operator=(LightShadowMaps&& other) noexcept {
     release();
     program_ = std::move(other.program_);
     map_size_ = other.map_size_;
-    framebuffer_ = std::exchange(other.framebuffer_, 0);
-    cube_array_ = std::exchange(other.cube_array_, 0);
-    face_array_ = std::exchange(other.face_array_, 0);
-    lights_buffer_ = std::exchange(other.lights_buffer_, 0);
+    framebuffer_ = std::move(other.framebuffer_);
+    cube_array_ = std::move(other.cube_array_);
+    face_array_ = std::move(other.face_array_);
+    lights_buffer_ = std::move(other.lights_buffer_);
     cube_capacity_ = std::exchange(other.cube_capacity_, 0);
     face_capacity_ = std::exchange(other.face_capacity_, 0);
     light_capacity_ = std::exchange(other.light_capacity_, 0);
-    box_vao_ = std::exchange(other.box_vao_, 0);
-    box_buffer_ = std::exchange(other.box_buffer_, 0);
-    box_query_ = std::exchange(other.box_query_, 0);
+    box_vao_ = std::move(other.box_vao_);
+    box_buffer_ = std::move(other.box_buffer_);
+    box_query_ = std::move(other.box_query_);
     box_capacity_ = std::exchange(other.box_capacity_, 0);
     gpu_lights_ = std::move(other.gpu_lights_);
     rendered_keys_ = std::move(other.rendered_keys_);
@@ -91,23 +91,21 @@ LightShadowMaps& LightShadowMaps::operator=(LightShadowMaps&& other) noexcept {
 LightShadowMaps::~LightShadowMaps() { release(); }
 
 void LightShadowMaps::release() {
-  if (framebuffer_ != 0) glDeleteFramebuffers(1, &framebuffer_);
-  if (cube_array_ != 0) glDeleteTextures(1, &cube_array_);
-  if (face_array_ != 0) glDeleteTextures(1, &face_array_);
-  if (lights_buffer_ != 0) glDeleteBuffers(1, &lights_buffer_);
-  if (box_buffer_ != 0) glDeleteBuffers(1, &box_buffer_);
-  if (box_vao_ != 0) glDeleteVertexArrays(1, &box_vao_);
-  if (box_query_ != 0) glDeleteQueries(1, &box_query_);
-  framebuffer_ = cube_array_ = face_array_ = lights_buffer_ = 0;
-  box_buffer_ = box_vao_ = box_query_ = 0;
+  framebuffer_.reset();
+  cube_array_.reset();
+  face_array_.reset();
+  lights_buffer_.reset();
+  box_buffer_.reset();
+  box_vao_.reset();
+  box_query_.reset();
   cube_capacity_ = face_capacity_ = light_capacity_ = 0;
   box_capacity_ = 0;
 }
 
 void LightShadowMaps::ensureCapacity(uint32_t cubes, uint32_t faces) {
   auto makeDepthArray = [&](GLenum target, uint32_t layers) {
-    GLuint texture = 0;
-    glCreateTextures(target, 1, &texture);
+    GlTexture owned = createGlTexture(target);
+    const GLuint texture = owned.id();
     glTextureStorage3D(texture, 1, GL_DEPTH_COMPONENT32F, map_size_, map_size_, GLsizei(layers));
     // Hardware 2x2 PCF under each of the shader's taps.
     glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -116,29 +114,29 @@ void LightShadowMaps::ensureCapacity(uint32_t cubes, uint32_t faces) {
     glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glTextureParameteri(texture, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
     glTextureParameteri(texture, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-    return texture;
+    return owned;
   };
   if (cubes > cube_capacity_) {
-    if (cube_array_ != 0) glDeleteTextures(1, &cube_array_);
+    cube_array_.reset();
     cube_capacity_ = std::max(cubes, cube_capacity_ * 2);
     cube_array_ = makeDepthArray(GL_TEXTURE_CUBE_MAP_ARRAY, cube_capacity_ * 6);
     rendered_keys_.clear();  // the old maps are gone
   }
   if (faces > face_capacity_) {
-    if (face_array_ != 0) glDeleteTextures(1, &face_array_);
+    face_array_.reset();
     face_capacity_ = std::max(faces, face_capacity_ * 2);
     face_array_ = makeDepthArray(GL_TEXTURE_2D_ARRAY, face_capacity_);
     rendered_keys_.clear();
   }
-  if (framebuffer_ == 0 && (cubes > 0 || faces > 0)) {
-    glCreateFramebuffers(1, &framebuffer_);
-    glNamedFramebufferDrawBuffer(framebuffer_, GL_NONE);
-    glNamedFramebufferReadBuffer(framebuffer_, GL_NONE);
+  if (!framebuffer_ && (cubes > 0 || faces > 0)) {
+    framebuffer_ = createGlFramebuffer();
+    glNamedFramebufferDrawBuffer(framebuffer_.id(), GL_NONE);
+    glNamedFramebufferReadBuffer(framebuffer_.id(), GL_NONE);
   }
 }
 
 void LightShadowMaps::setDepthState(bool write) const {
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, map_size_, map_size_);
   glUseProgram(program_.id());
   glEnable(GL_DEPTH_TEST);
@@ -156,18 +154,18 @@ void LightShadowMaps::setDepthState(bool write) const {
 void LightShadowMaps::forEachFace(size_t light, const glm::mat4& face_view, const std::function<void()>& draw) const {
   const GpuLight& g = gpu_lights_[light];
   auto face = [&](GLuint texture, int layer, const glm::mat4& clip_from_world) {
-    glNamedFramebufferTextureLayer(framebuffer_, GL_DEPTH_ATTACHMENT, texture, 0, layer);
+    glNamedFramebufferTextureLayer(framebuffer_.id(), GL_DEPTH_ATTACHMENT, texture, 0, layer);
     glUniformMatrix4fv(render_binding::kShadowClipFromWorld, 1, GL_FALSE, glm::value_ptr(clip_from_world));
     draw();
   };
   if (g.shadow[0] == kKindFace) {
-    face(face_array_, int(g.shadow[1]), face_view);
+    face(face_array_.id(), int(g.shadow[1]), face_view);
     return;
   }
   const glm::vec3 p(g.position[0], g.position[1], g.position[2]);
   const glm::mat4 projection = glm::perspective(glm::radians(90.0f), 1.0f, g.shadow[2], g.shadow[3]);
   for (int f = 0; f < 6; ++f) {
-    face(cube_array_, int(g.shadow[1]) * 6 + f, projection * glm::lookAt(p, p + kCubeForward[f], kCubeUp[f]));
+    face(cube_array_.id(), int(g.shadow[1]) * 6 + f, projection * glm::lookAt(p, p + kCubeForward[f], kCubeUp[f]));
   }
 }
 
@@ -186,43 +184,51 @@ uint32_t LightShadowMaps::uploadBoxes(const std::vector<Aabb>& boxes) {
     }
   }
   if (corners.size() > box_capacity_) {
-    if (box_buffer_ != 0) glDeleteBuffers(1, &box_buffer_);
+    box_buffer_.reset();
     box_capacity_ = std::max(corners.size(), box_capacity_ * 2);
-    glCreateBuffers(1, &box_buffer_);
-    glNamedBufferStorage(box_buffer_, GLsizeiptr(box_capacity_ * sizeof(glm::vec3)), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    if (box_vao_ == 0) {
-      glCreateVertexArrays(1, &box_vao_);
-      glEnableVertexArrayAttrib(box_vao_, 0);
-      glVertexArrayAttribFormat(box_vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
-      glVertexArrayAttribBinding(box_vao_, 0, 0);
+    box_buffer_ = createGlBuffer();
+    glNamedBufferStorage(box_buffer_.id(), GLsizeiptr(box_capacity_ * sizeof(glm::vec3)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    if (!box_vao_) {
+      box_vao_ = createGlVertexArray();
+      glEnableVertexArrayAttrib(box_vao_.id(), 0);
+      glVertexArrayAttribFormat(box_vao_.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
+      glVertexArrayAttribBinding(box_vao_.id(), 0, 0);
     }
-    glVertexArrayVertexBuffer(box_vao_, 0, box_buffer_, 0, sizeof(glm::vec3));
+    glVertexArrayVertexBuffer(box_vao_.id(), 0, box_buffer_.id(), 0, sizeof(glm::vec3));
   }
-  if (box_query_ == 0) glCreateQueries(GL_ANY_SAMPLES_PASSED, 1, &box_query_);
+  if (!box_query_) box_query_ = createGlQuery(GL_ANY_SAMPLES_PASSED);
   if (!corners.empty()) {
-    glNamedBufferSubData(box_buffer_, 0, GLsizeiptr(corners.size() * sizeof(glm::vec3)), corners.data());
+    glNamedBufferSubData(box_buffer_.id(), 0, GLsizeiptr(corners.size() * sizeof(glm::vec3)), corners.data());
   }
   return uint32_t(corners.size());
 }
 
 bool LightShadowMaps::boxesSeen(size_t light, uint32_t box_vertices, const glm::mat4& face_view) const {
   setDepthState(false);
-  glBindVertexArray(box_vao_);
-  glBeginQuery(GL_ANY_SAMPLES_PASSED, box_query_);
+  glBindVertexArray(box_vao_.id());
+  glBeginQuery(GL_ANY_SAMPLES_PASSED, box_query_.id());
   forEachFace(light, face_view, [&] { glDrawArrays(GL_TRIANGLES, 0, GLsizei(box_vertices)); });
   glEndQuery(GL_ANY_SAMPLES_PASSED);
   glDepthMask(GL_TRUE);
   GLuint passed = 1;
-  glGetQueryObjectuiv(box_query_, GL_QUERY_RESULT, &passed);
+  glGetQueryObjectuiv(box_query_.id(), GL_QUERY_RESULT, &passed);
   return passed != 0;
 }
 
 uint32_t LightShadowMaps::update(const std::vector<FrameLight>& lights, const Aabb& scene_bounds, bool casters_changed,
                                  const std::vector<Aabb>* moved_boxes, const DrawCasters& draw_casters) {
-  // Lay the lights out and count the maps they need.
+  std::vector<glm::mat4> face_views(lights.size());
+  const MapCounts counts = layOutLights(lights, scene_bounds, face_views);
+  ensureCapacity(counts.cubes, counts.faces);
+  uploadLights();
+  return renderMaps(scene_bounds, face_views, casters_changed, moved_boxes, draw_casters);
+}
+
+LightShadowMaps::MapCounts LightShadowMaps::layOutLights(const std::vector<FrameLight>& lights,
+                                                         const Aabb& scene_bounds,
+                                                         std::vector<glm::mat4>& face_views) {
   gpu_lights_.assign(lights.size(), GpuLight{});
   uint32_t cubes = 0, faces = 0;
-  std::vector<glm::mat4> face_views(lights.size());
   for (size_t i = 0; i < lights.size(); ++i) {
     const Light& l = lights[i].light;
     GpuLight& g = gpu_lights_[i];
@@ -261,22 +267,28 @@ uint32_t LightShadowMaps::update(const std::vector<FrameLight>& lights, const Aa
     }
     std::memcpy(g.shadow_from_world, glm::value_ptr(face_views[i]), sizeof g.shadow_from_world);
   }
-  ensureCapacity(cubes, faces);
+  return {cubes, faces};
+}
 
-  // The lights buffer: grows, never shrinks (no allocation in steady state).
+// The lights buffer: grows, never shrinks (no allocation in steady state).
+void LightShadowMaps::uploadLights() {
   if (gpu_lights_.size() > light_capacity_) {
-    if (lights_buffer_ != 0) glDeleteBuffers(1, &lights_buffer_);
+    lights_buffer_.reset();
     light_capacity_ = uint32_t(std::max<size_t>(gpu_lights_.size(), size_t(light_capacity_) * 2));
-    glCreateBuffers(1, &lights_buffer_);
-    glNamedBufferStorage(lights_buffer_, GLsizeiptr(light_capacity_ * sizeof(GpuLight)), nullptr,
+    lights_buffer_ = createGlBuffer();
+    glNamedBufferStorage(lights_buffer_.id(), GLsizeiptr(light_capacity_ * sizeof(GpuLight)), nullptr,
                          GL_DYNAMIC_STORAGE_BIT);
   }
   if (!gpu_lights_.empty()) {
-    glNamedBufferSubData(lights_buffer_, 0, GLsizeiptr(gpu_lights_.size() * sizeof(GpuLight)), gpu_lights_.data());
+    glNamedBufferSubData(lights_buffer_.id(), 0, GLsizeiptr(gpu_lights_.size() * sizeof(GpuLight)), gpu_lights_.data());
   }
+}
 
-  // Render the maps whose light changed, or whose light sees where the
-  // casters moved from or to.
+// Renders the maps whose light changed, or whose light sees where the
+// casters moved from or to.
+uint32_t LightShadowMaps::renderMaps(const Aabb& scene_bounds, const std::vector<glm::mat4>& face_views,
+                                     bool casters_changed, const std::vector<Aabb>* moved_boxes,
+                                     const DrawCasters& draw_casters) {
   uint32_t rendered = 0;
   rendered_keys_.resize(gpu_lights_.size());
   bool state_set = false;
@@ -312,9 +324,9 @@ uint32_t LightShadowMaps::update(const std::vector<FrameLight>& lights, const Aa
 }
 
 void LightShadowMaps::bind() const {
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, render_binding::kLights, lights_buffer_);
-  glBindTextureUnit(render_binding::kShadowCubeUnit, cube_array_);
-  glBindTextureUnit(render_binding::kShadowFaceUnit, face_array_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, render_binding::kLights, lights_buffer_.id());
+  glBindTextureUnit(render_binding::kShadowCubeUnit, cube_array_.id());
+  glBindTextureUnit(render_binding::kShadowFaceUnit, face_array_.id());
 }
 
 }  // namespace svit::gl

@@ -13,6 +13,7 @@
 
 #include <glm/glm.hpp>
 
+#include "gl_handle.h"
 #include "gl_memory.h"
 #include "gl_program.h"
 #include "svit/math_types.h"
@@ -77,10 +78,21 @@ class LightShadowMaps {
   size_t lightCount() const { return gpu_lights_.size(); }
 
   std::vector<GlObject> glObjects() const {
-    return {glTextureObject(cube_array_), glTextureObject(face_array_), glBufferObject(lights_buffer_)};
+    return {glTextureObject(cube_array_.id()), glTextureObject(face_array_.id()), glBufferObject(lights_buffer_.id())};
   }
 
  private:
+  struct MapCounts {
+    uint32_t cubes = 0, faces = 0;
+  };
+  /// update()'s stages: gpu_lights_ and each face light's clip transform
+  /// (into face_views) from `lights`, with the maps they need; the lights
+  /// buffer filled; the maps that may have changed rendered (returns how many).
+  MapCounts layOutLights(const std::vector<FrameLight>& lights, const Aabb& scene_bounds,
+                         std::vector<glm::mat4>& face_views);
+  void uploadLights();
+  uint32_t renderMaps(const Aabb& scene_bounds, const std::vector<glm::mat4>& face_views, bool casters_changed,
+                      const std::vector<Aabb>* moved_boxes, const DrawCasters& draw_casters);
   void release();
   void ensureCapacity(uint32_t cubes, uint32_t faces);
   /// Depth-only drawing into the maps: writing (with the casters' polygon
@@ -96,10 +108,13 @@ class LightShadowMaps {
   bool boxesSeen(size_t light, uint32_t box_vertices, const glm::mat4& face_view) const;
   GlProgram program_;
   int map_size_ = 512;
-  uint32_t framebuffer_ = 0;
-  uint32_t cube_array_ = 0, face_array_ = 0, lights_buffer_ = 0;
+  GlFramebuffer framebuffer_;
+  GlTexture cube_array_, face_array_;
+  GlBuffer lights_buffer_;
   uint32_t cube_capacity_ = 0, face_capacity_ = 0, light_capacity_ = 0;
-  uint32_t box_vao_ = 0, box_buffer_ = 0, box_query_ = 0;
+  GlVertexArray box_vao_;
+  GlBuffer box_buffer_;
+  GlQuery box_query_;
   size_t box_capacity_ = 0;  ///< vertices box_buffer_ holds
   std::vector<GpuLight> gpu_lights_;
   std::vector<std::vector<float>> rendered_keys_;  ///< per light slot: what its map was rendered for

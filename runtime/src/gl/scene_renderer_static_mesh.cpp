@@ -46,7 +46,10 @@ size_t countBakeableStaticTriangles(const Scene& scene) {
   return count;
 }
 
-Expected<StaticMesh> buildStaticMesh(const Scene& scene, const BakeData& bake) {
+namespace {
+
+// The bake and the level agree on the static triangles and their pages.
+Status checkBakeTriangles(const Scene& scene, const BakeData& bake) {
   const size_t triangle_count = bake.triangle_uvs.size();
   const size_t level_count = countBakeableStaticTriangles(scene);
   if (level_count != triangle_count) {
@@ -54,76 +57,89 @@ Expected<StaticMesh> buildStaticMesh(const Scene& scene, const BakeData& bake) {
                                                  " static triangles, the level " + scene.source_path + " has " +
                                                  std::to_string(level_count) + ": bake the level again");
   }
-  Expected<BakedSurfaces> surfaces = BakedSurfaces::build(scene, bake);
-  if (!surfaces.ok()) return surfaces.status();
-  for (size_t t = 0; t < triangle_count; ++t) {
+  return Status();
+}
+
+Status checkPages(const BakeData& bake) {
+  for (size_t t = 0; t < bake.triangle_uvs.size(); ++t) {
     if (bake.triangle_uvs[t].page >= bake.pages.size()) {
       return Status(StatusCode::kInvalidInput, "bake triangle " + std::to_string(t) + ": lightmap page " +
                                                    std::to_string(bake.triangle_uvs[t].page) + " >= page count " +
                                                    std::to_string(bake.pages.size()));
     }
   }
+  return Status();
+}
 
-  StaticMesh out;
-  out.bounds = surfaces->bounds();
-
-  // Per triangle: material and the front-side shading normal of each corner.
+// Per bake triangle: its material, and the front-side shading normal of
+// each corner (into corner_normal, 3 per triangle).
+std::vector<uint32_t> triangleMaterials(const Scene& scene, const BakeData& bake, const BakedSurfaces& surfaces,
+                                        std::vector<glm::vec3>& corner_normal) {
+  const size_t triangle_count = bake.triangle_uvs.size();
   std::vector<uint32_t> material(triangle_count);
-  std::vector<glm::vec3> corner_normal(triangle_count * 3);
-  {
-    int cached_instance = -1;
-    glm::mat3 normal_from_object(1.0f);
-    for (size_t t = 0; t < triangle_count; ++t) {
-      const BakeTriangleUv& uv = bake.triangle_uvs[t];
-      const Instance& instance = scene.instances[uv.instance];
-      const Mesh& mesh = scene.meshes[size_t(instance.mesh)];
-      material[t] = mesh.triangle_material[uv.mesh_triangle];
-      if (int(uv.instance) != cached_instance) {
-        cached_instance = int(uv.instance);
-        normal_from_object = normalMatrix(instance.world_from_object);
+  corner_normal.assign(triangle_count * 3, glm::vec3(0.0f));
+  int cached_instance = -1;
+  glm::mat3 normal_from_object(1.0f);
+  for (size_t t = 0; t < triangle_count; ++t) {
+    const BakeTriangleUv& uv = bake.triangle_uvs[t];
+    const Instance& instance = scene.instances[uv.instance];
+    const Mesh& mesh = scene.meshes[size_t(instance.mesh)];
+    material[t] = mesh.triangle_material[uv.mesh_triangle];
+    if (int(uv.instance) != cached_instance) {
+      cached_instance = int(uv.instance);
+      normal_from_object = normalMatrix(instance.world_from_object);
+    }
+    const glm::vec3 face = toGlm(surfaces.normal(t));
+    for (int k = 0; k < 3; ++k) {
+      glm::vec3 n = face;
+      if (!mesh.normals.empty()) {
+        const glm::vec3 m = normal_from_object * toGlm(mesh.normals[mesh.indices[size_t(uv.mesh_triangle) * 3 + size_t(k)]]);
+        const float length = glm::length(m);
+        // A mirroring transform keeps the front counter-clockwise in world
+        // space (as the baker lights it): the shading normal follows.
+        if (length > 0 && std::isfinite(length)) n = glm::dot(m, face) < 0 ? -m / length : m / length;
       }
-      const glm::vec3 face = toGlm(surfaces->normal(t));
-      for (int k = 0; k < 3; ++k) {
-        glm::vec3 n = face;
-        if (!mesh.normals.empty()) {
-          const glm::vec3 m = normal_from_object * toGlm(mesh.normals[mesh.indices[size_t(uv.mesh_triangle) * 3 + size_t(k)]]);
-          const float length = glm::length(m);
-          // A mirroring transform keeps the front counter-clockwise in world
-          // space (as the baker lights it): the shading normal follows.
-          if (length > 0 && std::isfinite(length)) n = glm::dot(m, face) < 0 ? -m / length : m / length;
-        }
-        corner_normal[t * 3 + size_t(k)] = n;
-      }
+      corner_normal[t * 3 + size_t(k)] = n;
     }
   }
+  return material;
+}
 
-  // The kPatch bake emitter of each emissive triangle, so a dimmed lamp can
-  // be drawn dimmed: its own batches.
+// The kPatch bake emitter of each emissive triangle, so a dimmed lamp can
+// be drawn dimmed: its own batches. Error: a patch element out of range.
+Expected<std::vector<uint32_t>> triangleEmitters(const Scene& scene, const BakeData& bake,
+                                                 const std::vector<uint32_t>& material) {
+  const size_t triangle_count = bake.triangle_uvs.size();
   std::vector<uint32_t> emitter(triangle_count, kNoBakeEmitter);
-  {
-    std::vector<uint32_t> patch_emitter(bake.patches.size(), kNoBakeEmitter);
-    for (uint32_t e = 0; e < bake.emitters.size(); ++e) {
-      const BakeEmitter& be = bake.emitters[e];
-      if (be.kind == BakeEmitter::Kind::kPatch && be.index < patch_emitter.size()) patch_emitter[be.index] = e;
-    }
-    for (uint32_t p = 0; p < bake.patches.size(); ++p) {
-      if (patch_emitter[p] == kNoBakeEmitter) continue;
-      const BakePatch& patch = bake.patches[p];
-      for (uint32_t i = patch.first_element; i < patch.first_element + patch.element_count; ++i) {
-        const uint32_t element = i < bake.patch_elements.size() ? bake.patch_elements[i] : UINT32_MAX;
-        if (element / 2 >= triangle_count) {
-          return Status(StatusCode::kInvalidInput, "bake patch " + std::to_string(p) + ": element " +
-                                                       std::to_string(i) + " out of range");
-        }
-        const Material& m = scene.materials[material[element / 2]];
-        const bool emits = m.emissive_luminance.r > 0 || m.emissive_luminance.g > 0 || m.emissive_luminance.b > 0;
-        // The front side's emitter wins over the back's.
-        if (emits && (element % 2 == 0 || emitter[element / 2] == kNoBakeEmitter)) emitter[element / 2] = patch_emitter[p];
+  std::vector<uint32_t> patch_emitter(bake.patches.size(), kNoBakeEmitter);
+  for (uint32_t e = 0; e < bake.emitters.size(); ++e) {
+    const BakeEmitter& be = bake.emitters[e];
+    if (be.kind == BakeEmitter::Kind::kPatch && be.index < patch_emitter.size()) patch_emitter[be.index] = e;
+  }
+  for (uint32_t p = 0; p < bake.patches.size(); ++p) {
+    if (patch_emitter[p] == kNoBakeEmitter) continue;
+    const BakePatch& patch = bake.patches[p];
+    for (uint32_t i = patch.first_element; i < patch.first_element + patch.element_count; ++i) {
+      const uint32_t element = i < bake.patch_elements.size() ? bake.patch_elements[i] : UINT32_MAX;
+      if (element / 2 >= triangle_count) {
+        return Status(StatusCode::kInvalidInput, "bake patch " + std::to_string(p) + ": element " +
+                                                     std::to_string(i) + " out of range");
       }
+      const Material& m = scene.materials[material[element / 2]];
+      const bool emits = m.emissive_luminance.r > 0 || m.emissive_luminance.g > 0 || m.emissive_luminance.b > 0;
+      // The front side's emitter wins over the back's.
+      if (emits && (element % 2 == 0 || emitter[element / 2] == kNoBakeEmitter)) emitter[element / 2] = patch_emitter[p];
     }
   }
+  return emitter;
+}
 
-  // Batches: triangles ordered by (material, page, emitter), bake order within.
+// Batches: triangles ordered by (material, page, emitter), bake order
+// within; their vertices appended to out.
+void appendBatches(const Scene& scene, const BakeData& bake, const BakedSurfaces& surfaces,
+                   const std::vector<uint32_t>& material, const std::vector<uint32_t>& emitter,
+                   const std::vector<glm::vec3>& corner_normal, StaticMesh& out) {
+  const size_t triangle_count = bake.triangle_uvs.size();
   std::vector<uint32_t> order(triangle_count);
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
@@ -141,7 +157,7 @@ Expected<StaticMesh> buildStaticMesh(const Scene& scene, const BakeData& bake) {
     for (int k = 0; k < 3; ++k) {
       const uint32_t index = mesh.indices[size_t(uv.mesh_triangle) * 3 + size_t(k)];
       StaticVertex v{};
-      const Vec3& p = surfaces->corner(t, k);
+      const Vec3& p = surfaces.corner(t, k);
       const glm::vec3& n = corner_normal[size_t(t) * 3 + size_t(k)];
       v.position[0] = p.x, v.position[1] = p.y, v.position[2] = p.z;
       v.normal[0] = n.x, v.normal[1] = n.y, v.normal[2] = n.z;
@@ -154,6 +170,22 @@ Expected<StaticMesh> buildStaticMesh(const Scene& scene, const BakeData& bake) {
     }
     out.batches.back().vertex_count += 3;
   }
+}
+
+}  // namespace
+
+Expected<StaticMesh> buildStaticMesh(const Scene& scene, const BakeData& bake) {
+  if (Status s = checkBakeTriangles(scene, bake); !s.ok()) return s;
+  Expected<BakedSurfaces> surfaces = BakedSurfaces::build(scene, bake);
+  if (!surfaces.ok()) return surfaces.status();
+  if (Status s = checkPages(bake); !s.ok()) return s;
+  StaticMesh out;
+  out.bounds = surfaces->bounds();
+  std::vector<glm::vec3> corner_normal;
+  const std::vector<uint32_t> material = triangleMaterials(scene, bake, *surfaces, corner_normal);
+  Expected<std::vector<uint32_t>> emitter = triangleEmitters(scene, bake, material);
+  if (!emitter.ok()) return emitter.status();
+  appendBatches(scene, bake, *surfaces, material, *emitter, corner_normal, out);
   return out;
 }
 

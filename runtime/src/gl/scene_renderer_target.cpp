@@ -21,19 +21,20 @@ Expected<OffscreenTarget> OffscreenTarget::create(int width, int height) {
   OffscreenTarget out;
   out.width_ = width;
   out.height_ = height;
-  glCreateTextures(GL_TEXTURE_2D, 1, &out.colour_);
-  glTextureStorage2D(out.colour_, 1, GL_RGBA8, width, height);
+  out.colour_ = createGlTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(out.colour_.id(), 1, GL_RGBA8, width, height);
   // RGBA, not RGB: GL 4.5 does not require RGB32F to be colour-renderable.
-  glCreateTextures(GL_TEXTURE_2D, 1, &out.radiance_);
-  glTextureStorage2D(out.radiance_, 1, GL_RGBA32F, width, height);
-  glCreateRenderbuffers(1, &out.depth_);
-  glNamedRenderbufferStorage(out.depth_, GL_DEPTH_COMPONENT32F, width, height);
-  glCreateFramebuffers(1, &out.framebuffer_);
-  glNamedFramebufferTexture(out.framebuffer_, GL_COLOR_ATTACHMENT0, out.colour_, 0);
-  glNamedFramebufferTexture(out.framebuffer_, GL_COLOR_ATTACHMENT1, out.radiance_, 0);
-  glNamedFramebufferRenderbuffer(out.framebuffer_, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, out.depth_);
+  out.radiance_ = createGlTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(out.radiance_.id(), 1, GL_RGBA32F, width, height);
+  out.depth_ = createGlRenderbuffer();
+  glNamedRenderbufferStorage(out.depth_.id(), GL_DEPTH_COMPONENT32F, width, height);
+  out.framebuffer_ = createGlFramebuffer();
+  const GLuint framebuffer = out.framebuffer_.id();
+  glNamedFramebufferTexture(framebuffer, GL_COLOR_ATTACHMENT0, out.colour_.id(), 0);
+  glNamedFramebufferTexture(framebuffer, GL_COLOR_ATTACHMENT1, out.radiance_.id(), 0);
+  glNamedFramebufferRenderbuffer(framebuffer, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, out.depth_.id());
   out.drawRadiance(false);
-  const GLenum status = glCheckNamedFramebufferStatus(out.framebuffer_, GL_DRAW_FRAMEBUFFER);
+  const GLenum status = glCheckNamedFramebufferStatus(framebuffer, GL_DRAW_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE) {
     return Status(StatusCode::kInternal, "render target " + std::to_string(width) + "x" + std::to_string(height) +
                                              ": framebuffer incomplete (status " + std::to_string(status) + ")");
@@ -48,10 +49,10 @@ OffscreenTarget::OffscreenTarget(OffscreenTarget&& other) noexcept { *this = std
 OffscreenTarget& OffscreenTarget::operator=(OffscreenTarget&& other) noexcept {
   if (this != &other) {
     release();
-    framebuffer_ = std::exchange(other.framebuffer_, 0);
-    colour_ = std::exchange(other.colour_, 0);
-    radiance_ = std::exchange(other.radiance_, 0);
-    depth_ = std::exchange(other.depth_, 0);
+    framebuffer_ = std::move(other.framebuffer_);
+    colour_ = std::move(other.colour_);
+    radiance_ = std::move(other.radiance_);
+    depth_ = std::move(other.depth_);
     width_ = std::exchange(other.width_, 0);
     height_ = std::exchange(other.height_, 0);
   }
@@ -61,16 +62,15 @@ OffscreenTarget& OffscreenTarget::operator=(OffscreenTarget&& other) noexcept {
 OffscreenTarget::~OffscreenTarget() { release(); }
 
 void OffscreenTarget::release() {
-  if (framebuffer_ != 0) glDeleteFramebuffers(1, &framebuffer_);
-  if (colour_ != 0) glDeleteTextures(1, &colour_);
-  if (radiance_ != 0) glDeleteTextures(1, &radiance_);
-  if (depth_ != 0) glDeleteRenderbuffers(1, &depth_);
-  framebuffer_ = colour_ = radiance_ = depth_ = 0;
+  framebuffer_.reset();
+  colour_.reset();
+  radiance_.reset();
+  depth_.reset();
 }
 
 void OffscreenTarget::drawRadiance(bool on) const {
   const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glNamedFramebufferDrawBuffers(framebuffer_, on ? 2 : 1, both);
+  glNamedFramebufferDrawBuffers(framebuffer_.id(), on ? 2 : 1, both);
 }
 
 namespace {
@@ -99,25 +99,25 @@ std::vector<T> readTopDown(uint32_t framebuffer, GLenum attachment, int width, i
 }  // namespace
 
 std::vector<uint8_t> OffscreenTarget::readRgb() const {
-  if (framebuffer_ == 0) return {};
-  return readTopDown<uint8_t>(framebuffer_, GL_COLOR_ATTACHMENT0, width_, height_);
+  if (!framebuffer_) return {};
+  return readTopDown<uint8_t>(framebuffer_.id(), GL_COLOR_ATTACHMENT0, width_, height_);
 }
 
 // A float attachment reads back unclamped (GL_CLAMP_READ_COLOR defaults to
 // GL_FIXED_ONLY): radiance above 1 cd/m2 survives.
 std::vector<float> OffscreenTarget::readRadiance() const {
-  if (framebuffer_ == 0) return {};
-  return readTopDown<float>(framebuffer_, GL_COLOR_ATTACHMENT1, width_, height_);
+  if (!framebuffer_) return {};
+  return readTopDown<float>(framebuffer_.id(), GL_COLOR_ATTACHMENT1, width_, height_);
 }
 
 void OffscreenTarget::clearRadiance() const {
   const float zero[4] = {0, 0, 0, 0};
-  glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 1, zero);
+  glClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 1, zero);
 }
 
 std::vector<uint8_t> OffscreenTarget::readSurfaceKinds() const {
-  if (framebuffer_ == 0) return {};
-  const std::vector<float> rgba = readTopDown<float>(framebuffer_, GL_COLOR_ATTACHMENT1, width_, height_, GL_RGBA);
+  if (!framebuffer_) return {};
+  const std::vector<float> rgba = readTopDown<float>(framebuffer_.id(), GL_COLOR_ATTACHMENT1, width_, height_, GL_RGBA);
   std::vector<uint8_t> kinds(rgba.size() / 4);
   for (size_t i = 0; i < kinds.size(); ++i) kinds[i] = uint8_t(std::lround(std::clamp(rgba[i * 4 + 3], 0.0f, 255.0f)));
   return kinds;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "gl_handle.h"
 #include "gl_memory.h"
 #include "svit/status.h"
 
@@ -25,7 +26,7 @@ class OffscreenTarget {
   OffscreenTarget& operator=(const OffscreenTarget&) = delete;
   ~OffscreenTarget();
 
-  uint32_t framebuffer() const { return framebuffer_; }
+  uint32_t framebuffer() const { return framebuffer_.id(); }
   int width() const { return width_; }
   int height() const { return height_; }
   /// Fragment outputs 0 and 1 go to colour and radiance (the lit passes);
@@ -42,12 +43,14 @@ class OffscreenTarget {
   std::vector<uint8_t> readSurfaceKinds() const;
 
   std::vector<GlObject> glObjects() const {
-    return {glTextureObject(colour_), glTextureObject(radiance_), glRenderbufferObject(depth_)};
+    return {glTextureObject(colour_.id()), glTextureObject(radiance_.id()), glRenderbufferObject(depth_.id())};
   }
 
  private:
   void release();
-  uint32_t framebuffer_ = 0, colour_ = 0, radiance_ = 0, depth_ = 0;
+  GlFramebuffer framebuffer_;
+  GlTexture colour_, radiance_;
+  GlRenderbuffer depth_;
   int width_ = 0, height_ = 0;
 };
 
