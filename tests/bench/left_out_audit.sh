@@ -5,7 +5,7 @@
 # (bytes) and left out (why) from report.json, and the runtime's and
 # renderer's buffers allocated (bytes) and left out (why) from svit-walk's
 # stats JSON (Runtime::resources(), SceneRenderer::resources()).
-# Writes OUT/audit.md (the README table), OUT/audit.json and per level
+# Writes OUT/audit.md (the table in docs/performance.md), OUT/audit.json and per level
 # OUT/LEVEL/{bake,stats.json}.
 # usage: tests/bench/left_out_audit.sh [BUILD_DIR] [OUT_DIR]
 # (SVIT_AUDIT_REUSE=1 keeps bakes already in OUT_DIR.)
@@ -13,10 +13,9 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="${1:-$root/build/release}"
 out="${2:-$root/out/left-out-audit}"
-scenes="${SVIT_SHARED_SCENES_DIR:-$root/../shared/scenes}"
 mkdir -p "$out"
 levels=(
-  "cornell-static=$scenes/cornell_box_original/CornellBox-Original.gltf"
+  "cornell-static=$root/samples/levels/cornell/CornellBox-Original.gltf"
   "cornell=$root/samples/levels/cornell/level.json"
   "house=$root/samples/levels/house/level.json"
   "city=$root/samples/levels/city/level.json"
