@@ -1,6 +1,5 @@
-// The bake pipeline behind svit-bake (DESIGN.md "Command-line contracts").
+// The bake pipeline behind svit-bake (docs/architecture.md "Command-line contracts").
 
-#include "double_math.h"
 #include "svit/baker/bake.h"
 
 #include <unistd.h>
@@ -22,6 +21,8 @@
 #include "svit/baker/texel_lighting.h"
 #include "svit/level.h"
 #include "svit/lightmap_image.h"
+#include "bake_plan.h"
+#include "double_math.h"
 #include "random.h"
 
 namespace svit::baker {
@@ -129,6 +130,353 @@ nlohmann::ordered_json seriesJson(const std::vector<ErrorPoint>& series, bool wi
   return out;
 }
 
+// The bake's clock: elapsed time, the current stage and the seconds each
+// stage took, and the progress reports (which also poll `cancel`).
+class BakeClock {
+ public:
+  BakeClock(const std::function<bool(const BakeProgress&)>& progress, const std::atomic<bool>* cancel, double budget_s)
+      : progress_(progress), cancel_(cancel), budget_s_(budget_s) {}
+
+  double elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+  /// Seconds left of the budget; -1 without one.
+  double remaining() const { return std::isfinite(budget_s_) ? std::max(0.0, budget_s_ - elapsed()) : -1.0; }
+  double stageStart() const { return stage_start_; }
+  const std::vector<std::pair<std::string, double>>& stageSeconds() const { return stage_seconds_; }
+
+  /// Records the current stage's time and starts `next`.
+  void endStage(const std::string& next) {
+    stage_seconds_.push_back({stage_, elapsed() - stage_start_});
+    stage_ = next;
+    stage_start_ = elapsed();
+  }
+  /// Reports progress in the current stage; false: cancelled.
+  bool report(double fraction, double eta) const {
+    if (cancel_ && cancel_->load()) return false;
+    if (!progress_) return true;
+    return progress_(BakeProgress{stage_, fraction, elapsed(), eta});
+  }
+
+ private:
+  const Clock::time_point start_ = Clock::now();
+  const std::function<bool(const BakeProgress&)>& progress_;
+  const std::atomic<bool>* cancel_;
+  double budget_s_;
+  std::vector<std::pair<std::string, double>> stage_seconds_;
+  double stage_start_ = 0;
+  std::string stage_ = "load";
+};
+
+// What every stage of one bake reads.
+struct BakeRun {
+  const BakeOptions& options;
+  BakePlan plan;
+  BakeClock clock;
+  const std::atomic<bool>* cancel;
+  Status cancelled;  ///< what a cancelled bake returns
+
+  bool cancelRequested() const { return cancel && cancel->load(); }
+  /// `s`, or the bake's own kCancelled status when `s` is a cancellation.
+  Status orCancelled(const Status& s) const { return s.code() == StatusCode::kCancelled ? cancelled : s; }
+};
+
+// The pages of the --reference bake, checked to be of the same level; none
+// without --reference.
+Expected<std::vector<LightmapImage>> readReferencePages(const std::string& reference_dir, uint64_t level_hash) {
+  std::vector<LightmapImage> reference_pages;
+  if (reference_dir.empty()) return reference_pages;
+  const std::string reference_file = (fs::path(reference_dir) / "bake.svit").string();
+  Expected<BakeData> reference = readBakeFile(reference_file);
+  if (!reference.ok()) return Status(reference.status().code(), "--reference: " + reference.status().message());
+  if (reference->level_hash != level_hash) {
+    return Status(StatusCode::kInvalidInput, "--reference: " + reference_file + " is a bake of another level (or of a changed one)");
+  }
+  for (const BakeLightmapPage& page : reference->pages) {
+    Expected<LightmapImage> image = readLightmapExr((fs::path(reference_dir) / page.file).string());
+    if (!image.ok()) return Status(image.status().code(), "--reference: " + image.status().message());
+    reference_pages.push_back(std::move(image).value());
+  }
+  return reference_pages;
+}
+
+// Radiosity until the plan's error target or time cap.
+Expected<std::unique_ptr<RadiositySolver>> solveRadiosity(BakeRun& run, const Scene& scene, const BakeGeometry& geometry,
+                                                          const RayCaster& caster) {
+  RadiositySettings solver_settings;
+  solver_settings.seed = run.options.seed;
+  solver_settings.threads = run.options.threads;
+  Expected<std::unique_ptr<RadiositySolver>> solver = RadiositySolver::create(scene, geometry, caster, solver_settings);
+  if (!solver.ok()) return solver.status();
+  StopRule stop;
+  stop.target_est_rel_error = run.plan.solver_target_est_rel_error;
+  stop.max_seconds = run.plan.solver_max_seconds;
+  stop.cancel = run.cancel;
+  stop.progress = [&](const SolverProgress& p) {
+    const double fraction = std::min(1.0, std::max(p.elapsed_s / stop.max_seconds,
+                                                   std::log(p.est_rel_error) / std::log(stop.target_est_rel_error)));
+    return run.clock.report(std::max(0.0, fraction), run.clock.remaining());
+  };
+  if (Status s = (*solver)->improve(stop); !s.ok()) return run.orCancelled(s);
+  return solver;
+}
+
+// The chart atlas at the plan's density.
+Expected<LightmapAtlas> buildAtlas(BakeRun& run, const Scene& scene, const BakeGeometry& geometry,
+                                   AtlasSettings& atlas_settings) {
+  double total_area = 0;
+  for (float a : geometry.areas_m2) total_area += a;
+  atlas_settings.texels_per_m = atlasTexelsPerM(run.plan, total_area);
+  atlas_settings.max_page_size = run.options.max_page_size;
+  atlas_settings.threads = run.options.threads;
+  if (!run.clock.report(0, run.clock.remaining())) return run.cancelled;
+  return buildLightmapAtlas(scene, geometry, atlas_settings);
+}
+
+// --reference pages must have this bake's atlas, texel for texel.
+Status checkReferenceAtlas(const std::vector<LightmapImage>& reference_pages, const TexelSet& texels) {
+  if (reference_pages.empty()) return Status();
+  const bool same = reference_pages.size() == size_t(texels.page_count) &&
+                    reference_pages[0].width == texels.page_width && reference_pages[0].height == texels.page_height;
+  if (same) return Status();
+  return Status(StatusCode::kInvalidInput,
+                "--reference: its atlas differs from this bake's (" + std::to_string(reference_pages.size()) +
+                    " pages of " + std::to_string(reference_pages[0].width) + "x" + std::to_string(reference_pages[0].height) +
+                    " vs " + std::to_string(texels.page_count) + " of " + std::to_string(texels.page_width) + "x" +
+                    std::to_string(texels.page_height) + "); bake both with the same --texels-per-m");
+}
+
+// What the lighting passes leave: their running mean and the error series
+// (the solver's points, then one per pass).
+struct LightingPasses {
+  TexelAccumulator accumulator;
+  std::vector<ErrorPoint> series;
+  uint32_t gather_rays = 0;  ///< per texel and pass
+  double solver_error = 0;   ///< the solver's estimated relative error
+};
+
+// Lighting passes, averaged: each is an independent estimate, so their
+// spread is the lightmap's error estimate. Without a budget the quality
+// sets the pass count; with one, passes continue while time remains.
+Expected<LightingPasses> runLightingPasses(BakeRun& run, const Scene& scene, const BakeGeometry& geometry,
+                                           const RayCaster& caster, const RadiositySolver& solver, const TexelSet& texels,
+                                           const std::vector<LightmapImage>& reference_pages) {
+  const BakePlan& plan = run.plan;
+  LightingPasses out;
+  out.solver_error = solver.estimatedRelativeError();
+  const double solver_error = out.solver_error;
+  out.series = solver.errorSeries();
+  const double solver_seconds = solver.stats().seconds;
+  for (ErrorPoint& p : out.series) p.ref_rel_error = std::numeric_limits<double>::quiet_NaN();
+  TexelLightingSettings lighting_settings;
+  lighting_settings.threads = run.options.threads;
+  lighting_settings.gather_rays = plan.gather_rays;
+  lighting_settings.area_light_samples = plan.area_light_samples;
+  lighting_settings.sun_samples = plan.sun_samples;
+  out.gather_rays = lighting_settings.gather_rays;
+  const double stage_start = run.clock.stageStart();
+  double pass_seconds = 0;
+  for (uint32_t pass = 0; wantLightingPass(plan, pass, run.clock.elapsed(), pass_seconds); ++pass) {
+    const double pass_start = run.clock.elapsed();
+    lighting_settings.seed = hashIds(run.options.seed, 0x1a7, pass);
+    // Stage progress: the share of the stage's time used (with a budget),
+    // or of the planned passes (without one); never goes backwards.
+    const double stage_budget = plan.has_budget ? std::max(1e-3, plan.budget_s - stage_start) : 0.0;
+    Expected<std::vector<TexelIrradiance>> lit = lightTexels(
+        scene, geometry, caster, solver, texels, lighting_settings, run.cancel, [&](size_t done, size_t total) {
+          const double within = double(done) / double(std::max<size_t>(total, 1));
+          const double fraction = plan.has_budget ? (run.clock.elapsed() - stage_start) / stage_budget
+                                                  : (double(pass) + within) / double(plan.quality_passes);
+          return run.clock.report(std::min(1.0, fraction), run.clock.remaining());
+        });
+    if (!lit.ok()) return run.orCancelled(lit.status());
+    out.accumulator.add(*lit);
+    pass_seconds = run.clock.elapsed() - pass_start;
+    ErrorPoint point;
+    point.t_s = solver_seconds + (run.clock.elapsed() - stage_start);
+    const double texel_error = out.accumulator.relativeError();
+    point.est_rel_error = std::sqrt(solver_error * solver_error + texel_error * texel_error);
+    point.rays = solver.stats().rays;
+    if (!reference_pages.empty()) point.ref_rel_error = referenceError(texels, out.accumulator.mean(), reference_pages);
+    out.series.push_back(point);
+  }
+  return out;
+}
+
+// The bake file's lightmap part: the pages' names and hashes, and every
+// static triangle's lightmap coordinates.
+BakeData lightmapBakeData(const BakeOptions& options, uint64_t level_hash, const BakeGeometry& geometry,
+                          const LightmapAtlas& atlas, const LightmapPages& pages) {
+  BakeData data;
+  data.level_hash = level_hash;
+  data.seed = options.seed;
+  for (size_t p = 0; p < pages.images.size(); ++p) {
+    BakeLightmapPage page;
+    page.width = uint32_t(pages.images[p].width);
+    page.height = uint32_t(pages.images[p].height);
+    page.file = "lightmap-" + std::to_string(p) + ".exr";
+    page.texel_hash = fnv1a64(pages.images[p].rgb.data(), pages.images[p].rgb.size() * sizeof(float));
+    data.pages.push_back(page);
+  }
+  for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+    BakeTriangleUv uv;
+    uv.instance = geometry.instance[t];
+    uv.mesh_triangle = geometry.mesh_triangle[t];
+    uv.page = atlas.triangle_page[t];
+    for (int k = 0; k < 3; ++k) uv.uv[k] = atlas.triangle_uv[t * 3 + size_t(k)];
+    data.triangle_uvs.push_back(uv);
+  }
+  return data;
+}
+
+// Adds the runtime's sections to `data` when the level needs them; returns
+// the report's list of sections left out.
+Expected<nlohmann::ordered_json> addRuntimeSections(BakeRun& run, const Scene& scene, const BakeGeometry& geometry,
+                                                    const RayCaster& caster, const RadiositySolver& solver, BakeData& data) {
+  nlohmann::ordered_json left_out = nlohmann::ordered_json::array();
+  if (levelNeedsRuntimeSections(scene)) {
+    RuntimeSectionSettings runtime_settings;
+    runtime_settings.seed = run.options.seed;
+    runtime_settings.threads = run.options.threads;
+    if (Status s = buildRuntimeSections(scene, geometry, caster, solver, runtime_settings, data, run.cancel); !s.ok()) {
+      return run.orCancelled(s);
+    }
+  } else {
+    for (const char* section : {"patches", "clusters", "emitters", "proxy", "probes"}) {
+      left_out.push_back({{"section", section}, {"reason", "the level has no dynamic objects and no runtime lights"}});
+    }
+  }
+  return left_out;
+}
+
+// Lightmap texels written by the pass (valid 1) and by dilation (valid 2).
+struct TexelCounts {
+  size_t covered = 0, dilated = 0;
+};
+
+TexelCounts countTexels(const LightmapPages& pages) {
+  TexelCounts counts;
+  for (const auto& valid : pages.valid) {
+    for (uint8_t v : valid) {
+      counts.covered += v == 1;
+      counts.dilated += v == 2;
+    }
+  }
+  return counts;
+}
+
+// Everything report.json says, but the final stage timings and total.
+struct ReportInputs {
+  const Scene& scene;
+  uint64_t level_hash;
+  size_t degenerate;
+  const RadiositySolver& solver;
+  const AtlasSettings& atlas_settings;
+  const LightmapAtlas& atlas;
+  const TexelSet& texels;
+  const LightmapPages& pages;
+  const LightingPasses& lighting;
+  const BakeData& data;
+  const nlohmann::ordered_json& left_out;
+  bool with_reference;
+};
+
+nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
+  const BakeOptions& options = run.options;
+  const SolverStats stats = in.solver.stats();
+  const TexelCounts counts = countTexels(in.pages);
+  nlohmann::ordered_json json;
+  json["level"] = fs::absolute(options.level_path).lexically_normal().string();
+  json["level_hash"] = in.level_hash;
+  json["seed"] = options.seed;
+  json["quality"] = options.quality;
+  json["time_budget_s"] = run.plan.has_budget ? nlohmann::ordered_json(run.plan.budget_s) : nullptr;
+  json["texels_per_m"] = in.atlas_settings.texels_per_m;
+  json["threads"] = options.threads;
+  json["machine"] = "CPU ray casting (Embree 3); no GPU used by the baker";
+  nlohmann::ordered_json timings = nlohmann::ordered_json::object();
+  for (const auto& [name, seconds] : run.clock.stageSeconds()) timings[name] = seconds;
+  json["stage_seconds"] = timings;
+  json["radiosity"] = {{"rays", stats.rays},
+                       {"rays_per_s", stats.seconds > 0 ? double(stats.rays) / stats.seconds : 0.0},
+                       {"passes", stats.passes_completed},
+                       {"elements", stats.elements},
+                       {"leaves", stats.leaves},
+                       {"subdivisions", stats.subdivisions},
+                       {"est_rel_error", in.lighting.solver_error},
+                       {"compensation", stats.compensation},
+                       {"captured_fraction", stats.captured_fraction},
+                       {"back_absorbed_rays", stats.back_absorbed},
+                       {"inside_origin_rays", stats.inside_origin_rays}};
+  json["lightmap"] = {{"pages", in.pages.images.size()},
+                      {"page_width", in.texels.page_width},
+                      {"page_height", in.texels.page_height},
+                      {"atlas", in.atlas.authored ? "TEXCOORD_1" : "xatlas"},
+                      {"covered_texels", counts.covered},
+                      {"dilated_texels", counts.dilated},
+                      {"lighting_passes", in.lighting.accumulator.passes},
+                      {"gather_rays_per_texel", in.lighting.accumulator.passes * in.lighting.gather_rays}};
+  nlohmann::ordered_json warnings = in.scene.warnings;
+  if (in.degenerate > 0) {
+    warnings.push_back(std::to_string(in.degenerate) + " static triangles flattened to zero area by their instance transform; skipped");
+  }
+  json["warnings"] = warnings;
+  json["sections_written"] = sectionsJson(in.data);
+  json["sections_left_out"] = in.left_out;
+  json["error_vs_time"] = seriesJson(in.lighting.series, in.with_reference);
+  return json;
+}
+
+// Writes the pages, the bake file and report.json into a fresh directory
+// beside OUT, then swaps it in; OUT is left as it was on any failure.
+Expected<BakeResult> writeBake(BakeRun& run, const LightmapPages& pages, const BakeData& data,
+                               const std::vector<ErrorPoint>& series, nlohmann::ordered_json& json) {
+  const fs::path out = fs::path(run.options.out_dir);
+  const fs::path temporary = out.parent_path() / (out.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  std::error_code ec;
+  fs::remove_all(temporary, ec);
+  fs::create_directories(temporary, ec);
+  if (ec) return Status(StatusCode::kIoError, temporary.string() + ": cannot create: " + ec.message());
+  auto fail = [&](const Status& s) {
+    std::error_code ignored;
+    fs::remove_all(temporary, ignored);
+    return s;
+  };
+  for (size_t p = 0; p < pages.images.size(); ++p) {
+    if (Status s = writeLightmapExr(pages.images[p], (temporary / data.pages[p].file).string()); !s.ok()) return fail(s);
+    if (run.cancelRequested()) return fail(run.cancelled);
+  }
+  if (Status s = writeBakeFile(data, (temporary / "bake.svit").string()); !s.ok()) return fail(s);
+  BakeResult result;
+  result.pages = pages.images.size();
+  result.covered_texels = countTexels(pages).covered;
+  result.est_rel_error = series.empty() ? 1.0 : series.back().est_rel_error;
+  result.ref_rel_error = series.empty() ? std::numeric_limits<double>::quiet_NaN() : series.back().ref_rel_error;
+  run.clock.endStage("done");
+  json["stage_seconds"]["write"] = run.clock.stageSeconds().back().second;
+  result.seconds = run.clock.elapsed();
+  json["total_seconds"] = result.seconds;
+  result.report_json = json.dump(2) + "\n";
+  {
+    std::ofstream file(temporary / "report.json");
+    file << result.report_json;
+    if (!file) return fail(Status(StatusCode::kIoError, (temporary / "report.json").string() + ": cannot write"));
+  }
+  if (run.cancelRequested()) return fail(run.cancelled);
+  const fs::path old = out.parent_path() / (out.filename().string() + ".old-" + std::to_string(::getpid()));
+  const bool had_previous = fs::exists(out, ec);
+  if (had_previous) {
+    fs::rename(out, old, ec);
+    if (ec) return fail(Status(StatusCode::kIoError, out.string() + ": cannot move the previous bake aside: " + ec.message()));
+  }
+  fs::rename(temporary, out, ec);
+  if (ec) {
+    std::error_code ignored;
+    if (had_previous) fs::rename(old, out, ignored);
+    return fail(Status(StatusCode::kIoError, out.string() + ": cannot move the new bake in place: " + ec.message()));
+  }
+  if (had_previous) fs::remove_all(old, ec);
+  return result;
+}
+
 }  // namespace
 
 Status validateBakeOptions(const BakeOptions& o) {
@@ -146,283 +494,57 @@ Status validateBakeOptions(const BakeOptions& o) {
 Expected<BakeResult> bakeLevel(const BakeOptions& options, const std::function<bool(const BakeProgress&)>& progress,
                                const std::atomic<bool>* cancel) {
   if (Status s = validateBakeOptions(options); !s.ok()) return s;
-  const auto start = Clock::now();
-  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-  std::vector<std::pair<std::string, double>> stage_seconds;
-  double stage_start = 0;
-  std::string stage = "load";
-  auto endStage = [&](const std::string& next) {
-    stage_seconds.push_back({stage, elapsed() - stage_start});
-    stage = next;
-    stage_start = elapsed();
-  };
-  auto report = [&](double fraction, double eta) {
-    if (cancel && cancel->load()) return false;
-    if (!progress) return true;
-    return progress(BakeProgress{stage, fraction, elapsed(), eta});
-  };
-  const Status cancelled(StatusCode::kCancelled, "bake cancelled; " + options.out_dir + " left as it was");
-  const double budget = options.time_budget_s;
-  auto remaining = [&] { return std::isfinite(budget) ? std::max(0.0, budget - elapsed()) : -1.0; };
+  BakeRun run{options, planBake(options), BakeClock(progress, cancel, options.time_budget_s), cancel,
+              Status(StatusCode::kCancelled, "bake cancelled; " + options.out_dir + " left as it was")};
 
-  // Load the level and, with --reference, the reference bake.
-  if (!report(0, remaining())) return cancelled;
+  // Load the level, the --reference bake, and the ray caster.
+  if (!run.clock.report(0, run.clock.remaining())) return run.cancelled;
   Expected<Scene> scene = loadLevel(options.level_path);
   if (!scene.ok()) return scene.status();
   const uint64_t level_hash = hashLevel(*scene);
-  std::vector<LightmapImage> reference_pages;
-  if (!options.reference_dir.empty()) {
-    const std::string reference_file = (fs::path(options.reference_dir) / "bake.svit").string();
-    Expected<BakeData> reference = readBakeFile(reference_file);
-    if (!reference.ok()) return Status(reference.status().code(), "--reference: " + reference.status().message());
-    if (reference->level_hash != level_hash) {
-      return Status(StatusCode::kInvalidInput, "--reference: " + reference_file + " is a bake of another level (or of a changed one)");
-    }
-    for (const BakeLightmapPage& page : reference->pages) {
-      Expected<LightmapImage> image = readLightmapExr((fs::path(options.reference_dir) / page.file).string());
-      if (!image.ok()) return Status(image.status().code(), "--reference: " + image.status().message());
-      reference_pages.push_back(std::move(image).value());
-    }
-  }
+  Expected<std::vector<LightmapImage>> reference_pages = readReferencePages(options.reference_dir, level_hash);
+  if (!reference_pages.ok()) return reference_pages.status();
   size_t degenerate = 0;
   Expected<BakeGeometry> geometry = flattenStaticGeometry(*scene, &degenerate);
   if (!geometry.ok()) return geometry.status();
   Expected<std::unique_ptr<RayCaster>> caster = makeEmbreeCaster(*geometry);
   if (!caster.ok()) return caster.status();
-  endStage("radiosity");
+  run.clock.endStage("radiosity");
 
-  // Radiosity: until the quality's error target, or 40% of the budget.
-  RadiositySettings solver_settings;
-  solver_settings.seed = options.seed;
-  solver_settings.threads = options.threads;
-  Expected<std::unique_ptr<RadiositySolver>> solver = RadiositySolver::create(*scene, *geometry, **caster, solver_settings);
+  Expected<std::unique_ptr<RadiositySolver>> solver = solveRadiosity(run, *scene, *geometry, **caster);
   if (!solver.ok()) return solver.status();
-  StopRule stop;
-  // Without a budget the quality sets the error target; with one, the
-  // solver gets 30% of it (the lighting passes use the rest) and stops early
-  // only once it is far below what the lightmap passes can resolve.
-  stop.target_est_rel_error = std::isfinite(budget) ? 0.002 : 0.005 + 0.05 * (1.0 - options.quality);
-  stop.max_seconds = std::isfinite(budget) ? 0.3 * budget : 600.0 * options.quality + 30.0;
-  stop.cancel = cancel;
-  stop.progress = [&](const SolverProgress& p) {
-    const double fraction = std::min(1.0, std::max(p.elapsed_s / stop.max_seconds,
-                                                   std::log(p.est_rel_error) / std::log(stop.target_est_rel_error)));
-    return report(std::max(0.0, fraction), remaining());
-  };
-  if (Status s = (*solver)->improve(stop); !s.ok()) return s.code() == StatusCode::kCancelled ? cancelled : s;
-  const double solver_error = (*solver)->estimatedRelativeError();
-  endStage("atlas");
+  run.clock.endStage("atlas");
 
-  // Atlas and texels.
-  double total_area = 0;
-  for (float a : geometry->areas_m2) total_area += a;
   AtlasSettings atlas_settings;
-  atlas_settings.texels_per_m = options.texels_per_m > 0 ? options.texels_per_m
-                                                         : std::clamp(std::sqrt(262144.0 / std::max(total_area, 1e-9)), 1.0, 512.0);
-  atlas_settings.max_page_size = options.max_page_size;
-  atlas_settings.threads = options.threads;
-  if (!report(0, remaining())) return cancelled;
-  Expected<LightmapAtlas> atlas = buildLightmapAtlas(*scene, *geometry, atlas_settings);
+  Expected<LightmapAtlas> atlas = buildAtlas(run, *scene, *geometry, atlas_settings);
   if (!atlas.ok()) return atlas.status();
-  endStage("texels");
+  run.clock.endStage("texels");
   RasterSettings raster_settings;
   raster_settings.threads = options.threads;
   Expected<TexelSet> texels = rasterizeTexels(*geometry, *atlas, **caster, raster_settings);
   if (!texels.ok()) return texels.status();
-  if (!reference_pages.empty()) {
-    const bool same = reference_pages.size() == size_t(texels->page_count) &&
-                      reference_pages[0].width == texels->page_width && reference_pages[0].height == texels->page_height;
-    if (!same) {
-      return Status(StatusCode::kInvalidInput,
-                    "--reference: its atlas differs from this bake's (" + std::to_string(reference_pages.size()) +
-                        " pages of " + std::to_string(reference_pages[0].width) + "x" + std::to_string(reference_pages[0].height) +
-                        " vs " + std::to_string(texels->page_count) + " of " + std::to_string(texels->page_width) + "x" +
-                        std::to_string(texels->page_height) + "); bake both with the same --texels-per-m");
-    }
-  }
-  endStage("lighting");
+  if (Status s = checkReferenceAtlas(*reference_pages, *texels); !s.ok()) return s;
+  run.clock.endStage("lighting");
 
-  // Lighting passes, averaged: each is an independent estimate, so their
-  // spread is the lightmap's error estimate. Without a budget the quality
-  // sets the pass count; with one, passes continue while time remains.
-  std::vector<ErrorPoint> series = (*solver)->errorSeries();
-  const double solver_seconds = (*solver)->stats().seconds;
-  for (ErrorPoint& p : series) p.ref_rel_error = std::numeric_limits<double>::quiet_NaN();
-  const uint32_t quality_passes = std::max(1u, uint32_t(std::lround(8.0 * options.quality)));
-  TexelLightingSettings lighting_settings;
-  lighting_settings.threads = options.threads;
-  lighting_settings.gather_rays = 16;
-  lighting_settings.area_light_samples = 16;
-  lighting_settings.sun_samples = 2;
-  TexelAccumulator accumulator;
-  double pass_seconds = 0;
-  for (uint32_t pass = 0; pass < 256; ++pass) {
-    if (std::isfinite(budget)) {
-      if (pass > 0 && elapsed() + pass_seconds * 1.2 + 1.0 > budget) break;
-    } else if (pass >= quality_passes) {
-      break;
-    }
-    const double pass_start = elapsed();
-    lighting_settings.seed = hashIds(options.seed, 0x1a7, pass);
-    // Stage progress: the share of the stage's time used (with a budget),
-    // or of the planned passes (without one); never goes backwards.
-    const double stage_budget = std::isfinite(budget) ? std::max(1e-3, budget - stage_start) : 0.0;
-    Expected<std::vector<TexelIrradiance>> lit = lightTexels(
-        *scene, *geometry, **caster, **solver, *texels, lighting_settings, cancel, [&](size_t done, size_t total) {
-          const double within = double(done) / double(std::max<size_t>(total, 1));
-          const double fraction = std::isfinite(budget) ? (elapsed() - stage_start) / stage_budget
-                                                        : (double(pass) + within) / double(quality_passes);
-          return report(std::min(1.0, fraction), remaining());
-        });
-    if (!lit.ok()) return lit.status().code() == StatusCode::kCancelled ? cancelled : lit.status();
-    accumulator.add(*lit);
-    pass_seconds = elapsed() - pass_start;
-    ErrorPoint point;
-    point.t_s = solver_seconds + (elapsed() - stage_start);
-    const double texel_error = accumulator.relativeError();
-    point.est_rel_error = std::sqrt(solver_error * solver_error + texel_error * texel_error);
-    point.rays = (*solver)->stats().rays;
-    if (!reference_pages.empty()) point.ref_rel_error = referenceError(*texels, accumulator.mean(), reference_pages);
-    series.push_back(point);
-  }
-  const std::vector<TexelIrradiance> lighting = accumulator.mean();
-  endStage("pages");
+  Expected<LightingPasses> lighting = runLightingPasses(run, *scene, *geometry, **caster, **solver, *texels, *reference_pages);
+  if (!lighting.ok()) return lighting.status();
+  run.clock.endStage("pages");
   PageSettings page_settings;
   page_settings.dilation_texels = atlas_settings.padding_texels;
   page_settings.edge_aware_filter = true;  // gather noise; never crosses charts or creases
-  const LightmapPages pages = buildLightmapPages(*geometry, *atlas, *texels, lighting, page_settings);
+  const LightmapPages pages = buildLightmapPages(*geometry, *atlas, *texels, lighting->accumulator.mean(), page_settings);
+  BakeData data = lightmapBakeData(options, level_hash, *geometry, *atlas, pages);
+  run.clock.endStage("runtime");
 
-  // Bake data.
-  BakeData data;
-  data.level_hash = level_hash;
-  data.seed = options.seed;
-  for (size_t p = 0; p < pages.images.size(); ++p) {
-    BakeLightmapPage page;
-    page.width = uint32_t(pages.images[p].width);
-    page.height = uint32_t(pages.images[p].height);
-    page.file = "lightmap-" + std::to_string(p) + ".exr";
-    page.texel_hash = fnv1a64(pages.images[p].rgb.data(), pages.images[p].rgb.size() * sizeof(float));
-    data.pages.push_back(page);
-  }
-  for (size_t t = 0; t < geometry->triangleCount(); ++t) {
-    BakeTriangleUv uv;
-    uv.instance = geometry->instance[t];
-    uv.mesh_triangle = geometry->mesh_triangle[t];
-    uv.page = atlas->triangle_page[t];
-    for (int k = 0; k < 3; ++k) uv.uv[k] = atlas->triangle_uv[t * 3 + size_t(k)];
-    data.triangle_uvs.push_back(uv);
-  }
-  nlohmann::ordered_json left_out = nlohmann::ordered_json::array();
-  endStage("runtime");
-  if (levelNeedsRuntimeSections(*scene)) {
-    RuntimeSectionSettings runtime_settings;
-    runtime_settings.seed = options.seed;
-    runtime_settings.threads = options.threads;
-    if (Status s = buildRuntimeSections(*scene, *geometry, **caster, **solver, runtime_settings, data, cancel); !s.ok()) {
-      return s.code() == StatusCode::kCancelled ? cancelled : s;
-    }
-  } else {
-    for (const char* section : {"patches", "clusters", "emitters", "proxy", "probes"}) {
-      left_out.push_back({{"section", section}, {"reason", "the level has no dynamic objects and no runtime lights"}});
-    }
-  }
-  if (!report(1, remaining())) return cancelled;
-  endStage("write");
+  Expected<nlohmann::ordered_json> left_out = addRuntimeSections(run, *scene, *geometry, **caster, **solver, data);
+  if (!left_out.ok()) return left_out.status();
+  if (!run.clock.report(1, run.clock.remaining())) return run.cancelled;
+  run.clock.endStage("write");
 
-  // Report.
-  const SolverStats stats = (*solver)->stats();
-  size_t covered = 0, dilated = 0;
-  for (const auto& valid : pages.valid) {
-    for (uint8_t v : valid) {
-      covered += v == 1;
-      dilated += v == 2;
-    }
-  }
-  nlohmann::ordered_json json;
-  json["level"] = fs::absolute(options.level_path).lexically_normal().string();
-  json["level_hash"] = level_hash;
-  json["seed"] = options.seed;
-  json["quality"] = options.quality;
-  json["time_budget_s"] = std::isfinite(budget) ? nlohmann::ordered_json(budget) : nullptr;
-  json["texels_per_m"] = atlas_settings.texels_per_m;
-  json["threads"] = options.threads;
-  json["machine"] = "CPU ray casting (Embree 3); no GPU used by the baker";
-  nlohmann::ordered_json timings = nlohmann::ordered_json::object();
-  for (const auto& [name, seconds] : stage_seconds) timings[name] = seconds;
-  json["stage_seconds"] = timings;
-  json["radiosity"] = {{"rays", stats.rays},
-                       {"rays_per_s", stats.seconds > 0 ? double(stats.rays) / stats.seconds : 0.0},
-                       {"passes", stats.passes_completed},
-                       {"elements", stats.elements},
-                       {"leaves", stats.leaves},
-                       {"subdivisions", stats.subdivisions},
-                       {"est_rel_error", solver_error},
-                       {"compensation", stats.compensation},
-                       {"captured_fraction", stats.captured_fraction},
-                       {"back_absorbed_rays", stats.back_absorbed},
-                       {"inside_origin_rays", stats.inside_origin_rays}};
-  json["lightmap"] = {{"pages", pages.images.size()},
-                      {"page_width", texels->page_width},
-                      {"page_height", texels->page_height},
-                      {"atlas", atlas->authored ? "TEXCOORD_1" : "xatlas"},
-                      {"covered_texels", covered},
-                      {"dilated_texels", dilated},
-                      {"lighting_passes", accumulator.passes},
-                      {"gather_rays_per_texel", accumulator.passes * lighting_settings.gather_rays}};
-  nlohmann::ordered_json warnings = scene->warnings;
-  if (degenerate > 0) warnings.push_back(std::to_string(degenerate) + " static triangles flattened to zero area by their instance transform; skipped");
-  json["warnings"] = warnings;
-  json["sections_written"] = sectionsJson(data);
-  json["sections_left_out"] = left_out;
-  json["error_vs_time"] = seriesJson(series, !reference_pages.empty());
-
-  // Write into a fresh directory beside OUT, then swap it in.
-  const fs::path out = fs::path(options.out_dir);
-  const fs::path temporary = out.parent_path() / (out.filename().string() + ".tmp-" + std::to_string(::getpid()));
-  std::error_code ec;
-  fs::remove_all(temporary, ec);
-  fs::create_directories(temporary, ec);
-  if (ec) return Status(StatusCode::kIoError, temporary.string() + ": cannot create: " + ec.message());
-  auto fail = [&](const Status& s) {
-    std::error_code ignored;
-    fs::remove_all(temporary, ignored);
-    return s;
-  };
-  for (size_t p = 0; p < pages.images.size(); ++p) {
-    if (Status s = writeLightmapExr(pages.images[p], (temporary / data.pages[p].file).string()); !s.ok()) return fail(s);
-    if (cancel && cancel->load()) return fail(cancelled);
-  }
-  if (Status s = writeBakeFile(data, (temporary / "bake.svit").string()); !s.ok()) return fail(s);
-  BakeResult result;
-  result.pages = pages.images.size();
-  result.covered_texels = covered;
-  result.est_rel_error = series.empty() ? 1.0 : series.back().est_rel_error;
-  result.ref_rel_error = series.empty() ? std::numeric_limits<double>::quiet_NaN() : series.back().ref_rel_error;
-  endStage("done");
-  json["stage_seconds"]["write"] = stage_seconds.back().second;
-  result.seconds = elapsed();
-  json["total_seconds"] = result.seconds;
-  result.report_json = json.dump(2) + "\n";
-  {
-    std::ofstream file(temporary / "report.json");
-    file << result.report_json;
-    if (!file) return fail(Status(StatusCode::kIoError, (temporary / "report.json").string() + ": cannot write"));
-  }
-  if (cancel && cancel->load()) return fail(cancelled);
-  const fs::path old = out.parent_path() / (out.filename().string() + ".old-" + std::to_string(::getpid()));
-  const bool had_previous = fs::exists(out, ec);
-  if (had_previous) {
-    fs::rename(out, old, ec);
-    if (ec) return fail(Status(StatusCode::kIoError, out.string() + ": cannot move the previous bake aside: " + ec.message()));
-  }
-  fs::rename(temporary, out, ec);
-  if (ec) {
-    std::error_code ignored;
-    if (had_previous) fs::rename(old, out, ignored);
-    return fail(Status(StatusCode::kIoError, out.string() + ": cannot move the new bake in place: " + ec.message()));
-  }
-  if (had_previous) fs::remove_all(old, ec);
-  return result;
+  nlohmann::ordered_json json =
+      reportJson(run, ReportInputs{*scene, level_hash, degenerate, **solver, atlas_settings, *atlas, *texels, pages,
+                                   *lighting, data, *left_out, !reference_pages->empty()});
+  return writeBake(run, pages, data, lighting->series, json);
 }
 
 }  // namespace svit::baker

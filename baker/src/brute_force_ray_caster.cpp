@@ -6,11 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 #include "ray_rules.h"
 #include "svit/baker/ray_caster.h"
+#include "svit_check.h"
 
 namespace svit::baker {
 namespace {
@@ -33,11 +32,8 @@ class BruteForceRayCaster final : public RayCaster {
   explicit BruteForceRayCaster(const BakeGeometry& geometry) : geometry_(geometry) {}
 
   void intersect(std::span<const Ray> rays, std::span<RayHit> hits) const override {
-    if (rays.size() != hits.size()) {
-      std::fprintf(stderr, "svit: BruteForceRayCaster::intersect: %zu rays but %zu hits\n", rays.size(),
-                   hits.size());
-      std::abort();  // a caller bug, not bad data
-    }
+    SVIT_CHECK(rays.size() == hits.size(), "BruteForceRayCaster::intersect: %zu rays but %zu hits", rays.size(),
+               hits.size());
     for (size_t i = 0; i < rays.size(); ++i) hits[i] = closestHit(rays[i]);
   }
 

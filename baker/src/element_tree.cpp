@@ -13,11 +13,6 @@
 #include <map>
 
 namespace svit::baker {
-namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-}  // namespace
 
 ElementTree::ElementTree(const BakeGeometry& geometry, const TreeSettings& settings, const EmissionOver& emission_over)
     : geometry_(geometry), settings_(settings), emission_over_(emission_over) {
@@ -294,91 +289,95 @@ void ElementTree::splitEmitters(int n) {
   splitEmitters(nodes_[size_t(n)].child[1]);
 }
 
-int ElementTree::buildCluster(std::vector<int>& elements, uint16_t depth) {
-  if (elements.size() == 1) return elements.front();
+namespace {
+
+// Splits elements of differing orientation: 2-means on normals seeded with
+// the normal most deviant from the area-weighted mean and the normal
+// farthest from it. Leaves `left` or `right` empty when the normals agree
+// within `orientation_split_rad` or the 2-means puts all on one side.
+void splitByOrientation(const std::vector<TreeNode>& nodes, const std::vector<int>& elements, double orientation_split_rad,
+                        std::vector<int>& left, std::vector<int>& right) {
   // Area-weighted mean normal and the widest deviation from it.
   glm::dvec3 mean_normal(0.0);
-  for (int e : elements) mean_normal += nodes_[size_t(e)].normal * nodes_[size_t(e)].area_m2;
+  for (int e : elements) mean_normal += nodes[size_t(e)].normal * nodes[size_t(e)].area_m2;
   const double mean_length = glm::length(mean_normal);
   const glm::dvec3 axis = mean_length > 0 ? mean_normal / mean_length : glm::dvec3(0, 1, 0);
   int farthest = elements.front();
   double min_cos = 2.0;
   for (int e : elements) {
-    const double c = glm::dot(nodes_[size_t(e)].normal, axis);
+    const double c = glm::dot(nodes[size_t(e)].normal, axis);
     if (c < min_cos) {
       min_cos = c;
       farthest = e;
     }
   }
-  std::vector<int> left, right;
-  if (min_cos < std::cos(settings_.orientation_split_rad)) {
-    // Differently oriented groups: 2-means on normals seeded with the most
-    // deviant normal and the normal farthest from it.
-    glm::dvec3 seed0 = nodes_[size_t(farthest)].normal, seed1 = seed0;
-    double worst = 2.0;
-    for (int e : elements) {
-      const double c = glm::dot(nodes_[size_t(e)].normal, seed0);
-      if (c < worst) {
-        worst = c;
-        seed1 = nodes_[size_t(e)].normal;
-      }
-    }
-    for (int iteration = 0; iteration < 4; ++iteration) {
-      left.clear();
-      right.clear();
-      glm::dvec3 sum0(0.0), sum1(0.0);
-      for (int e : elements) {
-        const glm::dvec3& nrm = nodes_[size_t(e)].normal;
-        if (glm::dot(nrm, seed0) >= glm::dot(nrm, seed1)) {
-          left.push_back(e);
-          sum0 += nrm * nodes_[size_t(e)].area_m2;
-        } else {
-          right.push_back(e);
-          sum1 += nrm * nodes_[size_t(e)].area_m2;
-        }
-      }
-      if (left.empty() || right.empty()) break;
-      if (glm::length(sum0) > 0) seed0 = glm::normalize(sum0);
-      if (glm::length(sum1) > 0) seed1 = glm::normalize(sum1);
+  if (!(min_cos < std::cos(orientation_split_rad))) return;
+  glm::dvec3 seed0 = nodes[size_t(farthest)].normal, seed1 = seed0;
+  double worst = 2.0;
+  for (int e : elements) {
+    const double c = glm::dot(nodes[size_t(e)].normal, seed0);
+    if (c < worst) {
+      worst = c;
+      seed1 = nodes[size_t(e)].normal;
     }
   }
-  if (left.empty() || right.empty()) {
+  for (int iteration = 0; iteration < 4; ++iteration) {
     left.clear();
     right.clear();
-    // Spatial split along the longest axis of the centroids' bounds: at the
-    // widest gap when groups are distant, else at the median (balance).
-    glm::dvec3 lo(1e300), hi(-1e300);
+    glm::dvec3 sum0(0.0), sum1(0.0);
     for (int e : elements) {
-      lo = glm::min(lo, nodes_[size_t(e)].centroid);
-      hi = glm::max(hi, nodes_[size_t(e)].centroid);
-    }
-    const glm::dvec3 extent = hi - lo;
-    const int axis_index = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
-    std::sort(elements.begin(), elements.end(), [&](int a, int b) {
-      const double ca = nodes_[size_t(a)].centroid[axis_index], cb = nodes_[size_t(b)].centroid[axis_index];
-      return ca < cb || (ca == cb && a < b);
-    });
-    size_t split = elements.size() / 2;
-    double widest = 0;
-    for (size_t i = 1; i < elements.size(); ++i) {
-      const double gap = nodes_[size_t(elements[i])].centroid[axis_index] -
-                         nodes_[size_t(elements[i - 1])].centroid[axis_index];
-      if (gap > widest) {
-        widest = gap;
-        if (gap > settings_.gap_split_fraction * extent[axis_index]) split = i;
+      const glm::dvec3& nrm = nodes[size_t(e)].normal;
+      if (glm::dot(nrm, seed0) >= glm::dot(nrm, seed1)) {
+        left.push_back(e);
+        sum0 += nrm * nodes[size_t(e)].area_m2;
+      } else {
+        right.push_back(e);
+        sum1 += nrm * nodes[size_t(e)].area_m2;
       }
     }
-    left.assign(elements.begin(), elements.begin() + long(split));
-    right.assign(elements.begin() + long(split), elements.end());
+    if (left.empty() || right.empty()) break;
+    if (glm::length(sum0) > 0) seed0 = glm::normalize(sum0);
+    if (glm::length(sum1) > 0) seed1 = glm::normalize(sum1);
   }
-  const int a = buildCluster(left, uint16_t(depth + 1));
-  const int b = buildCluster(right, uint16_t(depth + 1));
+}
+
+// Spatial split along the longest axis of the centroids' bounds: at the
+// widest gap when groups are distant (wider than `gap_split_fraction` of
+// the extent), else at the median (balance). Sorts `elements` along it.
+void splitSpatially(const std::vector<TreeNode>& nodes, std::vector<int>& elements, double gap_split_fraction,
+                    std::vector<int>& left, std::vector<int>& right) {
+  glm::dvec3 lo(kNoUpperBound), hi(kNoLowerBound);
+  for (int e : elements) {
+    lo = glm::min(lo, nodes[size_t(e)].centroid);
+    hi = glm::max(hi, nodes[size_t(e)].centroid);
+  }
+  const glm::dvec3 extent = hi - lo;
+  const int axis_index = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+  std::sort(elements.begin(), elements.end(), [&](int a, int b) {
+    const double ca = nodes[size_t(a)].centroid[axis_index], cb = nodes[size_t(b)].centroid[axis_index];
+    return ca < cb || (ca == cb && a < b);
+  });
+  size_t split = elements.size() / 2;
+  double widest = 0;
+  for (size_t i = 1; i < elements.size(); ++i) {
+    const double gap = nodes[size_t(elements[i])].centroid[axis_index] - nodes[size_t(elements[i - 1])].centroid[axis_index];
+    if (gap > widest) {
+      widest = gap;
+      if (gap > gap_split_fraction * extent[axis_index]) split = i;
+    }
+  }
+  left.assign(elements.begin(), elements.begin() + long(split));
+  right.assign(elements.begin() + long(split), elements.end());
+}
+
+// The cluster over nodes a and b: sums, and area-weighted centroid and normal.
+TreeNode clusterOver(const std::vector<TreeNode>& nodes, int a, int b) {
   TreeNode cluster;
   cluster.kind = NodeKind::kCluster;
   cluster.child[0] = a;
   cluster.child[1] = b;
   for (int c : {a, b}) {
-    const TreeNode& child = nodes_[size_t(c)];
+    const TreeNode& child = nodes[size_t(c)];
     cluster.area_m2 += child.area_m2;
     cluster.centroid += child.centroid * child.area_m2;
     cluster.normal += child.normal * child.area_m2;
@@ -387,8 +386,24 @@ int ElementTree::buildCluster(std::vector<int>& elements, uint16_t depth) {
   }
   cluster.centroid /= cluster.area_m2;
   cluster.normal /= cluster.area_m2;
+  return cluster;
+}
+
+}  // namespace
+
+int ElementTree::buildCluster(std::vector<int>& elements, uint16_t depth) {
+  if (elements.size() == 1) return elements.front();
+  std::vector<int> left, right;
+  splitByOrientation(nodes_, elements, settings_.orientation_split_rad, left, right);
+  if (left.empty() || right.empty()) {
+    left.clear();
+    right.clear();
+    splitSpatially(nodes_, elements, settings_.gap_split_fraction, left, right);
+  }
+  const int a = buildCluster(left, uint16_t(depth + 1));
+  const int b = buildCluster(right, uint16_t(depth + 1));
   const int index = int(nodes_.size());
-  nodes_.push_back(cluster);
+  nodes_.push_back(clusterOver(nodes_, a, b));
   nodes_[size_t(a)].parent = index;
   nodes_[size_t(b)].parent = index;
   return index;

@@ -1,6 +1,6 @@
 #pragma once
-// Elements and clusters as one tree (thesis ch. 4, static part; DESIGN.md
-// "Elements and clusters"): every static object with two or more triangle
+// Elements and clusters as one tree (thesis ch. 4, static part;
+// docs/architecture.md "Elements and clusters"): every static object with two or more triangle
 // elements is a cluster split top-down into a binary tree; triangles
 // subdivide into halves across their longest edge. A double-sided triangle
 // is two elements, one per side, so light received on one side is reflected

@@ -9,14 +9,13 @@
 #include <xmmintrin.h>
 
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <mutex>
 #include <string>
 #include <type_traits>
 
 #include "ray_rules.h"
 #include "svit/baker/ray_caster.h"
+#include "svit_check.h"
 
 namespace svit::baker {
 namespace {
@@ -147,10 +146,7 @@ class EmbreeRayCaster final : public RayCaster {
   }
 
   void intersect(std::span<const Ray> rays, std::span<RayHit> hits) const override {
-    if (rays.size() != hits.size()) {
-      std::fprintf(stderr, "svit: EmbreeRayCaster::intersect: %zu rays but %zu hits\n", rays.size(), hits.size());
-      std::abort();  // a caller bug, not bad data
-    }
+    SVIT_CHECK(rays.size() == hits.size(), "EmbreeRayCaster::intersect: %zu rays but %zu hits", rays.size(), hits.size());
     traceAll(rays, hits);
     // Outside the flush-to-zero scope, so a denormal direction component
     // decides front/back exactly as in the brute-force caster.
@@ -165,20 +161,14 @@ class EmbreeRayCaster final : public RayCaster {
   /// Closest hits, `front` left unset.
   void traceAll(std::span<const Ray> rays, std::span<RayHit> hits) const {
     const FlushDenormalsScope denormals;
-    // One rtcIntersect1 per ray, not rtcIntersect16 packets. Measured on this
-    // 2-core AMD EPYC (AVX2; Embree emulates 16-wide packets here, see
-    // third_party_notes/embree.md), one thread, 100k rays, median of 7:
-    //   Sponza 262k tris, rays from random surface points (cosine):
-    //     rtcIntersect1 0.83-0.88 Mrays/s, rtcIntersect16 0.85-0.86 Mrays/s
-    //   Sponza, 256 rays per origin triangle (a shooting pattern):
-    //     rtcIntersect1 1.48-1.57 Mrays/s, rtcIntersect16 1.52-1.59 Mrays/s
-    //   virtual_city 8.4k tris, shooting pattern:
-    //     rtcIntersect1 2.53-2.55 Mrays/s, rtcIntersect16 2.53-2.55 Mrays/s
-    // (rtcIntersect8, the native width here, was no different either.) A
-    // tie within noise, so single rays win on determinism: a single ray's
-    // BVH traversal order depends on that ray alone, so which of two
-    // exactly equidistant triangles is reported cannot depend on which other
-    // rays share its packet, i.e. on how the caller batched them.
+    // One rtcIntersect1 per ray, not packets: on the 2-core AVX2 machine
+    // Embree emulates 16-wide packets (third_party_notes/embree.md), and
+    // rtcIntersect16 and rtcIntersect8 traced no faster than single rays on
+    // Sponza and virtual_city, for random and shooting ray patterns. Single
+    // rays win on determinism: a single ray's BVH traversal order depends on
+    // that ray alone, so which of two exactly equidistant triangles is
+    // reported cannot depend on which other rays share its packet, i.e. on
+    // how the caller batched them.
     RTCIntersectContext context;  // per call: concurrent calls share nothing
     rtcInitIntersectContext(&context);
     for (size_t i = 0; i < rays.size(); ++i) {

@@ -102,104 +102,140 @@ LightRay LightSource::sample(Rng& rng) const {
   return ray;
 }
 
-Expected<std::vector<LightSource>> makeLightSources(const Scene& scene, const BakeGeometry& geometry) {
-  std::vector<LightSource> sources;
+namespace {
+
+// The sphere enclosing the scene, and the disk sun and sky shoot from.
+struct Enclosure {
+  glm::dvec3 centre{0.0};
+  double radius = 0;
+  double disk_area_m2 = 0;
+};
+
+Enclosure enclosureOf(const BakeGeometry& geometry) {
+  Enclosure e;
   const glm::dvec3 lo = dvec(geometry.bounds.min), hi = dvec(geometry.bounds.max);
-  const glm::dvec3 centre = 0.5 * (lo + hi);
+  e.centre = 0.5 * (lo + hi);
   // 1% margin so grazing rays still cover the silhouette.
-  const double radius = std::max(0.5 * glm::length(hi - lo) * 1.01, 1e-6);
-  const double disk_area_m2 = kPi * radius * radius;
-  auto finite3 = [](const auto& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
-  auto finiteRgb = [](const Rgb& c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); };
-  for (const Light& light : scene.lights) {
-    if (light.dynamic) continue;  // runtime lights are the runtime's
-    // Scenes built in code skip the loader's checks: NaN here would turn
-    // into rays that silently miss.
-    const char* bad = !finite3(light.position)      ? "position"
-                      : !finite3(light.direction)     ? "direction"
-                      : !finiteRgb(light.color)       ? "colour"
-                      : !std::isfinite(light.intensity) ? "intensity"
-                      : !std::isfinite(light.inner_cone_rad) || !std::isfinite(light.outer_cone_rad) ? "cone angle"
-                                                      : nullptr;
-    if (bad) {
-      return Status(StatusCode::kInvalidInput,
-                    scene.source_path + ": light '" + light.name + "': " + bad + " is not finite (as a float)");
-    }
-    LightSource s;
-    s.name = light.name;
-    s.colour = normalisedColour(dvec(light.color));
-    const glm::dvec3 intensity = dvec(light.color) * double(light.intensity);
-    s.position = dvec(light.position);
-    s.direction = glm::normalize(dvec(light.direction));
-    s.centre = centre;
-    s.radius = radius;
-    s.disk_radius = radius;
-    switch (light.type) {
-      case LightType::kPoint:
-        s.kind = LightKind::kPoint;
-        s.flux_rgb = intensity * (4.0 * kPi);  // isotropic candela -> lumen
-        break;
-      case LightType::kSpot:
-        s.kind = LightKind::kSpot;
-        s.cos_inner = std::cos(double(light.inner_cone_rad));
-        s.cos_outer = std::cos(double(light.outer_cone_rad));
-        // Integral of the falloff over the sphere: full inside the inner
-        // cone, t^2 (mean 1/3 in cos) between the cones.
-        s.flux_rgb = intensity * (2.0 * kPi * ((1.0 - s.cos_inner) + (s.cos_inner - s.cos_outer) / 3.0));
-        break;
-      case LightType::kDirectional:
-        s.kind = LightKind::kDirectional;
-        s.flux_rgb = intensity * disk_area_m2;  // lux over the disk
-        break;
-    }
-    s.flux_y = luminanceOf(s.flux_rgb);
-    if (!std::isfinite(s.flux_y)) {
-      return Status(StatusCode::kInvalidInput, scene.source_path + ": light '" + light.name + "': flux is not finite");
-    }
-    if (s.flux_y > 0) sources.push_back(s);
+  e.radius = std::max(0.5 * glm::length(hi - lo) * 1.01, 1e-6);
+  e.disk_area_m2 = kPi * e.radius * e.radius;
+  return e;
+}
+
+// Scenes built in code skip the loader's checks: NaN here would turn into
+// rays that silently miss.
+Status checkLightFinite(const Scene& scene, const Light& light) {
+  const char* bad = !finite(light.position)      ? "position"
+                    : !finite(light.direction)     ? "direction"
+                    : !finite(light.color)         ? "colour"
+                    : !std::isfinite(light.intensity) ? "intensity"
+                    : !std::isfinite(light.inner_cone_rad) || !std::isfinite(light.outer_cone_rad) ? "cone angle"
+                                                    : nullptr;
+  if (!bad) return Status();
+  return Status(StatusCode::kInvalidInput, scene.source_path + ": light '" + light.name + "': " + bad + " is not finite (as a float)");
+}
+
+// A point, spot or directional light as a source; flux_y checked finite.
+Expected<LightSource> punctualSource(const Scene& scene, const Light& light, const Enclosure& enclosure) {
+  if (Status bad = checkLightFinite(scene, light); !bad.ok()) return bad;
+  LightSource s;
+  s.name = light.name;
+  s.colour = normalisedColour(dvec(light.color));
+  const glm::dvec3 intensity = dvec(light.color) * double(light.intensity);
+  s.position = dvec(light.position);
+  s.direction = glm::normalize(dvec(light.direction));
+  s.centre = enclosure.centre;
+  s.radius = enclosure.radius;
+  s.disk_radius = enclosure.radius;
+  switch (light.type) {
+    case LightType::kPoint:
+      s.kind = LightKind::kPoint;
+      s.flux_rgb = intensity * (4.0 * kPi);  // isotropic candela -> lumen
+      break;
+    case LightType::kSpot:
+      s.kind = LightKind::kSpot;
+      s.cos_inner = std::cos(double(light.inner_cone_rad));
+      s.cos_outer = std::cos(double(light.outer_cone_rad));
+      // Integral of the falloff over the sphere: full inside the inner
+      // cone, t^2 (mean 1/3 in cos) between the cones.
+      s.flux_rgb = intensity * (2.0 * kPi * ((1.0 - s.cos_inner) + (s.cos_inner - s.cos_outer) / 3.0));
+      break;
+    case LightType::kDirectional:
+      s.kind = LightKind::kDirectional;
+      s.flux_rgb = intensity * enclosure.disk_area_m2;  // lux over the disk
+      break;
   }
-  if (scene.sun.enabled && (!finite3(scene.sun.direction_to_sun) || !finiteRgb(scene.sun.color) ||
+  s.flux_y = luminanceOf(s.flux_rgb);
+  if (!std::isfinite(s.flux_y)) {
+    return Status(StatusCode::kInvalidInput, scene.source_path + ": light '" + light.name + "': flux is not finite");
+  }
+  return s;
+}
+
+Status checkSunAndSkyFinite(const Scene& scene) {
+  if (scene.sun.enabled && (!finite(scene.sun.direction_to_sun) || !finite(scene.sun.color) ||
                             !std::isfinite(scene.sun.illuminance_lux) || !std::isfinite(scene.sun.angular_radius_rad))) {
     return Status(StatusCode::kInvalidInput, scene.source_path + ": sun: direction, colour, illuminance or radius is not finite");
   }
   if (scene.sky.model != SkyModel::kNone &&
-      (!finiteRgb(scene.sky.zenith_luminance) || !finiteRgb(scene.sky.horizon_luminance) ||
-       !finiteRgb(scene.sky.ground_luminance))) {
+      (!finite(scene.sky.zenith_luminance) || !finite(scene.sky.horizon_luminance) ||
+       !finite(scene.sky.ground_luminance))) {
     return Status(StatusCode::kInvalidInput, scene.source_path + ": sky: a luminance is not finite");
   }
-  if (scene.sun.enabled && scene.sun.illuminance_lux > 0) {
-    LightSource s;
-    s.kind = LightKind::kDirectional;
-    s.name = "sun";
-    s.direction = -glm::normalize(dvec(scene.sun.direction_to_sun));
-    s.cos_radius = std::cos(double(scene.sun.angular_radius_rad));
-    s.colour = normalisedColour(dvec(scene.sun.color));
-    s.centre = centre;
-    s.radius = radius;
-    // Rays tilt by up to the angular radius over the 3R they travel.
-    s.disk_radius = radius * (1.0 + 3.0 * std::tan(double(scene.sun.angular_radius_rad)));
-    s.flux_rgb = dvec(scene.sun.color) * double(scene.sun.illuminance_lux) * (kPi * s.disk_radius * s.disk_radius);
-    s.flux_y = luminanceOf(s.flux_rgb);
-    sources.push_back(s);
+  return Status();
+}
+
+LightSource sunSource(const Scene& scene, const Enclosure& enclosure) {
+  LightSource s;
+  s.kind = LightKind::kDirectional;
+  s.name = "sun";
+  s.direction = -glm::normalize(dvec(scene.sun.direction_to_sun));
+  s.cos_radius = std::cos(double(scene.sun.angular_radius_rad));
+  s.colour = normalisedColour(dvec(scene.sun.color));
+  s.centre = enclosure.centre;
+  s.radius = enclosure.radius;
+  // Rays tilt by up to the angular radius over the 3R they travel.
+  s.disk_radius = enclosure.radius * (1.0 + 3.0 * std::tan(double(scene.sun.angular_radius_rad)));
+  s.flux_rgb = dvec(scene.sun.color) * double(scene.sun.illuminance_lux) * (kPi * s.disk_radius * s.disk_radius);
+  s.flux_y = luminanceOf(s.flux_rgb);
+  return s;
+}
+
+LightSource skySource(const Scene& scene, const Enclosure& enclosure) {
+  LightSource s;
+  s.kind = LightKind::kSky;
+  s.name = "sky";
+  s.centre = enclosure.centre;
+  s.radius = enclosure.radius;
+  s.disk_radius = enclosure.radius;
+  s.zenith = dvec(scene.sky.zenith_luminance);
+  s.horizon = scene.sky.model == SkyModel::kUniform ? s.zenith : dvec(scene.sky.horizon_luminance);
+  s.ground = scene.sky.model == SkyModel::kUniform ? glm::dvec3(0.0) : dvec(scene.sky.ground_luminance);
+  // Flux through a disk of area A from radiance L over solid angle w is
+  // L*A*w: upper hemisphere 2*pi*(horizon + (zenith - horizon)/2), ground 2*pi*ground.
+  const glm::dvec3 upper = 2.0 * kPi * (s.horizon + 0.5 * (s.zenith - s.horizon)) * enclosure.disk_area_m2;
+  const glm::dvec3 lower = 2.0 * kPi * s.ground * enclosure.disk_area_m2;
+  s.flux_rgb = upper + lower;
+  s.flux_y = luminanceOf(s.flux_rgb);
+  s.upper_share = s.flux_y > 0 ? luminanceOf(upper) / s.flux_y : 1.0;
+  return s;
+}
+
+}  // namespace
+
+Expected<std::vector<LightSource>> makeLightSources(const Scene& scene, const BakeGeometry& geometry) {
+  std::vector<LightSource> sources;
+  const Enclosure enclosure = enclosureOf(geometry);
+  for (const Light& light : scene.lights) {
+    if (light.dynamic) continue;  // runtime lights are the runtime's
+    Expected<LightSource> s = punctualSource(scene, light, enclosure);
+    if (!s.ok()) return s.status();
+    if (s->flux_y > 0) sources.push_back(std::move(s).value());
   }
+  if (Status bad = checkSunAndSkyFinite(scene); !bad.ok()) return bad;
+  if (scene.sun.enabled && scene.sun.illuminance_lux > 0) sources.push_back(sunSource(scene, enclosure));
   if (scene.sky.model != SkyModel::kNone) {
-    LightSource s;
-    s.kind = LightKind::kSky;
-    s.name = "sky";
-    s.centre = centre;
-    s.radius = radius;
-    s.disk_radius = radius;
-    s.zenith = dvec(scene.sky.zenith_luminance);
-    s.horizon = scene.sky.model == SkyModel::kUniform ? s.zenith : dvec(scene.sky.horizon_luminance);
-    s.ground = scene.sky.model == SkyModel::kUniform ? glm::dvec3(0.0) : dvec(scene.sky.ground_luminance);
-    // Flux through a disk of area A from radiance L over solid angle w is
-    // L*A*w: upper hemisphere 2*pi*(horizon + (zenith - horizon)/2), ground 2*pi*ground.
-    const glm::dvec3 upper = 2.0 * kPi * (s.horizon + 0.5 * (s.zenith - s.horizon)) * disk_area_m2;
-    const glm::dvec3 lower = 2.0 * kPi * s.ground * disk_area_m2;
-    s.flux_rgb = upper + lower;
-    s.flux_y = luminanceOf(s.flux_rgb);
-    s.upper_share = s.flux_y > 0 ? luminanceOf(upper) / s.flux_y : 1.0;
-    if (s.flux_y > 0) sources.push_back(s);
+    const LightSource sky = skySource(scene, enclosure);
+    if (sky.flux_y > 0) sources.push_back(sky);
   }
   return sources;
 }

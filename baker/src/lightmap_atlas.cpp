@@ -199,21 +199,16 @@ const char* addMeshErrorName(xatlas::AddMeshError error) {
   return "unknown error";
 }
 
-Expected<LightmapAtlas> buildWithXatlas(const Scene& scene, const BakeGeometry& geometry,
-                                        const std::vector<InstanceRange>& ranges, const AtlasSettings& settings) {
-  // xatlas prints warnings with printf by default; a library must not write
-  // to the tools' stdout. SetPrint is process-global, but xatlas is private
-  // to svit_baker, so nothing else relies on its printing.
-  static std::once_flag silence;
-  std::call_once(silence, [] { xatlas::SetPrint(&discardPrint, false); });
+using XatlasPtr = std::unique_ptr<xatlas::Atlas, AtlasDeleter>;
 
-  std::unique_ptr<xatlas::Atlas, AtlasDeleter> xa(xatlas::Create());
-  // Positions go in texel units (metres x texels_per_m, texelsPerUnit 1):
-  // xatlas drops faces of area <= FLT_EPSILON in its input units, which in
-  // metres would drop legal sub-millimetre triangles; in texels only those
-  // below 1.2e-7 texel^2, which cover nothing anyway.
+/// Gives xatlas every instance as one mesh, positions in texel units
+/// (metres x texels_per_m, texelsPerUnit 1): xatlas drops faces of area <=
+/// FLT_EPSILON in its input units, which in metres would drop legal
+/// sub-millimetre triangles; in texels only those below 1.2e-7 texel^2,
+/// which cover nothing anyway. Adds the static area to `total_m2`.
+Status addXatlasMeshes(xatlas::Atlas* xa, const Scene& scene, const BakeGeometry& geometry,
+                       const std::vector<InstanceRange>& ranges, const AtlasSettings& settings, double* total_m2) {
   const double scale = settings.texels_per_m;
-  double total_m2 = 0;
   for (const InstanceRange& r : ranges) {
     const size_t n = r.end - r.first;
     std::vector<float> positions(n * 9), normals(n * 9);
@@ -230,7 +225,7 @@ Expected<LightmapAtlas> buildWithXatlas(const Scene& scene, const BakeGeometry& 
         indices[i * 3 + size_t(k)] = uint32_t(i * 3 + size_t(k));
       }
       cornerNormals(scene, geometry, t, normal_from_object, &normals[i * 9]);
-      total_m2 += geometry.areas_m2[t];
+      *total_m2 += geometry.areas_m2[t];
     }
     xatlas::MeshDecl decl;
     decl.vertexPositionData = positions.data();
@@ -241,55 +236,52 @@ Expected<LightmapAtlas> buildWithXatlas(const Scene& scene, const BakeGeometry& 
     decl.indexData = indices.data();
     decl.indexCount = uint32_t(n * 3);
     decl.indexFormat = xatlas::IndexFormat::UInt32;  // the default is UInt16
-    const xatlas::AddMeshError error = xatlas::AddMesh(xa.get(), decl, uint32_t(ranges.size()));
+    const xatlas::AddMeshError error = xatlas::AddMesh(xa, decl, uint32_t(ranges.size()));
     if (error != xatlas::AddMeshError::Success) {
       return Status(StatusCode::kInternal, instanceLabel(scene, r.instance) + ": xatlas AddMesh failed: " + addMeshErrorName(error));
     }
   }
+  return Status();
+}
 
+/// Charts and packs. One page sized to fit is tried first, unless the
+/// texels cannot fit in one page even when packed perfectly; then fixed
+/// max_page_size pages. Returns whether it paged.
+bool packXatlasCharts(xatlas::Atlas* xa, const AtlasSettings& settings, double total_m2) {
   xatlas::ChartOptions chart_options;  // defaults: xatlas's tuned weights
-  xatlas::ComputeCharts(xa.get(), chart_options);
+  xatlas::ComputeCharts(xa, chart_options);
   xatlas::PackOptions pack;
   pack.texelsPerUnit = 1.0f;  // positions are already in texels
   pack.padding = uint32_t(settings.padding_texels);
   pack.bilinear = true;
   pack.bruteForce = false;  // random placement from a fixed seed: deterministic and much faster
   pack.maxChartSize = uint32_t(settings.max_page_size);
-  // One page sized to fit is tried first, unless the texels cannot fit in
-  // one page even when packed perfectly; then fixed max_page_size pages.
   const double texels = total_m2 * settings.texels_per_m * settings.texels_per_m;
   const double page_texels = double(settings.max_page_size) * double(settings.max_page_size);
   bool paged = texels > page_texels;
   if (!paged) {
-    xatlas::PackCharts(xa.get(), pack);
+    xatlas::PackCharts(xa, pack);
     paged = xa->width > uint32_t(settings.max_page_size) || xa->height > uint32_t(settings.max_page_size);
   }
   if (paged) {
     pack.resolution = uint32_t(settings.max_page_size);
-    xatlas::PackCharts(xa.get(), pack);
+    xatlas::PackCharts(xa, pack);
   }
-  if (xa->width == 0 || xa->height == 0 || xa->meshCount != ranges.size()) {
-    return Status(StatusCode::kInternal, scene.source_path + ": xatlas produced an empty atlas (" + std::to_string(xa->width) +
-                                             "x" + std::to_string(xa->height) + ", " + std::to_string(xa->meshCount) + " meshes)");
-  }
+  return paged;
+}
 
-  LightmapAtlas atlas;
-  atlas.authored = false;
-  atlas.page_width = int(xa->width);
-  atlas.page_height = int(xa->height);
-  atlas.page_count = paged ? int(xa->atlasCount) : 1;
-  const size_t count = geometry.triangleCount();
-  atlas.triangle_page.assign(count, 0);
-  atlas.triangle_uv.assign(count * 3, Vec2{});
-  atlas.triangle_chart.assign(count, 0);
-  std::vector<uint8_t> corner_done(count * 3, 0);
+/// Reads xatlas's corners back into `atlas` (sized by the caller), checking
+/// each against what was given and the page.
+Status readXatlasCorners(const xatlas::Atlas& xa, const Scene& scene, const BakeGeometry& geometry,
+                         const std::vector<InstanceRange>& ranges, const AtlasSettings& settings, LightmapAtlas& atlas) {
+  std::vector<uint8_t> corner_done(geometry.triangleCount() * 3, 0);
   // xatlas places vertices at >= 0 and within the page up to float rounding
   // of its own texel-centre alignment; a hundredth of a texel is far above
   // that rounding and far below anything a bug would produce.
   constexpr double kUvSlackTexels = 0.01;
   for (size_t m = 0; m < ranges.size(); ++m) {
     const InstanceRange& r = ranges[m];
-    const xatlas::Mesh& out = xa->meshes[m];
+    const xatlas::Mesh& out = xa.meshes[m];
     for (uint32_t i = 0; i < out.indexCount; ++i) {
       const xatlas::Vertex& v = out.vertexArray[out.indexArray[i]];
       const size_t t = r.first + v.xref / 3;
@@ -308,15 +300,15 @@ Expected<LightmapAtlas> buildWithXatlas(const Scene& scene, const BakeGeometry& 
                                                     std::to_string(settings.texels_per_m) + " texels/m)");
       }
       const double x = v.uv[0], y = v.uv[1];
-      if (!(x >= 0.0 && y >= 0.0 && x <= xa->width + kUvSlackTexels && y <= xa->height + kUvSlackTexels) ||
+      if (!(x >= 0.0 && y >= 0.0 && x <= xa.width + kUvSlackTexels && y <= xa.height + kUvSlackTexels) ||
           v.atlasIndex >= atlas.page_count) {
         return Status(StatusCode::kInternal, instanceLabel(scene, r.instance) + " triangle " +
                                                  std::to_string(geometry.mesh_triangle[t]) + ": xatlas placed a corner at (" +
                                                  std::to_string(x) + ", " + std::to_string(y) + ") page " +
                                                  std::to_string(v.atlasIndex) + ", outside the " + std::to_string(atlas.page_count) +
-                                                 " pages of " + std::to_string(xa->width) + "x" + std::to_string(xa->height));
+                                                 " pages of " + std::to_string(xa.width) + "x" + std::to_string(xa.height));
       }
-      atlas.triangle_uv[t * 3 + size_t(k)] = {float(std::min(1.0, x / xa->width)), float(std::min(1.0, y / xa->height))};
+      atlas.triangle_uv[t * 3 + size_t(k)] = {float(std::min(1.0, x / xa.width)), float(std::min(1.0, y / xa.height))};
       // All corners of a face share its chart (and the chart's page).
       atlas.triangle_page[t] = uint32_t(v.atlasIndex);
       atlas.triangle_chart[t] = uint32_t(v.chartIndex);
@@ -330,6 +322,36 @@ Expected<LightmapAtlas> buildWithXatlas(const Scene& scene, const BakeGeometry& 
                                                std::to_string(geometry.mesh_triangle[t]) + ": missing from xatlas's output");
     }
   }
+  return Status();
+}
+
+Expected<LightmapAtlas> buildWithXatlas(const Scene& scene, const BakeGeometry& geometry,
+                                        const std::vector<InstanceRange>& ranges, const AtlasSettings& settings) {
+  // xatlas prints warnings with printf by default; a library must not write
+  // to the tools' stdout. SetPrint is process-global, but xatlas is private
+  // to svit_baker, so nothing else relies on its printing.
+  static std::once_flag silence;
+  std::call_once(silence, [] { xatlas::SetPrint(&discardPrint, false); });
+
+  XatlasPtr xa(xatlas::Create());
+  double total_m2 = 0;
+  if (Status s = addXatlasMeshes(xa.get(), scene, geometry, ranges, settings, &total_m2); !s.ok()) return s;
+  const bool paged = packXatlasCharts(xa.get(), settings, total_m2);
+  if (xa->width == 0 || xa->height == 0 || xa->meshCount != ranges.size()) {
+    return Status(StatusCode::kInternal, scene.source_path + ": xatlas produced an empty atlas (" + std::to_string(xa->width) +
+                                             "x" + std::to_string(xa->height) + ", " + std::to_string(xa->meshCount) + " meshes)");
+  }
+
+  LightmapAtlas atlas;
+  atlas.authored = false;
+  atlas.page_width = int(xa->width);
+  atlas.page_height = int(xa->height);
+  atlas.page_count = paged ? int(xa->atlasCount) : 1;
+  const size_t count = geometry.triangleCount();
+  atlas.triangle_page.assign(count, 0);
+  atlas.triangle_uv.assign(count * 3, Vec2{});
+  atlas.triangle_chart.assign(count, 0);
+  if (Status s = readXatlasCorners(*xa, scene, geometry, ranges, settings, atlas); !s.ok()) return s;
   return atlas;
 }
 

@@ -77,8 +77,9 @@ std::vector<SeamPoint> findSeamPoints(const BakeGeometry& geometry, const Lightm
   return points;
 }
 
-LightmapPages buildLightmapPages(const BakeGeometry& geometry, const LightmapAtlas& atlas, const TexelSet& texels,
-                                 const std::vector<TexelIrradiance>& lighting, const PageSettings& settings) {
+namespace {
+
+LightmapPages blankPages(const TexelSet& texels) {
   const int w = texels.page_width, h = texels.page_height;
   LightmapPages pages;
   pages.images.resize(size_t(texels.page_count));
@@ -89,38 +90,49 @@ LightmapPages buildLightmapPages(const BakeGeometry& geometry, const LightmapAtl
     pages.images[size_t(p)].rgb.assign(size_t(w) * size_t(h) * 3, 0.0f);
     pages.valid[size_t(p)].assign(size_t(w) * size_t(h), 0);
   }
-  // Indirect light, optionally smoothed within charts (cross-bilateral on
-  // normal and chart: it never blurs across a chart border or a crease).
+  return pages;
+}
+
+// Indirect light, optionally smoothed within charts (cross-bilateral on
+// normal and chart: it never blurs across a chart border or a crease).
+std::vector<Rgb> filteredIndirect(const LightmapAtlas& atlas, const TexelSet& texels,
+                                  const std::vector<TexelIrradiance>& lighting, const PageSettings& settings) {
+  const int w = texels.page_width, h = texels.page_height;
   std::vector<Rgb> indirect(lighting.size());
   for (size_t i = 0; i < lighting.size(); ++i) indirect[i] = lighting[i].indirect;
-  if (settings.edge_aware_filter) {
-    const int r = settings.filter_radius_texels;
-    for (size_t i = 0; i < texels.samples.size(); ++i) {
-      const TexelSample& s = texels.samples[i];
-      const uint32_t chart = atlas.triangle_chart[s.triangle];
-      double sum[3] = {0, 0, 0}, weight_sum = 0;
-      for (int dy = -r; dy <= r; ++dy) {
-        for (int dx = -r; dx <= r; ++dx) {
-          const int x = int(s.x) + dx, y = int(s.y) + dy;
-          if (x < 0 || y < 0 || x >= w || y >= h) continue;
-          const int32_t j = texels.sampleAt(s.page, uint32_t(x), uint32_t(y));
-          if (j < 0) continue;
-          const TexelSample& o = texels.samples[size_t(j)];
-          if (atlas.triangle_chart[o.triangle] != chart) continue;
-          const double c = s.normal.x * o.normal.x + s.normal.y * o.normal.y + s.normal.z * o.normal.z;
-          if (c <= 0) continue;
-          const double spatial = std::exp(-double(dx * dx + dy * dy) / (2.0 * r * r));
-          const double weight = spatial * std::pow(c, settings.filter_normal_power);
-          const Rgb& v = lighting[size_t(j)].indirect;
-          sum[0] += weight * v.r;
-          sum[1] += weight * v.g;
-          sum[2] += weight * v.b;
-          weight_sum += weight;
-        }
+  if (!settings.edge_aware_filter) return indirect;
+  const int r = settings.filter_radius_texels;
+  for (size_t i = 0; i < texels.samples.size(); ++i) {
+    const TexelSample& s = texels.samples[i];
+    const uint32_t chart = atlas.triangle_chart[s.triangle];
+    double sum[3] = {0, 0, 0}, weight_sum = 0;
+    for (int dy = -r; dy <= r; ++dy) {
+      for (int dx = -r; dx <= r; ++dx) {
+        const int x = int(s.x) + dx, y = int(s.y) + dy;
+        if (x < 0 || y < 0 || x >= w || y >= h) continue;
+        const int32_t j = texels.sampleAt(s.page, uint32_t(x), uint32_t(y));
+        if (j < 0) continue;
+        const TexelSample& o = texels.samples[size_t(j)];
+        if (atlas.triangle_chart[o.triangle] != chart) continue;
+        const double c = s.normal.x * o.normal.x + s.normal.y * o.normal.y + s.normal.z * o.normal.z;
+        if (c <= 0) continue;
+        const double spatial = std::exp(-double(dx * dx + dy * dy) / (2.0 * r * r));
+        const double weight = spatial * std::pow(c, settings.filter_normal_power);
+        const Rgb& v = lighting[size_t(j)].indirect;
+        sum[0] += weight * v.r;
+        sum[1] += weight * v.g;
+        sum[2] += weight * v.b;
+        weight_sum += weight;
       }
-      if (weight_sum > 0) indirect[i] = {float(sum[0] / weight_sum), float(sum[1] / weight_sum), float(sum[2] / weight_sum)};
     }
+    if (weight_sum > 0) indirect[i] = {float(sum[0] / weight_sum), float(sum[1] / weight_sum), float(sum[2] / weight_sum)};
   }
+  return indirect;
+}
+
+void writeSamples(const TexelSet& texels, const std::vector<TexelIrradiance>& lighting, const std::vector<Rgb>& indirect,
+                  LightmapPages& pages) {
+  const int w = texels.page_width;
   for (size_t i = 0; i < texels.samples.size(); ++i) {
     const TexelSample& s = texels.samples[i];
     float* p = &pages.images[s.page].rgb[texelIndex(w, int(s.x), int(s.y)) * 3];
@@ -129,48 +141,53 @@ LightmapPages buildLightmapPages(const BakeGeometry& geometry, const LightmapAtl
     p[2] = lighting[i].direct.b + indirect[i].b;
     pages.valid[s.page][texelIndex(w, int(s.x), int(s.y))] = 1;
   }
-  // Dilation: each round fills empty texels next to filled ones with the
-  // mean of their filled 8-neighbours.
-  for (int p = 0; p < texels.page_count; ++p) {
-    LightmapImage& image = pages.images[size_t(p)];
-    std::vector<uint8_t>& valid = pages.valid[size_t(p)];
-    for (int round = 0; round < settings.dilation_texels; ++round) {
-      std::vector<std::pair<size_t, Rgb>> filled;
-      for (int y = 0; y < h; ++y) {
-        for (int x = 0; x < w; ++x) {
-          if (valid[texelIndex(w, x, y)]) continue;
-          double sum[3] = {0, 0, 0};
-          int count = 0;
-          for (int dy = -1; dy <= 1; ++dy) {
-            for (int dx = -1; dx <= 1; ++dx) {
-              const int nx = x + dx, ny = y + dy;
-              if (nx < 0 || ny < 0 || nx >= w || ny >= h || !valid[texelIndex(w, nx, ny)]) continue;
-              const Rgb v = image.texel(nx, ny);
-              sum[0] += v.r;
-              sum[1] += v.g;
-              sum[2] += v.b;
-              ++count;
-            }
+}
+
+// Dilation: each round fills empty texels next to filled ones with the
+// mean of their filled 8-neighbours (marked valid 2).
+void dilatePage(int rounds, LightmapImage& image, std::vector<uint8_t>& valid) {
+  const int w = image.width, h = image.height;
+  for (int round = 0; round < rounds; ++round) {
+    std::vector<std::pair<size_t, Rgb>> filled;
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        if (valid[texelIndex(w, x, y)]) continue;
+        double sum[3] = {0, 0, 0};
+        int count = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if (nx < 0 || ny < 0 || nx >= w || ny >= h || !valid[texelIndex(w, nx, ny)]) continue;
+            const Rgb v = image.texel(nx, ny);
+            sum[0] += v.r;
+            sum[1] += v.g;
+            sum[2] += v.b;
+            ++count;
           }
-          if (count > 0) filled.push_back({texelIndex(w, x, y), {float(sum[0] / count), float(sum[1] / count), float(sum[2] / count)}});
         }
-      }
-      for (const auto& [index, value] : filled) {
-        image.rgb[index * 3] = value.r;
-        image.rgb[index * 3 + 1] = value.g;
-        image.rgb[index * 3 + 2] = value.b;
-        valid[index] = 2;
+        if (count > 0) filled.push_back({texelIndex(w, x, y), {float(sum[0] / count), float(sum[1] / count), float(sum[2] / count)}});
       }
     }
+    for (const auto& [index, value] : filled) {
+      image.rgb[index * 3] = value.r;
+      image.rgb[index * 3 + 1] = value.g;
+      image.rgb[index * 3 + 2] = value.b;
+      valid[index] = 2;
+    }
   }
-  // Seams: pull the texels nearest to matching edge points to their average.
+}
+
+// Seams: pull the texels nearest to matching edge points to their average.
+void stitchSeams(const BakeGeometry& geometry, const LightmapAtlas& atlas, const TexelSet& texels, int iterations,
+                 LightmapPages& pages) {
+  const int w = texels.page_width, h = texels.page_height;
   const std::vector<SeamPoint> seam = findSeamPoints(geometry, atlas);
   auto nearest = [&](uint32_t page, Vec2 uv) -> float* {
     const int x = std::clamp(int(uv.x * float(w)), 0, w - 1), y = std::clamp(int(uv.y * float(h)), 0, h - 1);
     if (!pages.valid[page][texelIndex(w, x, y)]) return nullptr;
     return &pages.images[page].rgb[texelIndex(w, x, y) * 3];
   };
-  for (int iteration = 0; iteration < settings.seam_iterations; ++iteration) {
+  for (int iteration = 0; iteration < iterations; ++iteration) {
     for (const SeamPoint& point : seam) {
       float* a = nearest(point.page_a, point.uv_a);
       float* b = nearest(point.page_b, point.uv_b);
@@ -182,6 +199,18 @@ LightmapPages buildLightmapPages(const BakeGeometry& geometry, const LightmapAtl
       }
     }
   }
+}
+
+}  // namespace
+
+LightmapPages buildLightmapPages(const BakeGeometry& geometry, const LightmapAtlas& atlas, const TexelSet& texels,
+                                 const std::vector<TexelIrradiance>& lighting, const PageSettings& settings) {
+  LightmapPages pages = blankPages(texels);
+  writeSamples(texels, lighting, filteredIndirect(atlas, texels, lighting, settings), pages);
+  for (int p = 0; p < texels.page_count; ++p) {
+    dilatePage(settings.dilation_texels, pages.images[size_t(p)], pages.valid[size_t(p)]);
+  }
+  stitchSeams(geometry, atlas, texels, settings.seam_iterations, pages);
   return pages;
 }
 

@@ -29,7 +29,7 @@ Status writeLightmapPreviewPng(const std::vector<LightmapImage>& pages, const st
     std::vector<float> luminances;
     for (const LightmapImage& page : pages) {
       for (size_t i = 0; i + 2 < page.rgb.size(); i += 3) {
-        const float y = 0.2126f * page.rgb[i] + 0.7152f * page.rgb[i + 1] + 0.0722f * page.rgb[i + 2];
+        const float y = luminance(Rgb{page.rgb[i], page.rgb[i + 1], page.rgb[i + 2]});
         if (y > 0) luminances.push_back(y);
       }
     }

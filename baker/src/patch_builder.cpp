@@ -1,6 +1,6 @@
 // Patches: the cluster-tree nodes of bounded area and similar normal that the
-// runtime tracks radiosity deltas for (DESIGN.md "Runtime: Patches"; thesis
-// ch. 5 works on such groups of elements). A top-down walk of each object's
+// runtime tracks radiosity deltas for (docs/architecture.md "Runtime:
+// Patches"; thesis ch. 5 works on such groups of elements). A top-down walk of each object's
 // tree (element_tree.h) stops at the first node that is small and flat
 // enough, so patches follow the solver's own clustering, and the cluster
 // nodes above them become the runtime's cluster trees.
@@ -53,6 +53,59 @@ void growBounds(Aabb& box, const Vec3& p) {
   box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y), std::max(box.max.z, p.z)};
 }
 
+// Adds the patch made of `elements` (sums over them in double, then one
+// rounding) and marks it on cluster `index`.
+void addPatch(const BakeGeometry& geometry, const ElementTree& tree, const std::vector<Rgb> (&radiosity)[2],
+              const std::vector<int>& elements, int32_t index, PatchSet& out) {
+  const uint32_t patch_index = uint32_t(out.patches.size());
+  std::vector<uint32_t> ids;
+  ids.reserve(elements.size());
+  double area = 0;
+  glm::dvec3 centroid(0.0), normal(0.0), reflectance(0.0), emitted(0.0), exitance(0.0);
+  Aabb bounds;
+  for (int e : elements) {
+    const TreeNode& el = tree.node(e);
+    const uint32_t id = el.triangle * 2 + el.side;
+    ids.push_back(id);
+    out.element_patch[id] = int32_t(patch_index);
+    area += el.area_m2;
+    centroid += el.centroid * el.area_m2;
+    normal += el.normal * el.area_m2;
+    reflectance += el.reflectance_area;
+    emitted += el.emitted_flux;
+    exitance += dvec(radiosity[el.side][el.triangle]) * el.area_m2;
+    for (int k = 0; k < 3; ++k) growBounds(bounds, geometry.corner(el.triangle, k));
+  }
+  std::sort(ids.begin(), ids.end());
+  BakePatch patch;
+  patch.centroid = vec3(centroid / area);
+  const double length = glm::length(normal);
+  // A lone element's normal is unit; a flat-enough group's sum is long.
+  patch.normal = vec3(length > 0 ? normal / length : tree.node(elements.front()).normal);
+  patch.area_m2 = float(area);
+  patch.albedo = rgb(reflectance / area);
+  patch.emission = rgb(emitted / area);  // pi * L, lm/m2
+  patch.radiosity = rgb(exitance / area);
+  patch.first_element = uint32_t(out.patch_elements.size());
+  patch.element_count = uint32_t(ids.size());
+  out.patch_elements.insert(out.patch_elements.end(), ids.begin(), ids.end());
+  out.patches.push_back(patch);
+  out.clusters[size_t(index)].patch = int32_t(patch_index);
+  out.clusters[size_t(index)].bounds = bounds;
+}
+
+// Interior bounds: children follow their parent in pre-order, so one
+// backward sweep sees every child before its parent.
+void growClusterBounds(PatchSet& out) {
+  for (size_t i = out.clusters.size(); i-- > 0;) {
+    const BakeClusterNode& c = out.clusters[i];
+    if (c.parent < 0) continue;
+    Aabb& parent = out.clusters[size_t(c.parent)].bounds;
+    growBounds(parent, c.bounds.min);
+    growBounds(parent, c.bounds.max);
+  }
+}
+
 }  // namespace
 
 PatchSet buildPatches(const BakeGeometry& geometry, const RadiositySolver& solver, double max_area_m2,
@@ -94,54 +147,10 @@ PatchSet buildPatches(const BakeGeometry& geometry, const RadiositySolver& solve
         continue;
       }
       if (elements.empty()) collectElements(tree, item.node, elements);
-
-      // The patch: sums over its elements in double, then one rounding.
-      const uint32_t patch_index = uint32_t(out.patches.size());
-      std::vector<uint32_t> ids;
-      ids.reserve(elements.size());
-      double area = 0;
-      glm::dvec3 centroid(0.0), normal(0.0), reflectance(0.0), emitted(0.0), exitance(0.0);
-      Aabb bounds;
-      for (int e : elements) {
-        const TreeNode& el = tree.node(e);
-        const uint32_t id = el.triangle * 2 + el.side;
-        ids.push_back(id);
-        out.element_patch[id] = int32_t(patch_index);
-        area += el.area_m2;
-        centroid += el.centroid * el.area_m2;
-        normal += el.normal * el.area_m2;
-        reflectance += el.reflectance_area;
-        emitted += el.emitted_flux;
-        exitance += dvec(radiosity[el.side][el.triangle]) * el.area_m2;
-        for (int k = 0; k < 3; ++k) growBounds(bounds, geometry.corner(el.triangle, k));
-      }
-      std::sort(ids.begin(), ids.end());
-      BakePatch patch;
-      patch.centroid = vec3(centroid / area);
-      const double length = glm::length(normal);
-      // A lone element's normal is unit; a flat-enough group's sum is long.
-      patch.normal = vec3(length > 0 ? normal / length : tree.node(elements.front()).normal);
-      patch.area_m2 = float(area);
-      patch.albedo = rgb(reflectance / area);
-      patch.emission = rgb(emitted / area);  // pi * L, lm/m2
-      patch.radiosity = rgb(exitance / area);
-      patch.first_element = uint32_t(out.patch_elements.size());
-      patch.element_count = uint32_t(ids.size());
-      out.patch_elements.insert(out.patch_elements.end(), ids.begin(), ids.end());
-      out.patches.push_back(patch);
-      out.clusters[size_t(index)].patch = int32_t(patch_index);
-      out.clusters[size_t(index)].bounds = bounds;
+      addPatch(geometry, tree, radiosity, elements, index, out);
     }
   }
-  // Interior bounds: children follow their parent in pre-order, so one
-  // backward sweep sees every child before its parent.
-  for (size_t i = out.clusters.size(); i-- > 0;) {
-    const BakeClusterNode& c = out.clusters[i];
-    if (c.parent < 0) continue;
-    Aabb& parent = out.clusters[size_t(c.parent)].bounds;
-    growBounds(parent, c.bounds.min);
-    growBounds(parent, c.bounds.max);
-  }
+  growClusterBounds(out);
   return out;
 }
 

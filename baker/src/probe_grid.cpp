@@ -1,5 +1,5 @@
 // The L1 spherical-harmonic probe grid dynamic objects take their indirect
-// light from (DESIGN.md "Dynamic objects receive light"). Each probe gathers
+// light from (docs/architecture.md "Dynamic objects receive light"). Each probe gathers
 // radiance over the sphere from the solved radiosity and projects it onto
 // the first two SH bands (Ramamoorthi & Hanrahan 2001, "An Efficient
 // Representation for Irradiance Environment Maps": irradiance is radiance
@@ -85,118 +85,140 @@ glm::dvec3 skyLuminance(const Sky& sky, const glm::dvec3& d) {
   return glm::dvec3(0.0);
 }
 
-}  // namespace
+// The grid's layout: cell-centred probes over the static bounds, so
+// probes never sit on the bounds, where walls usually are.
+struct GridLayout {
+  BakeProbeGrid grid;  ///< dims, origin and spacing set; no SH yet
+  glm::dvec3 origin{0.0}, spacing{0.0};
+};
 
-Expected<BakeProbeGrid> buildProbeGrid(const Scene& scene, const BakeGeometry& geometry, const RayCaster& caster,
-                                       const RadiositySolver& solver, double spacing_m, uint64_t seed, int threads,
-                                       const std::atomic<bool>* cancel) {
-  BakeProbeGrid grid;
+GridLayout layOutGrid(const BakeGeometry& geometry, double spacing_m) {
+  GridLayout layout;
   const glm::dvec3 lo = dvec(geometry.bounds.min), hi = dvec(geometry.bounds.max);
   const glm::dvec3 extent = hi - lo;
-  glm::dvec3 origin, spacing;
   for (int a = 0; a < 3; ++a) {
-    // Cell-centred: probes never sit on the bounds, where walls usually are.
     const double cells = std::ceil(extent[a] / spacing_m);
     const uint32_t n = uint32_t(std::clamp(std::isfinite(cells) ? cells : 1.0, 1.0, double(kMaxProbesPerAxis)));
-    grid.dims[a] = n;
-    spacing[a] = extent[a] > 0 ? extent[a] / n : spacing_m;
-    origin[a] = extent[a] > 0 ? lo[a] + 0.5 * spacing[a] : lo[a];
+    layout.grid.dims[a] = n;
+    layout.spacing[a] = extent[a] > 0 ? extent[a] / n : spacing_m;
+    layout.origin[a] = extent[a] > 0 ? lo[a] + 0.5 * layout.spacing[a] : lo[a];
   }
-  grid.origin = vec3(origin);
-  grid.spacing = vec3(spacing);
+  layout.grid.origin = vec3(layout.origin);
+  layout.grid.spacing = vec3(layout.spacing);
+  return layout;
+}
+
+// What every probe's gather reads.
+struct ProbeContext {
+  const Scene& scene;
+  const BakeGeometry& geometry;
+  const RayCaster& caster;
+  const RadiositySolver& solver;
+  const EmitterTable& emitters;
+  uint32_t emitter_samples;
+  uint64_t seed;
+};
+
+// One probe's rays: kProbeRays sphere directions, then the emitter samples.
+struct ProbeRays {
+  std::vector<Ray> rays;
+  std::vector<RayHit> hits;
+  std::vector<uint32_t> target;  // the triangle each emitter sample aims at
+};
+
+void aimProbeRays(const ProbeContext& c, const glm::dvec3& position, Rng& rng, ProbeRays& r) {
+  // Jittered 16 x 16 strata of the uniform-sphere warp: uniform density,
+  // less variance in the projection than independent directions.
+  for (uint32_t i = 0; i < kProbeRays; ++i) {
+    const double u1 = (double(i % kStrata) + rng.uniformDouble()) / kStrata;
+    const double u2 = (double(i / kStrata) + rng.uniformDouble()) / kStrata;
+    r.rays[i].origin = vec3(position);
+    r.rays[i].direction = vec3(uniformSphere(u1, u2));
+  }
+  // Points on the emitters, the triangle choice stratified.
+  for (uint32_t j = 0; j < c.emitter_samples; ++j) {
+    const uint32_t t = c.emitters.triangle[c.emitters.pick((double(j) + rng.uniformDouble()) / c.emitter_samples)];
+    const glm::dvec2 b = uniformTriangle(rng.uniformDouble(), rng.uniformDouble());
+    const glm::dvec3 c0 = dvec(c.geometry.corner(t, 0)), c1 = dvec(c.geometry.corner(t, 1)),
+                     c2 = dvec(c.geometry.corner(t, 2));
+    const glm::dvec3 to = c0 + b.x * (c1 - c0) + b.y * (c2 - c0) - position;
+    const double distance = glm::length(to);
+    r.target[j] = t;
+    r.rays[kProbeRays + j].origin = vec3(position);
+    r.rays[kProbeRays + j].direction = vec3(distance > 0 ? to / distance : glm::dvec3(0, 1, 0));
+  }
+}
+
+// Running L1 SH projection of radiance.
+struct ShSums {
+  glm::dvec3 c[4] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+  void add(const glm::dvec3& d, const glm::dvec3& weighted_radiance) {
+    c[0] += weighted_radiance * kY0;
+    c[1] += weighted_radiance * (kY1 * d.y);
+    c[2] += weighted_radiance * (kY1 * d.z);
+    c[3] += weighted_radiance * (kY1 * d.x);
+  }
+};
+
+// Emission seen along unit `d` at hit `h`, weighted by the balance
+// heuristic over both strategies: L_e / (N_s p_s + N_e p_e).
+glm::dvec3 emissionWeighted(const ProbeContext& c, const RayHit& h, const glm::dvec3& d) {
+  const glm::dvec3 emission = dvec(c.geometry.emission[h.triangle]);
+  if (emission == glm::dvec3(0.0)) return glm::dvec3(0.0);
+  double pdfs = kProbeRays * kSpherePdf;
+  if (c.emitter_samples > 0) {
+    const double cos_emitter = std::abs(glm::dot(dvec(c.geometry.normals[h.triangle]), d));
+    pdfs += c.emitter_samples * c.emitters.solidAnglePdf(h.triangle, double(h.t), cos_emitter);
+  }
+  return emission / pdfs;
+}
+
+// Projects probe p's radiance into grid.sh; false when most of its rays
+// see backs (the probe is inside something solid).
+bool gatherProbe(const ProbeContext& c, const GridLayout& layout, size_t p, ProbeRays& r, std::vector<float>& sh) {
+  const BakeGeometry& geometry = c.geometry;
+  const size_t nx = layout.grid.dims[0], ny = layout.grid.dims[1];
+  const size_t ix = p % nx, iy = (p / nx) % ny, iz = p / (nx * ny);
+  const glm::dvec3 position = layout.origin + glm::dvec3(double(ix), double(iy), double(iz)) * layout.spacing;
+  Rng rng(hashIds(c.seed, kProbeStream, p));
+  aimProbeRays(c, position, rng, r);
+  c.caster.intersect(r.rays, r.hits);
+  ShSums sums;
+  uint32_t back_hits = 0;
+  for (uint32_t i = 0; i < kProbeRays; ++i) {
+    const RayHit& h = r.hits[i];
+    const glm::dvec3 d = glm::normalize(dvec(r.rays[i].direction));
+    if (!h.hit()) {
+      sums.add(d, skyLuminance(c.scene.sky, d) / (kProbeRays * kSpherePdf));
+    } else if (h.front || geometry.double_sided[h.triangle]) {
+      // Leaving radiance of a Lambertian side: (pi L_e + albedo E) / pi.
+      const Rgb e = c.solver.irradianceAt(h.triangle, h.front, h.u, h.v, InterpolationMode::kVertex);
+      sums.add(d, dvec(geometry.albedo[h.triangle]) * dvec(e) / kPi / (kProbeRays * kSpherePdf) + emissionWeighted(c, h, d));
+    } else {
+      ++back_hits;  // the black back of a single-sided surface
+    }
+  }
+  // An emitter sample counts where its ray reaches the aimed-at
+  // triangle's emitting side first (anything else in between shadows it).
+  for (uint32_t j = 0; j < c.emitter_samples; ++j) {
+    const RayHit& h = r.hits[kProbeRays + j];
+    if (!h.hit() || h.triangle != r.target[j] || !(h.front || geometry.double_sided[h.triangle])) continue;
+    const glm::dvec3 d = dvec(r.rays[kProbeRays + j].direction);
+    sums.add(d, emissionWeighted(c, h, d));
+  }
+  // The sums above are already the Monte Carlo projections: integral
+  // of L * Y over the sphere (cd/m2 x sr).
+  for (int k = 0; k < 4; ++k) {
+    for (int ch = 0; ch < 3; ++ch) sh[p * 12 + size_t(k) * 3 + size_t(ch)] = float(sums.c[k][ch]);
+  }
+  return back_hits * 2 <= kProbeRays;
+}
+
+// Probes inside geometry: the mean of their valid neighbours (3x3x3 block,
+// read from the gathered values only, so the order does not matter), or zero.
+void fillInvalidProbes(BakeProbeGrid& grid, const std::vector<uint8_t>& valid) {
   const size_t nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
   const size_t probes = nx * ny * nz;
-  grid.sh.assign(probes * 12, 0.0f);
-  std::vector<uint8_t> valid(probes, 0);
-
-  const EmitterTable emitters(geometry);
-  const uint32_t emitter_samples = emitters.empty() ? 0 : kProbeEmitterSamples;
-  solver.prepareQueries();  // so irradianceAt is thread-safe below
-  parallelFor(probes, kChunkProbes, threads, [&](size_t begin, size_t end) {
-    if (cancel && cancel->load()) return;
-    const uint32_t ray_count = kProbeRays + emitter_samples;
-    std::vector<Ray> rays(ray_count);
-    std::vector<RayHit> hits(ray_count);
-    std::vector<uint32_t> target(emitter_samples);  // the triangle each emitter sample aims at
-    for (size_t p = begin; p < end; ++p) {
-      const size_t ix = p % nx, iy = (p / nx) % ny, iz = p / (nx * ny);
-      const glm::dvec3 position = origin + glm::dvec3(double(ix), double(iy), double(iz)) * spacing;
-      Rng rng(hashIds(seed, kProbeStream, p));
-      // Jittered 16 x 16 strata of the uniform-sphere warp: uniform density,
-      // less variance in the projection than independent directions.
-      for (uint32_t r = 0; r < kProbeRays; ++r) {
-        const double u1 = (double(r % kStrata) + rng.uniformDouble()) / kStrata;
-        const double u2 = (double(r / kStrata) + rng.uniformDouble()) / kStrata;
-        rays[r].origin = vec3(position);
-        rays[r].direction = vec3(uniformSphere(u1, u2));
-      }
-      // Points on the emitters, the triangle choice stratified.
-      for (uint32_t j = 0; j < emitter_samples; ++j) {
-        const uint32_t t = emitters.triangle[emitters.pick((double(j) + rng.uniformDouble()) / emitter_samples)];
-        const glm::dvec2 b = uniformTriangle(rng.uniformDouble(), rng.uniformDouble());
-        const glm::dvec3 c0 = dvec(geometry.corner(t, 0)), c1 = dvec(geometry.corner(t, 1)),
-                         c2 = dvec(geometry.corner(t, 2));
-        const glm::dvec3 to = c0 + b.x * (c1 - c0) + b.y * (c2 - c0) - position;
-        const double distance = glm::length(to);
-        target[j] = t;
-        rays[kProbeRays + j].origin = vec3(position);
-        rays[kProbeRays + j].direction = vec3(distance > 0 ? to / distance : glm::dvec3(0, 1, 0));
-      }
-      caster.intersect(rays, hits);
-      glm::dvec3 c[4] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
-      auto add = [&](const glm::dvec3& d, const glm::dvec3& weighted_radiance) {
-        c[0] += weighted_radiance * kY0;
-        c[1] += weighted_radiance * (kY1 * d.y);
-        c[2] += weighted_radiance * (kY1 * d.z);
-        c[3] += weighted_radiance * (kY1 * d.x);
-      };
-      // Emission seen along unit `d` at hit `h`, weighted by the balance
-      // heuristic over both strategies: L_e / (N_s p_s + N_e p_e).
-      auto emissionWeighted = [&](const RayHit& h, const glm::dvec3& d) {
-        const glm::dvec3 emission = dvec(geometry.emission[h.triangle]);
-        if (emission == glm::dvec3(0.0)) return glm::dvec3(0.0);
-        double pdfs = kProbeRays * kSpherePdf;
-        if (emitter_samples > 0) {
-          const double cos_emitter = std::abs(glm::dot(dvec(geometry.normals[h.triangle]), d));
-          pdfs += emitter_samples * emitters.solidAnglePdf(h.triangle, double(h.t), cos_emitter);
-        }
-        return emission / pdfs;
-      };
-      uint32_t back_hits = 0;
-      for (uint32_t r = 0; r < kProbeRays; ++r) {
-        const RayHit& h = hits[r];
-        const glm::dvec3 d = glm::normalize(dvec(rays[r].direction));
-        if (!h.hit()) {
-          add(d, skyLuminance(scene.sky, d) / (kProbeRays * kSpherePdf));
-        } else if (h.front || geometry.double_sided[h.triangle]) {
-          // Leaving radiance of a Lambertian side: (pi L_e + albedo E) / pi.
-          const Rgb e = solver.irradianceAt(h.triangle, h.front, h.u, h.v, InterpolationMode::kVertex);
-          add(d, dvec(geometry.albedo[h.triangle]) * dvec(e) / kPi / (kProbeRays * kSpherePdf) + emissionWeighted(h, d));
-        } else {
-          ++back_hits;  // the black back of a single-sided surface
-        }
-      }
-      // An emitter sample counts where its ray reaches the aimed-at
-      // triangle's emitting side first (anything else in between shadows it).
-      for (uint32_t j = 0; j < emitter_samples; ++j) {
-        const RayHit& h = hits[kProbeRays + j];
-        if (!h.hit() || h.triangle != target[j] || !(h.front || geometry.double_sided[h.triangle])) continue;
-        const glm::dvec3 d = dvec(rays[kProbeRays + j].direction);
-        add(d, emissionWeighted(h, d));
-      }
-      // The sums above are already the Monte Carlo projections: integral
-      // of L * Y over the sphere (cd/m2 x sr).
-      for (int k = 0; k < 4; ++k) {
-        for (int ch = 0; ch < 3; ++ch) grid.sh[p * 12 + size_t(k) * 3 + size_t(ch)] = float(c[k][ch]);
-      }
-      // Most rays on backs: the probe is inside something solid.
-      valid[p] = back_hits * 2 <= kProbeRays ? 1 : 0;
-    }
-  });
-  if (cancel && cancel->load()) return Status(StatusCode::kCancelled, "runtime sections: probes cancelled");
-
-  // Probes inside geometry: the mean of their valid neighbours (3x3x3 block,
-  // read from the gathered values only, so the order does not matter), or zero.
   std::vector<float> filled = grid.sh;
   for (size_t p = 0; p < probes; ++p) {
     if (valid[p]) continue;
@@ -218,7 +240,35 @@ Expected<BakeProbeGrid> buildProbeGrid(const Scene& scene, const BakeGeometry& g
     for (size_t k = 0; k < 12; ++k) filled[p * 12 + k] = count > 0 ? float(sum[k] / count) : 0.0f;
   }
   grid.sh = std::move(filled);
-  return grid;
+}
+
+}  // namespace
+
+Expected<BakeProbeGrid> buildProbeGrid(const Scene& scene, const BakeGeometry& geometry, const RayCaster& caster,
+                                       const RadiositySolver& solver, double spacing_m, uint64_t seed, int threads,
+                                       const std::atomic<bool>* cancel) {
+  GridLayout layout = layOutGrid(geometry, spacing_m);
+  BakeProbeGrid& grid = layout.grid;
+  const size_t probes = size_t(grid.dims[0]) * size_t(grid.dims[1]) * size_t(grid.dims[2]);
+  grid.sh.assign(probes * 12, 0.0f);
+  std::vector<uint8_t> valid(probes, 0);
+
+  const EmitterTable emitters(geometry);
+  const uint32_t emitter_samples = emitters.empty() ? 0 : kProbeEmitterSamples;
+  const ProbeContext context{scene, geometry, caster, solver, emitters, emitter_samples, seed};
+  solver.prepareQueries();  // so irradianceAt is thread-safe below
+  parallelFor(probes, kChunkProbes, threads, [&](size_t begin, size_t end) {
+    if (cancel && cancel->load()) return;
+    const uint32_t ray_count = kProbeRays + emitter_samples;
+    ProbeRays scratch;
+    scratch.rays.resize(ray_count);
+    scratch.hits.resize(ray_count);
+    scratch.target.resize(emitter_samples);
+    for (size_t p = begin; p < end; ++p) valid[p] = gatherProbe(context, layout, p, scratch, grid.sh) ? 1 : 0;
+  });
+  if (cancel && cancel->load()) return Status(StatusCode::kCancelled, "runtime sections: probes cancelled");
+  fillInvalidProbes(grid, valid);
+  return std::move(layout.grid);
 }
 
 }  // namespace svit::baker

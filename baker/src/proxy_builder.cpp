@@ -1,4 +1,4 @@
-// LOD proxies of the static geometry (DESIGN.md "Runtime: LOD proxies"):
+// LOD proxies of the static geometry (docs/architecture.md "Runtime: LOD proxies"):
 // the runtime renders its index shadow maps from these instead of the full
 // meshes, so each proxy face names the patch it stands for. Each object is
 // simplified on its own (quadric edge collapse, simplify_mesh.h) and every
@@ -131,100 +131,126 @@ int32_t nearestPatch(const BakeGeometry& geometry, const std::vector<Candidate>&
   return best_index == std::numeric_limits<uint32_t>::max() ? -1 : int32_t(candidates[best_index].patch);
 }
 
+// One instance's triangles welded by exact position (float bits),
+// vertices numbered in first-seen order.
+struct WeldedMesh {
+  std::vector<glm::dvec3> positions;
+  std::vector<uint32_t> indices;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> weld;  // position hash -> vertices (lookup only)
+};
+
+void weldInstance(const BakeGeometry& geometry, size_t first, size_t last, WeldedMesh& mesh) {
+  std::vector<glm::dvec3>& positions = mesh.positions;
+  positions.clear();
+  mesh.indices.clear();
+  mesh.weld.clear();
+  for (size_t t = first; t < last; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& q = geometry.corner(t, k);
+      uint32_t bits[3];
+      std::memcpy(bits, &q, sizeof bits);
+      std::vector<uint32_t>& bucket = mesh.weld[hashIds(bits[0], bits[1], bits[2])];
+      uint32_t vertex = uint32_t(positions.size());
+      for (uint32_t v : bucket) {
+        if (positions[v] == dvec(q)) vertex = v;
+      }
+      if (vertex == positions.size()) {
+        bucket.push_back(vertex);
+        positions.push_back(dvec(q));
+      }
+      mesh.indices.push_back(vertex);
+    }
+  }
+}
+
+// The instance's proxy: itself when small, else simplified to `ratio` of
+// its faces. The library's collapse threshold is absolute (squared length
+// units): the object is scaled to a unit diagonal so the result does not
+// depend on its size or units, then scaled back. Rescales mesh.positions.
+SimplifiedMesh simplifyInstance(WeldedMesh& mesh, size_t faces, double ratio) {
+  SimplifiedMesh simplified;
+  if (faces <= kKeepFaces) {
+    simplified.positions = mesh.positions;
+    simplified.indices = mesh.indices;
+    return simplified;
+  }
+  std::vector<glm::dvec3>& positions = mesh.positions;
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const glm::dvec3& q : positions) {
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
+  }
+  const glm::dvec3 centre = 0.5 * (lo + hi);
+  const double diagonal = glm::length(hi - lo);
+  const double scale = diagonal > 0 ? 1.0 / diagonal : 1.0;
+  for (glm::dvec3& q : positions) q = (q - centre) * scale;
+  const size_t target = std::max<size_t>(1, size_t(std::llround(double(faces) * ratio)));
+  simplified = simplifyMesh(positions, mesh.indices, target);
+  for (glm::dvec3& q : simplified.positions) q = q / scale + centre;
+  return simplified;
+}
+
+// Candidates: the instance's existing triangle sides that belong to a patch.
+void collectCandidates(const BakeGeometry& geometry, const PatchSet& patches, size_t first, size_t last,
+                       std::vector<Candidate>& candidates) {
+  candidates.clear();
+  for (size_t t = first; t < last; ++t) {
+    const glm::dvec3 a = dvec(geometry.corner(t, 0)), b = dvec(geometry.corner(t, 1)), c = dvec(geometry.corner(t, 2));
+    const glm::dvec3 centre = (a + b + c) / 3.0;
+    const double radius = std::max({glm::length(a - centre), glm::length(b - centre), glm::length(c - centre)});
+    for (int side = 0; side < 2; ++side) {
+      const int32_t patch = patches.element_patch[t * 2 + size_t(side)];
+      if (patch < 0) continue;
+      const glm::dvec3 n = dvec(geometry.normals[t]) * (side == 0 ? 1.0 : -1.0);
+      candidates.push_back({uint32_t(t), uint32_t(patch), n, centre, radius});
+    }
+  }
+}
+
+// Appends the simplified faces to the proxy, each with the patch of the
+// nearest original side facing its way.
+void appendProxyFaces(const BakeGeometry& geometry, const std::vector<Candidate>& candidates,
+                      const SimplifiedMesh& simplified, int threads, BakeProxyMesh& proxy) {
+  const size_t base_vertex = proxy.positions.size();
+  const size_t base_face = proxy.face_patch.size();
+  const size_t proxy_faces = simplified.indices.size() / 3;
+  for (const glm::dvec3& q : simplified.positions) proxy.positions.push_back(vec3(q));
+  for (uint32_t i : simplified.indices) proxy.indices.push_back(uint32_t(base_vertex + i));
+  proxy.face_patch.resize(base_face + proxy_faces);
+  const CandidateSweep sweep(candidates);
+  parallelFor(proxy_faces, kChunkFaces, threads, [&](size_t begin, size_t end) {
+    for (size_t f = begin; f < end; ++f) {
+      const glm::dvec3 a = simplified.positions[simplified.indices[f * 3]];
+      const glm::dvec3 b = simplified.positions[simplified.indices[f * 3 + 1]];
+      const glm::dvec3 c = simplified.positions[simplified.indices[f * 3 + 2]];
+      const glm::dvec3 centroid = (a + b + c) / 3.0;
+      const glm::dvec3 n = glm::cross(b - a, c - a);  // unnormalised: only its sign against sides matters
+      int32_t patch = nearestPatch(geometry, candidates, sweep, centroid, n, false);
+      // A face turned against every original side (a collapse fold, or a
+      // zero-area face) still stands for the nearest surface.
+      if (patch < 0) patch = nearestPatch(geometry, candidates, sweep, centroid, n, true);
+      proxy.face_patch[base_face + f] = uint32_t(std::max(patch, 0));
+    }
+  });
+}
+
 }  // namespace
 
 Expected<BakeProxyMesh> buildProxy(const BakeGeometry& geometry, const PatchSet& patches, double ratio, int threads,
                                    const std::atomic<bool>* cancel) {
   BakeProxyMesh proxy;
   const size_t triangles = geometry.triangleCount();
-  std::vector<glm::dvec3> positions;
-  std::vector<uint32_t> indices;
+  WeldedMesh welded;
   std::vector<Candidate> candidates;
-  std::unordered_map<uint64_t, std::vector<uint32_t>> weld;  // position hash -> vertices (lookup only)
   for (size_t first = 0; first < triangles;) {
     if (cancel && cancel->load()) return Status(StatusCode::kCancelled, "runtime sections: proxy cancelled");
     // Triangles of one instance are contiguous (BakeGeometry order).
     size_t last = first;
     while (last < triangles && geometry.instance[last] == geometry.instance[first]) ++last;
-
-    // Weld by exact position (float bits), vertices numbered in first-seen order.
-    positions.clear();
-    indices.clear();
-    weld.clear();
-    for (size_t t = first; t < last; ++t) {
-      for (int k = 0; k < 3; ++k) {
-        const Vec3& q = geometry.corner(t, k);
-        uint32_t bits[3];
-        std::memcpy(bits, &q, sizeof bits);
-        std::vector<uint32_t>& bucket = weld[hashIds(bits[0], bits[1], bits[2])];
-        uint32_t vertex = uint32_t(positions.size());
-        for (uint32_t v : bucket) {
-          if (positions[v] == dvec(q)) vertex = v;
-        }
-        if (vertex == positions.size()) {
-          bucket.push_back(vertex);
-          positions.push_back(dvec(q));
-        }
-        indices.push_back(vertex);
-      }
-    }
-    const size_t faces = last - first;
-    SimplifiedMesh simplified;
-    if (faces <= kKeepFaces) {
-      simplified.positions = positions;
-      simplified.indices = indices;
-    } else {
-      // The library's collapse threshold is absolute (squared length units):
-      // scale the object to a unit diagonal so the result does not depend on
-      // its size or units, then scale back.
-      glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-      for (const glm::dvec3& q : positions) {
-        lo = glm::min(lo, q);
-        hi = glm::max(hi, q);
-      }
-      const glm::dvec3 centre = 0.5 * (lo + hi);
-      const double diagonal = glm::length(hi - lo);
-      const double scale = diagonal > 0 ? 1.0 / diagonal : 1.0;
-      for (glm::dvec3& q : positions) q = (q - centre) * scale;
-      const size_t target = std::max<size_t>(1, size_t(std::llround(double(faces) * ratio)));
-      simplified = simplifyMesh(positions, indices, target);
-      for (glm::dvec3& q : simplified.positions) q = q / scale + centre;
-    }
-
-    // Candidates: the object's existing triangle sides.
-    candidates.clear();
-    for (size_t t = first; t < last; ++t) {
-      const glm::dvec3 a = dvec(geometry.corner(t, 0)), b = dvec(geometry.corner(t, 1)), c = dvec(geometry.corner(t, 2));
-      const glm::dvec3 centre = (a + b + c) / 3.0;
-      const double radius = std::max({glm::length(a - centre), glm::length(b - centre), glm::length(c - centre)});
-      for (int side = 0; side < 2; ++side) {
-        const int32_t patch = patches.element_patch[t * 2 + size_t(side)];
-        if (patch < 0) continue;
-        const glm::dvec3 n = dvec(geometry.normals[t]) * (side == 0 ? 1.0 : -1.0);
-        candidates.push_back({uint32_t(t), uint32_t(patch), n, centre, radius});
-      }
-    }
-    const size_t base_vertex = proxy.positions.size();
-    const size_t base_face = proxy.face_patch.size();
-    const size_t proxy_faces = simplified.indices.size() / 3;
-    for (const glm::dvec3& q : simplified.positions) proxy.positions.push_back(vec3(q));
-    for (uint32_t i : simplified.indices) proxy.indices.push_back(uint32_t(base_vertex + i));
-    proxy.face_patch.resize(base_face + proxy_faces);
-    const CandidateSweep sweep(candidates);
-    parallelFor(proxy_faces, kChunkFaces, threads, [&](size_t begin, size_t end) {
-      for (size_t f = begin; f < end; ++f) {
-        const glm::dvec3 a = simplified.positions[simplified.indices[f * 3]];
-        const glm::dvec3 b = simplified.positions[simplified.indices[f * 3 + 1]];
-        const glm::dvec3 c = simplified.positions[simplified.indices[f * 3 + 2]];
-        const glm::dvec3 centroid = (a + b + c) / 3.0;
-        const glm::dvec3 n = glm::cross(b - a, c - a);  // unnormalised: only its sign against sides matters
-        int32_t patch = nearestPatch(geometry, candidates, sweep, centroid, n, false);
-        // A face turned against every original side (a collapse fold, or a
-        // zero-area face) still stands for the nearest surface.
-        if (patch < 0) patch = nearestPatch(geometry, candidates, sweep, centroid, n, true);
-        proxy.face_patch[base_face + f] = uint32_t(std::max(patch, 0));
-      }
-    });
+    weldInstance(geometry, first, last, welded);
+    const SimplifiedMesh simplified = simplifyInstance(welded, last - first, ratio);
+    collectCandidates(geometry, patches, first, last, candidates);
+    appendProxyFaces(geometry, candidates, simplified, threads, proxy);
     first = last;
   }
   return proxy;

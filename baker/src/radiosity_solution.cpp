@@ -219,7 +219,7 @@ Rgb RadiositySolver::irradianceAt(uint32_t triangle, bool front, double u, doubl
   }
   fan[3][0] = (node.bary[0][0] + node.bary[1][0] + node.bary[2][0]) / 3.0f;
   fan[3][1] = (node.bary[0][1] + node.bary[1][1] + node.bary[2][1]) / 3.0f;
-  double best_score = -1e300;
+  double best_score = kNoLowerBound;
   glm::dvec3 best(0.0);
   for (int k = 0; k < 3; ++k) {
     const float sub[3][2] = {{fan[3][0], fan[3][1]}, {fan[k][0], fan[k][1]}, {fan[(k + 1) % 3][0], fan[(k + 1) % 3][1]}};

@@ -16,6 +16,11 @@
 
 namespace svit::baker {
 
+// One batch's rays and hits (radiosity_batch.cpp).
+struct BatchRays;
+struct BinnedHits;
+struct SubtreeHits;
+
 struct RadiositySolver::State {
   const Scene* scene = nullptr;
   const BakeGeometry* geometry = nullptr;
@@ -71,8 +76,21 @@ struct RadiositySolver::State {
   void growNodeArrays();
   void startPass();
   void endPass();
-  /// Runs one batch; false when the pass ended instead.
+  /// Shoots one batch of the current pass, or ends the pass (endPass) when
+  /// less than pass_end_rays rays' worth of flux is left unshot.
   void runBatch();
+  // The stages of runBatch, in order (radiosity_batch.cpp).
+  void collectShooters(BatchRays& b) const;
+  void allocateRays(BatchRays& b, double unshot) const;
+  void takeShotFlux(double fraction, double unshot);
+  void castRays(BatchRays& b) const;
+  void generateRay(BatchRays& b, size_t j) const;
+  void findInsideOrigins(BatchRays& b) const;
+  BinnedHits binHits(const BatchRays& b);
+  void subdivideDenseLeaves(BinnedHits& binned);
+  SubtreeHits sumSubtreeHits(const BinnedHits& binned);
+  void depositHits(SubtreeHits& subtrees);
+  void returnInsideFlux(const BatchRays& b, const BinnedHits& binned);
   glm::dvec3 currentAmbient() const;
   /// Irradiance per node at the node's own level for the current answer.
   const std::vector<glm::dvec3>& currentLevels(std::vector<glm::dvec3>& scratch) const;

@@ -7,15 +7,14 @@
 
 #include <cmath>
 
+#include "numeric.h"
 #include "svit/baker/ray_caster.h"
 
 namespace svit::baker {
 
-inline bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 /// The ray's usable [t_near, t_far], or false when it must miss.
 inline bool usableSegment(const Ray& ray, float* t_near, float* t_far) {
-  if (!finite3(ray.origin) || !finite3(ray.direction)) return false;
+  if (!finite(ray.origin) || !finite(ray.direction)) return false;
   if (ray.direction.x == 0.0f && ray.direction.y == 0.0f && ray.direction.z == 0.0f) return false;
   if (!std::isfinite(ray.t_near) || std::isnan(ray.t_far)) return false;
   *t_near = ray.t_near > 0.0f ? ray.t_near : 0.0f;

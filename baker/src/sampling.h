@@ -8,9 +8,11 @@
 
 #include <glm/glm.hpp>
 
+#include "numeric.h"
+
 namespace svit::baker {
 
-constexpr double kPi = 3.14159265358979323846;
+using svit::kPi;
 
 /// Orthonormal basis (t, b, n) around unit `n` (Duff et al. 2017, branchless).
 inline void basisAround(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {

@@ -231,28 +231,38 @@ struct BandInput {
   int bands_per_page;
 };
 
-/// Rasterizes one band, then pulls or drops its leaking samples. Output in (y, x) order.
-std::vector<TexelSample> rasterizeBand(const BandInput& in, size_t band) {
-  const BakeGeometry& geometry = *in.geometry;
-  const LightmapAtlas& atlas = *in.atlas;
-  const int w = atlas.page_width, h = atlas.page_height;
-  const uint32_t page = uint32_t(band / size_t(in.bands_per_page));
-  const int y_begin = int(band % size_t(in.bands_per_page)) * kBandRows;
-  const int y_end = std::min(h, y_begin + kBandRows);
-  const size_t texels = size_t(w) * size_t(y_end - y_begin);
-  const uint32_t first = (*in.band_start)[band], last = (*in.band_start)[band + 1];
-  std::vector<TexelSample> result;
-  if (first == last) return result;
+/// The rows [y_begin, y_end) of one page that a band covers.
+struct BandRows {
+  uint32_t page = 0;
+  int y_begin = 0, y_end = 0;
+  size_t texels = 0;
+};
 
-  // Per texel: the best triangle, its covered area and centroid, and the
-  // sums over all triangles for coverage and the texel-wide centroid.
-  std::vector<double> best_area(texels, 0.0), sum_area(texels, 0.0), sum_x(texels, 0.0), sum_y(texels, 0.0);
-  std::vector<uint32_t> best_triangle(texels, RayHit::kNone);
-  std::vector<Pt> best_centroid(texels);
+/// Per texel of a band: the best triangle, its covered area and centroid,
+/// and the sums over all triangles for coverage and the texel-wide centroid.
+struct BandCoverage {
+  std::vector<double> best_area, sum_area, sum_x, sum_y;
+  std::vector<uint32_t> best_triangle;
+  std::vector<Pt> best_centroid;
+};
+
+/// Clips every triangle of the band against each texel it overlaps.
+BandCoverage coverBand(const BandInput& in, size_t band, const BandRows& rows) {
+  const LightmapAtlas& atlas = *in.atlas;
+  const int w = atlas.page_width;
+  const size_t texels = rows.texels;
+  const uint32_t first = (*in.band_start)[band], last = (*in.band_start)[band + 1];
+  BandCoverage c;
+  c.best_area.assign(texels, 0.0);
+  c.sum_area.assign(texels, 0.0);
+  c.sum_x.assign(texels, 0.0);
+  c.sum_y.assign(texels, 0.0);
+  c.best_triangle.assign(texels, RayHit::kNone);
+  c.best_centroid.resize(texels);
   for (uint32_t i = first; i < last; ++i) {
     const uint32_t t = (*in.band_triangles)[i];  // ascending: ties keep the lower index
     const Poly tri = asPoly(uvTriangle(atlas, t));
-    for (int y = y_begin; y < y_end; ++y) {
+    for (int y = rows.y_begin; y < rows.y_end; ++y) {
       Poly row;
       clipToRows(tri, &row, y, y + 1);
       if (row.n < 3) continue;
@@ -270,149 +280,198 @@ std::vector<TexelSample> rasterizeBand(const BandInput& in, size_t band) {
         Pt centroid;
         const double area = areaCentroid(part, {double(x), double(y)}, &centroid);
         if (!(area > kMinArea)) continue;
-        const size_t j = size_t(y - y_begin) * size_t(w) + size_t(x);
-        sum_area[j] += area;
-        sum_x[j] += area * centroid.x;
-        sum_y[j] += area * centroid.y;
-        if (area > best_area[j]) {
-          best_area[j] = area;
-          best_triangle[j] = t;
-          best_centroid[j] = centroid;
+        const size_t j = size_t(y - rows.y_begin) * size_t(w) + size_t(x);
+        c.sum_area[j] += area;
+        c.sum_x[j] += area * centroid.x;
+        c.sum_y[j] += area * centroid.y;
+        if (area > c.best_area[j]) {
+          c.best_area[j] = area;
+          c.best_triangle[j] = t;
+          c.best_centroid[j] = centroid;
         }
       }
     }
   }
+  return c;
+}
 
-  std::vector<TexelSample> pending;  // before leak handling
-  for (size_t j = 0; j < texels; ++j) {
-    if (best_triangle[j] == RayHit::kNone) continue;
-    const uint32_t t = best_triangle[j];
+/// One sample per covered texel, on its winning triangle, in (y, x) order.
+std::vector<TexelSample> placeSamples(const BandInput& in, const BandRows& rows, const BandCoverage& c) {
+  const BakeGeometry& geometry = *in.geometry;
+  const LightmapAtlas& atlas = *in.atlas;
+  const int w = atlas.page_width;
+  std::vector<TexelSample> samples;
+  for (size_t j = 0; j < rows.texels; ++j) {
+    if (c.best_triangle[j] == RayHit::kNone) continue;
+    const uint32_t t = c.best_triangle[j];
     const UvTriangle tri = uvTriangle(atlas, t);
     // The centroid of everything covered represents the whole texel (at
     // the texel centre inside a chart, as bilinear lookup assumes); it is
     // used when it lies on the winning triangle, else the winner's own
     // covered centroid (a chart border or corner).
-    Pt point{sum_x[j] / sum_area[j], sum_y[j] / sum_area[j]};
+    Pt point{c.sum_x[j] / c.sum_area[j], c.sum_y[j] / c.sum_area[j]};
     double u, v;
     barycentric(tri, point, &u, &v);
     if (!insideBarycentric(u, v)) {
-      point = best_centroid[j];
+      point = c.best_centroid[j];
       barycentric(tri, point, &u, &v);
     }
     clampBarycentric(&u, &v);
     TexelSample s;
-    s.page = page;
+    s.page = rows.page;
     s.x = uint32_t(j % size_t(w));
-    s.y = uint32_t(y_begin + int(j / size_t(w)));
+    s.y = uint32_t(rows.y_begin + int(j / size_t(w)));
     s.triangle = t;
     s.u = float(u);
     s.v = float(v);
     s.position = worldPoint(geometry, t, u, v);
     s.normal = geometry.normals[t];
-    s.coverage = float(std::min(1.0, sum_area[j]));
-    pending.push_back(s);
+    s.coverage = float(std::min(1.0, c.sum_area[j]));
+    samples.push_back(s);
   }
+  return samples;
+}
 
-  const double probe_texels = in.settings->leak_probe_texels;
-  if (probe_texels > 0.0) {
-    // World length of one texel on a triangle: sqrt(world area / UV area).
-    auto probeLength = [&](uint32_t t) {
-      const double uv_area = 0.5 * std::fabs(uvTriangle(atlas, t).twice_signed_area);
-      return float(probe_texels * std::sqrt(double(geometry.areas_m2[t]) / uv_area));
-    };
-    std::vector<Ray> rays;
-    rays.reserve(pending.size() * kProbes);
-    for (const TexelSample& s : pending) {
-      appendProbes(s.position, s.normal, cornerMagnitude(geometry, s.triangle), probeLength(s.triangle), &rays);
-    }
-    std::vector<RayHit> hits(rays.size());
-    in.caster->intersect(rays, hits);
+/// World length of `probe_texels` texels on triangle t: sqrt(world area / UV area) per texel.
+float probeLength(const BandInput& in, uint32_t t) {
+  const double uv_area = 0.5 * std::fabs(uvTriangle(*in.atlas, t).twice_signed_area);
+  return float(in.settings->leak_probe_texels * std::sqrt(double(in.geometry->areas_m2[t]) / uv_area));
+}
 
-    // Leaking samples: candidates are the inset vertices and edge midpoints
-    // of the winner's covered part, tried in order of how far they move
-    // along the probe that saw the back face (the outside lies beyond that
-    // face; ties keep polygon order). A candidate is taken when
-    //  - the straight path from the sample to it meets a one-sided back face
-    //    first: it crossed to the far side of the surface. Without this a
-    //    point deeper inside a solid, just out of the short probes' reach,
-    //    would pass as outside;
-    //  - and its own probes find no back face.
-    struct Candidate {
-      size_t pending;
-      double u, v;
-      Vec3 position;
-      double along;  ///< metres moved along the probe that found the back face
-    };
-    std::vector<Candidate> candidates;
-    std::vector<uint8_t> leaking(pending.size(), 0);
-    for (size_t i = 0; i < pending.size(); ++i) {
-      const int probe = firstBackHit(geometry, &hits[i * kProbes]);
-      if (probe < 0) continue;
-      leaking[i] = 1;
-      const TexelSample& s = pending[i];
-      const uint32_t t = s.triangle;
-      const UvTriangle tri = uvTriangle(atlas, t);
-      Poly part;
-      clipToBox(asPoly(tri), &part, s.x, s.x + 1.0, s.y, s.y + 1.0);
-      Pt centroid;
-      if (!(areaCentroid(part, {double(s.x), double(s.y)}, &centroid) > 0.0)) continue;
-      const Vec3& d = rays[i * kProbes + size_t(probe)].direction;
-      const size_t begin = candidates.size();
-      for (int k = 0; k < part.n; ++k) {
-        const Pt& a = part.p[k];
-        const Pt& b = part.p[(k + 1) % part.n];
-        for (const Pt& q : {a, Pt{0.5 * (a.x + b.x), 0.5 * (a.y + b.y)}}) {
-          Candidate c;
-          c.pending = i;
-          const Pt uv{q.x + kCandidateInset * (centroid.x - q.x), q.y + kCandidateInset * (centroid.y - q.y)};
-          barycentric(tri, uv, &c.u, &c.v);
-          clampBarycentric(&c.u, &c.v);
-          c.position = worldPoint(geometry, t, c.u, c.v);
-          c.along = (double(c.position.x) - s.position.x) * d.x + (double(c.position.y) - s.position.y) * d.y +
-                    (double(c.position.z) - s.position.z) * d.z;
-          candidates.push_back(c);
-        }
+/// A place a leaking sample may move to.
+struct Candidate {
+  size_t pending;
+  double u, v;
+  Vec3 position;
+  double along;  ///< metres moved along the probe that found the back face
+};
+
+/// Candidates of the leaking samples, in their trial order, and which
+/// samples leak.
+struct LeakCandidates {
+  std::vector<Candidate> candidates;
+  std::vector<uint8_t> leaking;  ///< per sample
+};
+
+/// Leaking samples: candidates are the inset vertices and edge midpoints of
+/// the winner's covered part, tried in order of how far they move along the
+/// probe that saw the back face (the outside lies beyond that face; ties
+/// keep polygon order).
+LeakCandidates findLeakCandidates(const BandInput& in, const std::vector<TexelSample>& pending,
+                                  const std::vector<Ray>& rays, const std::vector<RayHit>& hits) {
+  const BakeGeometry& geometry = *in.geometry;
+  LeakCandidates out;
+  std::vector<Candidate>& candidates = out.candidates;
+  out.leaking.assign(pending.size(), 0);
+  for (size_t i = 0; i < pending.size(); ++i) {
+    const int probe = firstBackHit(geometry, &hits[i * kProbes]);
+    if (probe < 0) continue;
+    out.leaking[i] = 1;
+    const TexelSample& s = pending[i];
+    const uint32_t t = s.triangle;
+    const UvTriangle tri = uvTriangle(*in.atlas, t);
+    Poly part;
+    clipToBox(asPoly(tri), &part, s.x, s.x + 1.0, s.y, s.y + 1.0);
+    Pt centroid;
+    if (!(areaCentroid(part, {double(s.x), double(s.y)}, &centroid) > 0.0)) continue;
+    const Vec3& d = rays[i * kProbes + size_t(probe)].direction;
+    const size_t begin = candidates.size();
+    for (int k = 0; k < part.n; ++k) {
+      const Pt& a = part.p[k];
+      const Pt& b = part.p[(k + 1) % part.n];
+      for (const Pt& q : {a, Pt{0.5 * (a.x + b.x), 0.5 * (a.y + b.y)}}) {
+        Candidate c;
+        c.pending = i;
+        const Pt uv{q.x + kCandidateInset * (centroid.x - q.x), q.y + kCandidateInset * (centroid.y - q.y)};
+        barycentric(tri, uv, &c.u, &c.v);
+        clampBarycentric(&c.u, &c.v);
+        c.position = worldPoint(geometry, t, c.u, c.v);
+        c.along = (double(c.position.x) - s.position.x) * d.x + (double(c.position.y) - s.position.y) * d.y +
+                  (double(c.position.z) - s.position.z) * d.z;
+        candidates.push_back(c);
       }
-      std::stable_sort(candidates.begin() + std::ptrdiff_t(begin), candidates.end(),
-                       [](const Candidate& a, const Candidate& b) { return a.along > b.along; });
     }
-    constexpr size_t kCandidateRays = kProbes + 1;  // its probes, then the path from the sample
-    std::vector<Ray> candidate_rays;
-    candidate_rays.reserve(candidates.size() * kCandidateRays);
-    for (const Candidate& c : candidates) {
-      const TexelSample& s = pending[c.pending];
-      const float magnitude = cornerMagnitude(geometry, s.triangle);
-      appendProbes(c.position, s.normal, magnitude, probeLength(s.triangle), &candidate_rays);
-      // Both ends offset alike, so the path runs parallel to a flat surface
-      // instead of diving into it at the far end.
-      Ray path;
-      path.origin = offsetRayOrigin(s.position, s.normal, magnitude);
-      const Vec3 to = offsetRayOrigin(c.position, s.normal, magnitude);
-      path.direction = {to.x - path.origin.x, to.y - path.origin.y, to.z - path.origin.z};
-      path.t_far = 1.0f;
-      candidate_rays.push_back(path);
-    }
-    std::vector<RayHit> candidate_hits(candidate_rays.size());
-    if (!candidate_rays.empty()) in.caster->intersect(candidate_rays, candidate_hits);
-    std::vector<uint8_t> moved(pending.size(), 0);
-    for (size_t c = 0; c < candidates.size(); ++c) {
-      const Candidate& cand = candidates[c];
-      const RayHit* probe_hits = &candidate_hits[c * kCandidateRays];
-      const RayHit& path = probe_hits[kProbes];
-      const bool crossed = path.hit() && !path.front && !geometry.double_sided[path.triangle];
-      if (moved[cand.pending] || !crossed || firstBackHit(geometry, probe_hits) >= 0) continue;
-      TexelSample& s = pending[cand.pending];
-      s.u = float(cand.u);
-      s.v = float(cand.v);
-      s.position = cand.position;
-      moved[cand.pending] = 1;
-    }
-    for (size_t i = 0; i < pending.size(); ++i) {
-      if (!leaking[i] || moved[i]) result.push_back(pending[i]);  // a leaking texel with no way out is dropped
-    }
-    return result;
+    std::stable_sort(candidates.begin() + std::ptrdiff_t(begin), candidates.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.along > b.along; });
   }
-  return pending;
+  return out;
+}
+
+constexpr size_t kCandidateRays = kProbes + 1;  // its probes, then the path from the sample
+
+/// Moves each leaking sample to its first candidate that is taken: the
+/// straight path from the sample to it meets a one-sided back face first
+/// (it crossed to the far side of the surface; without this a point deeper
+/// inside a solid, just out of the short probes' reach, would pass as
+/// outside), and its own probes find no back face. Returns which moved.
+std::vector<uint8_t> moveLeakingSamples(const BandInput& in, const std::vector<Candidate>& candidates,
+                                        std::vector<TexelSample>& pending) {
+  const BakeGeometry& geometry = *in.geometry;
+  std::vector<Ray> candidate_rays;
+  candidate_rays.reserve(candidates.size() * kCandidateRays);
+  for (const Candidate& c : candidates) {
+    const TexelSample& s = pending[c.pending];
+    const float magnitude = cornerMagnitude(geometry, s.triangle);
+    appendProbes(c.position, s.normal, magnitude, probeLength(in, s.triangle), &candidate_rays);
+    // Both ends offset alike, so the path runs parallel to a flat surface
+    // instead of diving into it at the far end.
+    Ray path;
+    path.origin = offsetRayOrigin(s.position, s.normal, magnitude);
+    const Vec3 to = offsetRayOrigin(c.position, s.normal, magnitude);
+    path.direction = {to.x - path.origin.x, to.y - path.origin.y, to.z - path.origin.z};
+    path.t_far = 1.0f;
+    candidate_rays.push_back(path);
+  }
+  std::vector<RayHit> candidate_hits(candidate_rays.size());
+  if (!candidate_rays.empty()) in.caster->intersect(candidate_rays, candidate_hits);
+  std::vector<uint8_t> moved(pending.size(), 0);
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    const Candidate& cand = candidates[c];
+    const RayHit* probe_hits = &candidate_hits[c * kCandidateRays];
+    const RayHit& path = probe_hits[kProbes];
+    const bool crossed = path.hit() && !path.front && !geometry.double_sided[path.triangle];
+    if (moved[cand.pending] || !crossed || firstBackHit(geometry, probe_hits) >= 0) continue;
+    TexelSample& s = pending[cand.pending];
+    s.u = float(cand.u);
+    s.v = float(cand.v);
+    s.position = cand.position;
+    moved[cand.pending] = 1;
+  }
+  return moved;
+}
+
+/// Probes every sample for leaks; moves the leaking ones out where it can
+/// and drops the rest (a leaking texel with no way out).
+std::vector<TexelSample> resolveLeaks(const BandInput& in, std::vector<TexelSample>& pending) {
+  const BakeGeometry& geometry = *in.geometry;
+  std::vector<Ray> rays;
+  rays.reserve(pending.size() * kProbes);
+  for (const TexelSample& s : pending) {
+    appendProbes(s.position, s.normal, cornerMagnitude(geometry, s.triangle), probeLength(in, s.triangle), &rays);
+  }
+  std::vector<RayHit> hits(rays.size());
+  in.caster->intersect(rays, hits);
+  const LeakCandidates leaks = findLeakCandidates(in, pending, rays, hits);
+  const std::vector<uint8_t> moved = moveLeakingSamples(in, leaks.candidates, pending);
+  std::vector<TexelSample> result;
+  for (size_t i = 0; i < pending.size(); ++i) {
+    if (!leaks.leaking[i] || moved[i]) result.push_back(pending[i]);
+  }
+  return result;
+}
+
+/// Rasterizes one band, then pulls or drops its leaking samples. Output in (y, x) order.
+std::vector<TexelSample> rasterizeBand(const BandInput& in, size_t band) {
+  const int w = in.atlas->page_width, h = in.atlas->page_height;
+  BandRows rows;
+  rows.page = uint32_t(band / size_t(in.bands_per_page));
+  rows.y_begin = int(band % size_t(in.bands_per_page)) * kBandRows;
+  rows.y_end = std::min(h, rows.y_begin + kBandRows);
+  rows.texels = size_t(w) * size_t(rows.y_end - rows.y_begin);
+  if ((*in.band_start)[band] == (*in.band_start)[band + 1]) return {};
+  std::vector<TexelSample> pending = placeSamples(in, rows, coverBand(in, band, rows));
+  if (!(in.settings->leak_probe_texels > 0.0)) return pending;
+  return resolveLeaks(in, pending);
 }
 
 Status validate(const BakeGeometry& geometry, const LightmapAtlas& atlas, const RasterSettings& settings) {

@@ -1,6 +1,7 @@
 // svit-bake LEVEL -o OUT [--seed N] [--time SECONDS] [--quality Q]
 //   [--texels-per-m T] [--threads N] [--reference REF_OUT] [--quiet]
-// Exit codes (DESIGN.md): 0 ok, 1 bad input, 2 bad usage, 3 cancelled.
+// Exit codes (docs/architecture.md "Command-line contracts"): 0 ok, 1 bad
+// input, 2 bad usage, 3 cancelled.
 
 #include <unistd.h>
 
@@ -43,16 +44,15 @@ bool parseNumber(const char* text, double& out) {
   return end != text && *end == '\0';
 }
 
-}  // namespace
+int badUsage(const std::string& message) {
+  std::fprintf(stderr, "svit-bake: %s\n", message.c_str());
+  usage(stderr);
+  return 2;
+}
 
-int main(int argc, char** argv) {
-  svit::baker::BakeOptions options;
-  bool quiet = false;
-  auto bad = [](const std::string& message) {
-    std::fprintf(stderr, "svit-bake: %s\n", message.c_str());
-    usage(stderr);
-    return 2;
-  };
+// Fills `options` and `quiet` from the command line; returns the exit code
+// when the tool should stop now (help, bad usage), -1 to go on.
+int parseArguments(int argc, char** argv, svit::baker::BakeOptions& options, bool& quiet) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     auto value = [&](double& out) {
@@ -64,78 +64,105 @@ int main(int argc, char** argv) {
       usage(stdout);
       return 0;
     } else if (arg == "-o") {
-      if (i + 1 >= argc) return bad("-o needs a directory");
+      if (i + 1 >= argc) return badUsage("-o needs a directory");
       options.out_dir = argv[++i];
     } else if (arg == "--seed") {
-      if (!value(number) || number < 0 || number != std::floor(number)) return bad("--seed needs a whole number >= 0");
+      if (!value(number) || number < 0 || number != std::floor(number)) return badUsage("--seed needs a whole number >= 0");
       options.seed = uint64_t(number);
     } else if (arg == "--time") {
-      if (!value(number)) return bad("--time needs a number of seconds");
+      if (!value(number)) return badUsage("--time needs a number of seconds");
       options.time_budget_s = number;
     } else if (arg == "--quality") {
-      if (!value(number)) return bad("--quality needs a number in (0, 1]");
+      if (!value(number)) return badUsage("--quality needs a number in (0, 1]");
       options.quality = number;
     } else if (arg == "--texels-per-m") {
-      if (!value(number) || !(number > 0)) return bad("--texels-per-m needs a number > 0");
+      if (!value(number) || !(number > 0)) return badUsage("--texels-per-m needs a number > 0");
       options.texels_per_m = number;
     } else if (arg == "--threads") {
-      if (!value(number) || number != std::floor(number)) return bad("--threads needs a whole number");
+      if (!value(number) || number != std::floor(number)) return badUsage("--threads needs a whole number");
       options.threads = int(number);
     } else if (arg == "--reference") {
-      if (i + 1 >= argc) return bad("--reference needs a bake directory");
+      if (i + 1 >= argc) return badUsage("--reference needs a bake directory");
       options.reference_dir = argv[++i];
     } else if (arg == "--quiet") {
       quiet = true;
     } else if (!arg.empty() && arg[0] == '-') {
-      return bad("unknown option '" + arg + "'");
+      return badUsage("unknown option '" + arg + "'");
     } else if (options.level_path.empty()) {
       options.level_path = arg;
     } else {
-      return bad("unexpected argument '" + arg + "'");
+      return badUsage("unexpected argument '" + arg + "'");
     }
   }
-  if (svit::Status s = svit::baker::validateBakeOptions(options); !s.ok()) return bad(s.message());
+  if (svit::Status s = svit::baker::validateBakeOptions(options); !s.ok()) return badUsage(s.message());
+  return -1;
+}
 
+void installCancelHandlers() {
   struct sigaction action {};
   action.sa_handler = onSignal;
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
+}
 
-  // A bar redrawn in place on a terminal; plain lines (per stage and every
-  // 10%) when stderr is a file or pipe; nothing with --quiet.
-  const bool terminal = isatty(fileno(stderr));
-  std::string last_stage;
-  int last_decile = -1;
-  auto progress = [&](const svit::baker::BakeProgress& p) {
-    if (quiet) return true;
+// A bar redrawn in place on a terminal; plain lines (per stage and every
+// 10%) when stderr is a file or pipe; nothing with --quiet.
+class ProgressPrinter {
+ public:
+  explicit ProgressPrinter(bool quiet) : quiet_(quiet), terminal_(isatty(fileno(stderr))) {}
+
+  bool operator()(const svit::baker::BakeProgress& p) {
+    if (quiet_) return true;
     const int percent = int(p.stage_fraction * 100.0 + 0.5);
     char eta[32] = "";
     if (p.eta_s >= 0) std::snprintf(eta, sizeof eta, " ETA %.0fs", p.eta_s);
-    if (terminal) {
+    if (terminal_) {
       const int filled = percent * 30 / 100;
       std::fprintf(stderr, "\r%-10s [%.*s%*s] %3d%% %6.1fs%s   ", p.stage.c_str(), filled,
                    "##############################", 30 - filled, "", percent, p.elapsed_s, eta);
       std::fflush(stderr);
-    } else if (p.stage != last_stage || percent / 10 != last_decile) {
+    } else if (p.stage != last_stage_ || percent / 10 != last_decile_) {
       std::fprintf(stderr, "svit-bake: %s %d%% (%.1fs%s)\n", p.stage.c_str(), percent, p.elapsed_s, eta);
     }
-    last_stage = p.stage;
-    last_decile = percent / 10;
+    last_stage_ = p.stage;
+    last_decile_ = percent / 10;
     return true;
-  };
-  svit::Expected<svit::baker::BakeResult> result = svit::baker::bakeLevel(options, progress, &g_cancel);
-  if (terminal && !quiet) std::fprintf(stderr, "\n");
+  }
+  /// Ends the bar's line.
+  void finish() const {
+    if (terminal_ && !quiet_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  bool quiet_;
+  bool terminal_;
+  std::string last_stage_;
+  int last_decile_ = -1;
+};
+
+void printSummary(const svit::baker::BakeOptions& options, const svit::baker::BakeResult& result) {
+  std::printf("baked %s into %s in %.2f s: %zu page(s), %zu texels, estimated error %.2f%%", options.level_path.c_str(),
+              options.out_dir.c_str(), result.seconds, result.pages, result.covered_texels, 100.0 * result.est_rel_error);
+  if (result.ref_rel_error == result.ref_rel_error) std::printf(", error against the reference %.2f%%", 100.0 * result.ref_rel_error);
+  std::printf("\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  svit::baker::BakeOptions options;
+  bool quiet = false;
+  if (const int exit_code = parseArguments(argc, argv, options, quiet); exit_code >= 0) return exit_code;
+  installCancelHandlers();
+  ProgressPrinter printer(quiet);
+  svit::Expected<svit::baker::BakeResult> result =
+      svit::baker::bakeLevel(options, [&](const svit::baker::BakeProgress& p) { return printer(p); }, &g_cancel);
+  printer.finish();
   if (!result.ok()) {
     std::fprintf(stderr, "svit-bake: %s\n", result.status().message().c_str());
     return result.status().code() == svit::StatusCode::kCancelled ? 3 : 1;
   }
-  if (!quiet) {
-    std::printf("baked %s into %s in %.2f s: %zu page(s), %zu texels, estimated error %.2f%%", options.level_path.c_str(),
-                options.out_dir.c_str(), result->seconds, result->pages, result->covered_texels,
-                100.0 * result->est_rel_error);
-    if (result->ref_rel_error == result->ref_rel_error) std::printf(", error against the reference %.2f%%", 100.0 * result->ref_rel_error);
-    std::printf("\n");
-  }
+  if (!quiet) printSummary(options, *result);
   return 0;
 }

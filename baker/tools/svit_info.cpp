@@ -1,5 +1,5 @@
 // svit-info LEVEL [--json]: loads a level and prints what it holds.
-// Exit codes (DESIGN.md): 0 ok, 1 bad input, 2 bad usage.
+// Exit codes (docs/architecture.md "Command-line contracts"): 0 ok, 1 bad input, 2 bad usage.
 
 #include <cstdio>
 #include <cstring>

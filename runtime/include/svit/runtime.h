@@ -47,12 +47,11 @@ struct RuntimeSettings {
   int max_samples_per_emitter = 16;
   /// Static patches re-shot as secondary emitters: the brightest ones whose
   /// baseline flux covers this share of all reflected flux, in (0, 1]. They
-  /// are also all the static level's light a dynamic object receives: at
-  /// 0.95 the dim groups left out were most of what lights a face in
-  /// another object's shadow (the Cornell tall box turned toward the short
-  /// box came out 23 % dark, 7 % at 0.99; the house's tables 11 % and 2 %).
-  /// 1 takes every lit group, the long tail of dim ones at one sample each
-  /// (on Sponza 12 times the emitters of 0.95).
+  /// are also all the static level's light a dynamic object receives, and
+  /// the dim groups are most of what lights a face in another object's
+  /// shadow: lower values leave such faces dark. 1 takes every lit group,
+  /// the long tail of dim ones at one sample each, many times the emitters
+  /// on a large level (docs/performance.md has the figures).
   double secondary_emitter_share = 0.99;
   int max_bounces = 4;                ///< rounds of delta bounces per update, >= 0
   double bounce_stop_share = 0.005;   ///< stop bouncing below this share of the first round's |delta|
@@ -68,9 +67,9 @@ struct RuntimeSettings {
   /// Lit-set culling: once an emitter's static-level maps exist (its
   /// baseline), its later maps draw only the runs of static triangles those
   /// maps showed, plus the dynamic objects. Exact for emitters whose samples
-  /// stay put (objects only hide static surfaces, so nothing else can show);
-  /// on the 8 x 8 house a quarter fewer triangles than its bounding box.
-  /// Emitters whose samples move keep the box. Off: box only.
+  /// stay put (objects only hide static surfaces, so nothing else can show),
+  /// and fewer triangles than the box of its reach wherever walls hide part
+  /// of that box. Emitters whose samples move keep the box. Off: box only.
   bool lit_set_culling = true;
   /// Maps of samples with no lit set (moving ones, first maps) draw the
   /// nearest geometry first and then only what it does not hide (two-pass

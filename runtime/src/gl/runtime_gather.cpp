@@ -1,6 +1,6 @@
 // An emitter's shares, brought up to date: which emitters the moved boxes
 // invalidate, their point samples (thesis 5.4), and the index-map gathers
-// that turn samples into shares per receiver (thesis 5.5-5.6).
+// that turn samples into shares per receiver (thesis 5.2).
 
 #include <algorithm>
 #include <chrono>

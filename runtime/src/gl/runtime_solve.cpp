@@ -1,4 +1,4 @@
-// The bounce (thesis 5.3 steps 5-7): the emitters' first-round deltas
+// The bounce (thesis 5.3 steps 6-8): the emitters' first-round deltas
 // reflected through the receivers' own cached shares, with ambient
 // compensation for what was not shot; then which objects are lit, and the
 // upload of what shading shows.
