@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "svit/bake_file.h"
 #include "svit/level.h"
@@ -40,6 +41,98 @@ svit::Camera startCamera(const svit::Scene& scene) {
   return camera;
 }
 
+// The game owns the window and the GL context; svit only uses it. Hidden,
+// GL 4.5 core, made current; null (and `error` set) on failure.
+GLFWwindow* openHiddenWindow(std::string& error) {
+  if (glfwInit() != GLFW_TRUE) {
+    error = "cannot initialise GLFW (no display? run under xvfb-run -a)";
+    return nullptr;
+  }
+  glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  GLFWwindow* window = glfwCreateWindow(640, 360, "svit integration", nullptr, nullptr);
+  if (window == nullptr) {
+    glfwTerminate();
+    error = "cannot create an OpenGL 4.5 core context";
+    return nullptr;
+  }
+  glfwMakeContextCurrent(window);
+  return window;
+}
+
+// The object the game moves: the level's first dynamic object, if any.
+struct MovedObject {
+  bool present = false;
+  svit::ObjectId id = 0;
+  svit::Mat4 rest;  // its world transform as the level places it
+};
+
+svit::Status findMovedObject(svit::Runtime& runtime, MovedObject& object) {
+  const std::vector<svit::ObjectId> objects = runtime.objects();
+  if (objects.empty()) return svit::Status();
+  svit::Expected<svit::ObjectInfo> info = runtime.objectInfo(objects[0]);
+  if (!info.ok()) return info.status();
+  object = {true, objects[0], info->world_from_object};
+  std::printf("moving '%s'\n", info->name.c_str());
+  return svit::Status();
+}
+
+// The game loop: move, update the lighting, render; prints each frame's times.
+svit::Status runFrames(svit::Runtime& runtime, svit::SceneRenderer& renderer, const MovedObject& object,
+                       const svit::Camera& camera, int frames, double& runtime_ms, double& shading_ms) {
+  for (int frame = 0; frame < frames; ++frame) {
+    if (object.present) {
+      // Slide the object 20 cm along x and back over the run.
+      const float offset_m = 0.2f * std::sin(3.14159265f * float(frame) / float(frames));
+      svit::Mat4 moved = object.rest;
+      moved.m[12] += offset_m;  // column 3, row 0: translation x
+      if (svit::Status s = runtime.setObjectTransform(object.id, moved); !s.ok()) return s;
+    }
+    const svit::FrameStats lighting = runtime.update(/*budget_ms=*/0);
+    if (!lighting.error.empty()) return svit::Status(svit::StatusCode::kInternal, "update: " + lighting.error);
+    svit::Expected<svit::RenderStats> shading = renderer.render(camera, svit::ShadingView::kRuntime);
+    if (!shading.ok()) return shading.status();
+    glfwPollEvents();
+    runtime_ms += lighting.total_ms;
+    shading_ms += shading->shading_ms;
+    std::printf("frame %d: runtime %.2f ms (maps %.2f, reduction %.2f, bounce %.2f), %u emitters refreshed, "
+                "shading %.2f ms\n",
+                frame, lighting.total_ms, lighting.maps_ms, lighting.reduction_ms, lighting.bounce_ms,
+                lighting.emitters_refreshed, shading->shading_ms);
+  }
+  return svit::Status();
+}
+
+// svit's runtime (lighting) and renderer (shading), made once per level, the
+// game loop, and the last frame as a picture. Exit status of the program.
+int runGame(const svit::Scene& scene, const svit::BakeData& bake, const std::string& bake_dir,
+            const std::string& png_path, int frames) {
+  svit::RuntimeSettings runtime_settings;
+  runtime_settings.delta_textures = false;  // SceneRenderer interpolates the patch delta buffer instead
+  svit::Expected<std::unique_ptr<svit::Runtime>> runtime =
+      svit::Runtime::create(scene, bake, bake_dir, runtime_settings);
+  if (!runtime.ok()) return fail(runtime.status().message());
+  svit::SceneRendererSettings settings;
+  settings.width = 640;
+  settings.height = 360;
+  svit::Expected<std::unique_ptr<svit::SceneRenderer>> renderer =
+      svit::SceneRenderer::create(scene, bake, bake_dir, runtime->get(), settings);
+  if (!renderer.ok()) return fail(renderer.status().message());
+  MovedObject object;
+  if (svit::Status s = findMovedObject(**runtime, object); !s.ok()) return fail(s.message());
+  double runtime_ms = 0, shading_ms = 0;
+  if (svit::Status s = runFrames(**runtime, **renderer, object, startCamera(scene), frames, runtime_ms, shading_ms);
+      !s.ok()) {
+    return fail(s.message());
+  }
+  if (svit::Status s = (*renderer)->writePng(png_path); !s.ok()) return fail(s.message());
+  std::printf("%d frames: mean runtime %.2f ms, mean shading %.2f ms; wrote %s\n", frames, runtime_ms / frames,
+              shading_ms / frames, png_path.c_str());
+  return 0;
+}  // renderer and runtime go before the context
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -51,81 +144,16 @@ int main(int argc, char** argv) {
   const int frames = argc == 5 ? std::atoi(argv[4]) : 10;
   if (frames < 1) return fail("FRAMES must be a positive integer");
 
-  // 1. The level and its bake (no GL needed yet).
+  // The level and its bake (no GL needed yet).
   svit::Expected<svit::Scene> scene = svit::loadLevel(level_path);
   if (!scene.ok()) return fail(scene.status().message());
   svit::Expected<svit::BakeData> bake = svit::readBakeFile(bake_dir + "/bake.svit");
   if (!bake.ok()) return fail(bake.status().message());
 
-  // 2. The game owns the window and the GL context; svit only uses it.
-  if (glfwInit() != GLFW_TRUE) return fail("cannot initialise GLFW (no display? run under xvfb-run -a)");
-  glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-  GLFWwindow* window = glfwCreateWindow(640, 360, "svit integration", nullptr, nullptr);
-  if (window == nullptr) {
-    glfwTerminate();
-    return fail("cannot create an OpenGL 4.5 core context");
-  }
-  glfwMakeContextCurrent(window);
-  int status = 0;
-  {
-    // 3. svit's runtime (lighting) and renderer (shading), made once per level.
-    svit::RuntimeSettings runtime_settings;
-    runtime_settings.delta_textures = false;  // SceneRenderer interpolates the patch delta buffer instead
-    svit::Expected<std::unique_ptr<svit::Runtime>> runtime =
-        svit::Runtime::create(*scene, *bake, bake_dir, runtime_settings);
-    if (!runtime.ok()) return fail(runtime.status().message());
-    svit::SceneRendererSettings settings;
-    settings.width = 640;
-    settings.height = 360;
-    svit::Expected<std::unique_ptr<svit::SceneRenderer>> renderer =
-        svit::SceneRenderer::create(*scene, *bake, bake_dir, runtime->get(), settings);
-    if (!renderer.ok()) return fail(renderer.status().message());
-
-    // The object the game moves: the level's first dynamic object, if any.
-    const std::vector<svit::ObjectId> objects = (*runtime)->objects();
-    svit::Mat4 rest;
-    if (!objects.empty()) {
-      svit::Expected<svit::ObjectInfo> info = (*runtime)->objectInfo(objects[0]);
-      if (!info.ok()) return fail(info.status().message());
-      rest = info->world_from_object;
-      std::printf("moving '%s'\n", info->name.c_str());
-    }
-    const svit::Camera camera = startCamera(*scene);
-
-    // 4. The game loop: move, update the lighting, render.
-    double runtime_ms = 0, shading_ms = 0;
-    for (int frame = 0; frame < frames; ++frame) {
-      if (!objects.empty()) {
-        // Slide the object 20 cm along x and back over the run.
-        const float offset_m = 0.2f * std::sin(3.14159265f * float(frame) / float(frames));
-        svit::Mat4 moved = rest;
-        moved.m[12] += offset_m;  // column 3, row 0: translation x
-        if (svit::Status s = (*runtime)->setObjectTransform(objects[0], moved); !s.ok()) return fail(s.message());
-      }
-      const svit::FrameStats lighting = (*runtime)->update(/*budget_ms=*/0);
-      if (!lighting.error.empty()) return fail("update: " + lighting.error);
-      svit::Expected<svit::RenderStats> shading = (*renderer)->render(camera, svit::ShadingView::kRuntime);
-      if (!shading.ok()) return fail(shading.status().message());
-      glfwPollEvents();
-      runtime_ms += lighting.total_ms;
-      shading_ms += shading->shading_ms;
-      std::printf("frame %d: runtime %.2f ms (maps %.2f, reduction %.2f, bounce %.2f), %u emitters refreshed, "
-                  "shading %.2f ms\n",
-                  frame, lighting.total_ms, lighting.maps_ms, lighting.reduction_ms, lighting.bounce_ms,
-                  lighting.emitters_refreshed, shading->shading_ms);
-    }
-
-    // 5. The last frame as a picture.
-    if (svit::Status s = (*renderer)->writePng(png_path); !s.ok()) {
-      status = fail(s.message());
-    } else {
-      std::printf("%d frames: mean runtime %.2f ms, mean shading %.2f ms; wrote %s\n", frames,
-                  runtime_ms / frames, shading_ms / frames, png_path.c_str());
-    }
-  }  // renderer and runtime go before the context
+  std::string error;
+  GLFWwindow* window = openHiddenWindow(error);
+  if (window == nullptr) return fail(error);
+  const int status = runGame(*scene, *bake, bake_dir, png_path, frames);
   glfwMakeContextCurrent(nullptr);
   glfwDestroyWindow(window);
   glfwTerminate();

@@ -1,6 +1,6 @@
 // svit-walk LEVEL --bake OUT [--headless] [--script S.json] [--frames N]
 // [--frames-out DIR] [--stats FILE] [--probe POINTS --probe-out FILE] ...:
-// the sample walkthrough (DESIGN.md "Command-line contracts",
+// the sample walkthrough (docs/architecture.md "Command-line contracts",
 // samples/walk/README.md). Exit 0 ok, 1 bad input, 2 bad usage.
 
 #include <cstdio>

@@ -1,5 +1,5 @@
 #pragma once
-// svit-walk's command line (DESIGN.md "Command-line contracts").
+// svit-walk's command line (docs/architecture.md "Command-line contracts").
 
 #include <cstdio>
 #include <optional>

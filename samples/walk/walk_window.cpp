@@ -75,84 +75,101 @@ int nearestObjectNode(const WalkSession& session, const Vec3& from) {
   return best;
 }
 
+// Keeps the first failure of a runtime call made from the key callback.
+void check(Controls& c, const Status& status) {
+  if (!status.ok() && c.error.ok()) c.error = status;
+}
+
+// P: the dynamic object nearest the camera becomes the one the arrows move.
+void pickNearestObject(Controls& c) {
+  c.picked_node = nearestObjectNode(*c.session, c.camera.position);
+  c.message = c.picked_node >= 0 ? "picked " + nodeName(c.session->scene, c.picked_node) : "no dynamic object";
+}
+
+// L: switches the first runtime light off or on.
+void toggleRuntimeLight(Controls& c) {
+  WalkSession& s = *c.session;
+  const std::vector<LightId> lights = s.runtime->lights();
+  if (lights.empty()) {
+    c.message = "no runtime light";
+  } else if (Expected<RuntimeLightInfo> info = s.runtime->lightInfo(lights[0]); info.ok()) {
+    check(c, s.runtime->setLightEnabled(lights[0], !info->enabled));
+    c.message = info->light.name + (info->enabled ? " off" : " on");
+  }
+}
+
+// [ and ]: dims or brightens the first runtime light.
+void dimRuntimeLight(Controls& c, int key) {
+  WalkSession& s = *c.session;
+  const std::vector<LightId> lights = s.runtime->lights();
+  if (lights.empty()) {
+    c.message = "no runtime light";
+  } else if (Expected<RuntimeLightInfo> info = s.runtime->lightInfo(lights[0]); info.ok()) {
+    const float dimmer = std::clamp(info->dimmer * (key == GLFW_KEY_LEFT_BRACKET ? 0.8f : 1.25f), 0.01f, 4.0f);
+    check(c, s.runtime->setLightDimmer(lights[0], dimmer));
+    char text[64];
+    std::snprintf(text, sizeof text, " dimmer %.2f", dimmer);
+    c.message = info->light.name + text;
+  }
+}
+
+// K: steps the baked lamp's emission through 1, 0.5, 0.25, 0.
+void cycleBakedLamp(Controls& c) {
+  WalkSession& s = *c.session;
+  const std::vector<uint32_t> lamp = bakedLamp(s.bake);
+  if (lamp.empty()) {
+    c.message = "no baked lamp";
+    return;
+  }
+  c.baked_lamp_scale = c.baked_lamp_scale > 0.9f ? 0.5f : c.baked_lamp_scale > 0.4f ? 0.25f
+                       : c.baked_lamp_scale > 0.2f ? 0.0f : 1.0f;
+  for (uint32_t e : lamp) check(c, scaleBakeEmitter(s, e, c.baked_lamp_scale));
+  char text[96];
+  std::snprintf(text, sizeof text, "baked lamp (emitter %u, %zu in all) x %.2f", lamp[0], lamp.size(),
+                c.baked_lamp_scale);
+  c.message = text;
+}
+
+// V: baked only -> runtime -> patch delta -> baked only.
+void cycleView(Controls& c) {
+  WalkSession& s = *c.session;
+  s.view = s.view == ShadingView::kBakedOnly ? ShadingView::kRuntime
+           : s.view == ShadingView::kRuntime ? ShadingView::kPatchDelta
+                                             : ShadingView::kBakedOnly;
+  c.message = std::string("view ") + viewName(s.view);
+}
+
+// F12: renders the current view offscreen once more (with the overlay if shown) and saves it.
+void saveScreenshot(Controls& c) {
+  WalkSession& s = *c.session;
+  if (Expected<RenderStats> r = s.renderer->render(c.camera.camera(), s.view); !r.ok()) {
+    check(c, r.status());
+    return;
+  }
+  if (c.overlay_visible && s.overlay) {
+    check(c, s.overlay->draw(c.overlay_rows, s.renderer->offscreenFramebuffer(), s.renderer->width(),
+                             s.renderer->height()));
+  }
+  char name[48];
+  std::snprintf(name, sizeof name, "svit-walk-%03d.png", c.screenshots++);
+  check(c, s.renderer->writePng(name));
+  c.message = std::string("saved ") + name;
+}
+
 void onKey(GLFWwindow* window, int key, int, int action, int) {
   if (action != GLFW_PRESS) return;
   Controls& c = *static_cast<Controls*>(glfwGetWindowUserPointer(window));
-  WalkSession& s = *c.session;
-  const std::vector<LightId> lights = s.runtime->lights();
-  auto check = [&](const Status& st) {
-    if (!st.ok() && c.error.ok()) c.error = st;
-  };
   switch (key) {
-    case GLFW_KEY_ESCAPE:
-      glfwSetWindowShouldClose(window, GLFW_TRUE);
-      break;
-    case GLFW_KEY_P:
-      c.picked_node = nearestObjectNode(s, c.camera.position);
-      c.message = c.picked_node >= 0 ? "picked " + nodeName(s.scene, c.picked_node) : "no dynamic object";
-      break;
-    case GLFW_KEY_L:
-      if (lights.empty()) {
-        c.message = "no runtime light";
-      } else if (Expected<RuntimeLightInfo> info = s.runtime->lightInfo(lights[0]); info.ok()) {
-        check(s.runtime->setLightEnabled(lights[0], !info->enabled));
-        c.message = info->light.name + (info->enabled ? " off" : " on");
-      }
-      break;
+    case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window, GLFW_TRUE); break;
+    case GLFW_KEY_P: pickNearestObject(c); break;
+    case GLFW_KEY_L: toggleRuntimeLight(c); break;
     case GLFW_KEY_LEFT_BRACKET:
-    case GLFW_KEY_RIGHT_BRACKET:
-      if (lights.empty()) {
-        c.message = "no runtime light";
-      } else if (Expected<RuntimeLightInfo> info = s.runtime->lightInfo(lights[0]); info.ok()) {
-        const float dimmer = std::clamp(info->dimmer * (key == GLFW_KEY_LEFT_BRACKET ? 0.8f : 1.25f), 0.01f, 4.0f);
-        check(s.runtime->setLightDimmer(lights[0], dimmer));
-        char text[64];
-        std::snprintf(text, sizeof text, " dimmer %.2f", dimmer);
-        c.message = info->light.name + text;
-      }
-      break;
-    case GLFW_KEY_K: {
-      const std::vector<uint32_t> lamp = bakedLamp(s.bake);
-      if (lamp.empty()) {
-        c.message = "no baked lamp";
-        break;
-      }
-      c.baked_lamp_scale = c.baked_lamp_scale > 0.9f ? 0.5f : c.baked_lamp_scale > 0.4f ? 0.25f
-                           : c.baked_lamp_scale > 0.2f ? 0.0f : 1.0f;
-      for (uint32_t e : lamp) check(scaleBakeEmitter(s, e, c.baked_lamp_scale));
-      char text[96];
-      std::snprintf(text, sizeof text, "baked lamp (emitter %u, %zu in all) x %.2f", lamp[0], lamp.size(),
-                    c.baked_lamp_scale);
-      c.message = text;
-      break;
-    }
-    case GLFW_KEY_V:
-      s.view = s.view == ShadingView::kBakedOnly ? ShadingView::kRuntime
-               : s.view == ShadingView::kRuntime ? ShadingView::kPatchDelta
-                                                 : ShadingView::kBakedOnly;
-      c.message = std::string("view ") + viewName(s.view);
-      break;
-    case GLFW_KEY_F1:
-      c.overlay_visible = !c.overlay_visible;
-      break;
-    case GLFW_KEY_F12: {
-      // Render the current view offscreen once more (with the overlay if shown) and save it.
-      if (Expected<RenderStats> r = s.renderer->render(c.camera.camera(), s.view); !r.ok()) {
-        check(r.status());
-        break;
-      }
-      if (c.overlay_visible && s.overlay) {
-        check(s.overlay->draw(c.overlay_rows, s.renderer->offscreenFramebuffer(), s.renderer->width(),
-                              s.renderer->height()));
-      }
-      char name[48];
-      std::snprintf(name, sizeof name, "svit-walk-%03d.png", c.screenshots++);
-      check(s.renderer->writePng(name));
-      c.message = std::string("saved ") + name;
-      break;
-    }
-    default:
-      break;
+    case GLFW_KEY_RIGHT_BRACKET: dimRuntimeLight(c, key); break;
+    case GLFW_KEY_K: cycleBakedLamp(c); break;
+    case GLFW_KEY_V: cycleView(c); break;
+    case GLFW_KEY_F1: c.overlay_visible = !c.overlay_visible; break;
+    case GLFW_KEY_F12: saveScreenshot(c); break;
+    default: break;
   }
 }
 

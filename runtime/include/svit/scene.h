@@ -1,8 +1,9 @@
 #pragma once
 // The scene model shared by the baker, the runtime and the samples: meshes,
 // materials, the flattened node hierarchy, lights, sun, sky and paths.
-// Units (DESIGN.md): metres, radians, candela (point/spot), lux (directional,
-// sun), cd/m2 (emissive and sky luminance); linear Rec.709 RGB; +Y up.
+// Units (docs/architecture.md "Units and conventions"): metres, radians,
+// candela (point/spot), lux (directional, sun), cd/m2 (emissive and sky
+// luminance); linear Rec.709 RGB; +Y up.
 
 #include <cstdint>
 #include <string>

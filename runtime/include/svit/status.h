@@ -9,8 +9,8 @@
 
 namespace svit {
 
-/// Why an operation failed. Tools map these to exit codes (DESIGN.md:
-/// 1 bad input, 2 bad usage, 3 cancelled).
+/// Why an operation failed. Tools map these to exit codes (docs/architecture.md
+/// "Command-line contracts": 1 bad input, 2 bad usage, 3 cancelled).
 enum class StatusCode {
   kOk = 0,
   kInvalidInput,  ///< malformed or out-of-range data in a file or argument

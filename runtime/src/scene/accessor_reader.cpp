@@ -164,30 +164,12 @@ Status checkAccessorIndex(const tinygltf::Model& model, int accessor_index,
   return Status();
 }
 
-}  // namespace
-
-long accessorCount(const tinygltf::Model& model, int accessor_index) {
-  if (accessor_index < 0 || size_t(accessor_index) >= model.accessors.size()) return -1;
-  return long(model.accessors[size_t(accessor_index)].count);
-}
-
-Status readFloats(const tinygltf::Model& model, int accessor_index, int components,
-                  const std::string& context, std::vector<float>& out) {
-  if (Status s = checkAccessorIndex(model, accessor_index, context); !s.ok()) return s;
-  const tinygltf::Accessor& accessor = model.accessors[size_t(accessor_index)];
-  const std::string what = context + ": accessor " + std::to_string(accessor_index);
-  const int type_components = componentsOfType(accessor.type);
-  if (type_components != components) {
-    return invalid(what + ": has " + std::to_string(type_components) + " components, expected " +
-                   std::to_string(components));
-  }
-  const int bytes = componentBytes(accessor.componentType);
-  if (bytes == 0) {
-    return invalid(what + ": unknown componentType " + std::to_string(accessor.componentType));
-  }
+// The dense part of a float accessor: its bufferView's elements, or zeros
+// when it has none. The count is bounded by the bytes behind it before
+// anything is allocated for it.
+Status readDenseFloats(const tinygltf::Model& model, const tinygltf::Accessor& accessor, int components,
+                       int bytes, const std::string& what, std::vector<float>& out) {
   const size_t count = accessor.count;
-  // Bound the count by the bytes behind it before allocating for it: a
-  // count of 2^40 used to allocate first and fail the check after.
   ElementSpan span;
   if (accessor.bufferView >= 0) {
     if (Status s = locateElements(model, accessor.bufferView, accessor.byteOffset, count,
@@ -209,50 +191,81 @@ Status readFloats(const tinygltf::Model& model, int accessor_index, int componen
       }
     }
   }
-  if (accessor.sparse.isSparse) {
-    const auto& sparse = accessor.sparse;
-    const size_t sparse_count = size_t(sparse.count);
-    if (sparse.count < 0 || sparse_count > count) {
-      return invalid(what + ": sparse count " + std::to_string(sparse.count) + " > count " +
+  return Status();
+}
+
+// glTF 2.0 3.6.2.3: sparse values replace the dense elements their indices name.
+Status applySparseFloats(const tinygltf::Model& model, const tinygltf::Accessor& accessor, int components,
+                         int bytes, const std::string& what, std::vector<float>& out) {
+  const size_t count = accessor.count;
+  const auto& sparse = accessor.sparse;
+  const size_t sparse_count = size_t(sparse.count);
+  if (sparse.count < 0 || sparse_count > count) {
+    return invalid(what + ": sparse count " + std::to_string(sparse.count) + " > count " +
+                   std::to_string(count));
+  }
+  // Sparse indices are unsigned byte, short or int. An unknown type gave
+  // 0-byte elements and a division by zero (found by fuzz_gltf and
+  // fuzz_glb); a signed byte or short one made decodeIndex read 4 bytes of
+  // a 1- or 2-byte element.
+  if (!isIndexComponentType(sparse.indices.componentType)) {
+    return invalid(what + ": sparse indices componentType " + std::to_string(sparse.indices.componentType) +
+                   " is not unsigned byte, short or int");
+  }
+  const int index_bytes = componentBytes(sparse.indices.componentType);
+  ElementSpan index_span, value_span;
+  if (Status s = locateElements(model, sparse.indices.bufferView, size_t(sparse.indices.byteOffset),
+                                sparse_count, size_t(index_bytes), false, what + " sparse indices",
+                                index_span);
+      !s.ok()) {
+    return s;
+  }
+  if (Status s = locateElements(model, sparse.values.bufferView, size_t(sparse.values.byteOffset),
+                                sparse_count, size_t(bytes) * size_t(components), false,
+                                what + " sparse values", value_span);
+      !s.ok()) {
+    return s;
+  }
+  for (size_t i = 0; i < sparse_count; ++i) {
+    const uint32_t target = decodeIndex(index_span.base + i * index_span.stride,
+                                        sparse.indices.componentType);
+    if (target >= count) {
+      return invalid(what + ": sparse index " + std::to_string(target) + " >= count " +
                      std::to_string(count));
     }
-    // glTF 2.0 3.6.2.3: sparse indices are unsigned byte, short or int. An
-    // unknown type gave 0-byte elements and a division by zero (found by
-    // fuzz_gltf and fuzz_glb); a signed byte or short one made decodeIndex
-    // read 4 bytes of a 1- or 2-byte element.
-    if (!isIndexComponentType(sparse.indices.componentType)) {
-      return invalid(what + ": sparse indices componentType " + std::to_string(sparse.indices.componentType) +
-                     " is not unsigned byte, short or int");
-    }
-    const int index_bytes = componentBytes(sparse.indices.componentType);
-    ElementSpan index_span, value_span;
-    if (Status s = locateElements(model, sparse.indices.bufferView, size_t(sparse.indices.byteOffset),
-                                  sparse_count, size_t(index_bytes), false, what + " sparse indices",
-                                  index_span);
-        !s.ok()) {
-      return s;
-    }
-    if (Status s = locateElements(model, sparse.values.bufferView, size_t(sparse.values.byteOffset),
-                                  sparse_count, size_t(bytes) * size_t(components), false,
-                                  what + " sparse values", value_span);
-        !s.ok()) {
-      return s;
-    }
-    for (size_t i = 0; i < sparse_count; ++i) {
-      const uint32_t target = decodeIndex(index_span.base + i * index_span.stride,
-                                          sparse.indices.componentType);
-      if (target >= count) {
-        return invalid(what + ": sparse index " + std::to_string(target) + " >= count " +
-                       std::to_string(count));
-      }
-      for (int c = 0; c < components; ++c) {
-        out[size_t(target) * size_t(components) + size_t(c)] = decodeComponent(
-            value_span.base + i * value_span.stride + c * bytes, accessor.componentType,
-            accessor.normalized);
-      }
+    for (int c = 0; c < components; ++c) {
+      out[size_t(target) * size_t(components) + size_t(c)] = decodeComponent(
+          value_span.base + i * value_span.stride + c * bytes, accessor.componentType,
+          accessor.normalized);
     }
   }
   return Status();
+}
+
+}  // namespace
+
+long accessorCount(const tinygltf::Model& model, int accessor_index) {
+  if (accessor_index < 0 || size_t(accessor_index) >= model.accessors.size()) return -1;
+  return long(model.accessors[size_t(accessor_index)].count);
+}
+
+Status readFloats(const tinygltf::Model& model, int accessor_index, int components,
+                  const std::string& context, std::vector<float>& out) {
+  if (Status s = checkAccessorIndex(model, accessor_index, context); !s.ok()) return s;
+  const tinygltf::Accessor& accessor = model.accessors[size_t(accessor_index)];
+  const std::string what = context + ": accessor " + std::to_string(accessor_index);
+  const int type_components = componentsOfType(accessor.type);
+  if (type_components != components) {
+    return invalid(what + ": has " + std::to_string(type_components) + " components, expected " +
+                   std::to_string(components));
+  }
+  const int bytes = componentBytes(accessor.componentType);
+  if (bytes == 0) {
+    return invalid(what + ": unknown componentType " + std::to_string(accessor.componentType));
+  }
+  if (Status s = readDenseFloats(model, accessor, components, bytes, what, out); !s.ok()) return s;
+  if (!accessor.sparse.isSparse) return Status();
+  return applySparseFloats(model, accessor, components, bytes, what, out);
 }
 
 Status readIndices(const tinygltf::Model& model, int accessor_index, const std::string& context,

@@ -338,12 +338,12 @@ struct SectionRef {
 
 std::string osError(int error) { return std::generic_category().message(error); }
 
-}  // namespace
+constexpr int kKnownSectionCount = 9;
+constexpr int kRequiredSectionCount = 3;  // HEAD, PAGE, TUVS; the rest are the runtime sections
+constexpr uint32_t kKnown[kKnownSectionCount] = {kHead, kPage, kTuvs, kPtch, kPelm, kClst, kEmit, kPrxy, kProb};
 
-namespace bakeio {
-
-Expected<BakeData> decodeBakeFile(const uint8_t* bytes, size_t size, const std::string& path) {
-  // A short prefix of the magic is a cut file; anything else is not ours.
+// A short prefix of the magic is a cut file; anything else is not ours.
+Status checkMagic(const uint8_t* bytes, size_t size, const std::string& path) {
   const size_t magic_bytes = std::min(size, sizeof kMagic);
   if (magic_bytes > 0 && std::memcmp(bytes, kMagic, magic_bytes) != 0) {
     std::string seen;
@@ -353,18 +353,26 @@ Expected<BakeData> decodeBakeFile(const uint8_t* bytes, size_t size, const std::
   if (size < kHeaderBytes + kChecksumBytes) {
     return invalid(path, truncatedText("the smallest bake file (header and checksum)", kHeaderBytes + kChecksumBytes, size));
   }
+  return Status();
+}
+
+Status readHeader(const uint8_t* bytes, const std::string& path, uint32_t& version, uint32_t& section_count) {
   ByteReader header(bytes + sizeof kMagic, kHeaderBytes - sizeof kMagic);
-  const uint32_t version = header.u32();
-  const uint32_t section_count = header.u32();
+  version = header.u32();
+  section_count = header.u32();
   if (version != kBakeFileVersion) {
     return invalid(path, "bake file version " + num(version) + ", this build reads version " + num(kBakeFileVersion));
   }
+  return Status();
+}
 
-  // Walk the section table within [header, checksum) before trusting any
-  // size: a cut file shows up here as a section longer than what is left.
+// Walks the section table within [header, checksum) before trusting any
+// size: a cut file shows up here as a section longer than what is left.
+// Then checks the checksum, and that nothing follows the last section.
+Status readSectionTable(const uint8_t* bytes, size_t size, uint32_t section_count, const std::string& path,
+                        std::vector<SectionRef>& sections) {
   const size_t body_end = size - kChecksumBytes;
   ByteReader body(bytes + kHeaderBytes, body_end - kHeaderBytes);
-  std::vector<SectionRef> sections;
   for (uint32_t i = 0; i < section_count; ++i) {
     if (!body.need(kSectionHeaderBytes)) {
       return invalid(path, truncatedText("section table entry " + num(i) + " of " + num(section_count),
@@ -388,45 +396,55 @@ Expected<BakeData> decodeBakeFile(const uint8_t* bytes, size_t size, const std::
     return invalid(path, num(uint64_t(body.remaining())) + " unexpected bytes after the last of " + num(section_count) +
                              " sections");
   }
+  return Status();
+}
 
-  const SectionRef* found[9] = {};
-  constexpr uint32_t kKnown[9] = {kHead, kPage, kTuvs, kPtch, kPelm, kClst, kEmit, kPrxy, kProb};
+// found[k]: the section of tag kKnown[k], or null. Each known tag at most
+// once, the required ones present, the runtime ones all or none.
+Status findKnownSections(const std::vector<SectionRef>& sections, const std::string& path,
+                         const SectionRef* (&found)[kKnownSectionCount], bool& has_runtime_sections) {
   for (const SectionRef& ref : sections) {
-    for (int k = 0; k < 9; ++k) {
+    for (int k = 0; k < kKnownSectionCount; ++k) {
       if (ref.tag != kKnown[k]) continue;
       if (found[k]) return invalid(path, "section " + tagName(ref.tag) + " appears twice");
       found[k] = &ref;
     }
     // Unknown tags: a later writer of this version added them; skip.
   }
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < kRequiredSectionCount; ++k) {
     if (!found[k]) return invalid(path, "missing required section " + tagName(kKnown[k]));
   }
   int runtime_present = 0;
-  for (int k = 3; k < 9; ++k) runtime_present += found[k] != nullptr;
+  for (int k = kRequiredSectionCount; k < kKnownSectionCount; ++k) runtime_present += found[k] != nullptr;
   if (runtime_present != 0 && runtime_present != 6) {
-    for (int k = 3; k < 9; ++k) {
+    for (int k = kRequiredSectionCount; k < kKnownSectionCount; ++k) {
       if (!found[k]) {
         return invalid(path, "runtime sections incomplete: " + num(int32_t(runtime_present)) + " of 6 present, " +
                                  tagName(kKnown[k]) + " missing");
       }
     }
   }
+  has_runtime_sections = runtime_present == 6;
+  return Status();
+}
 
-  BakeData data;
-  data.version = version;
-  data.has_runtime_sections = runtime_present == 6;
-  auto parse = [&](int k, auto decoder) -> Status {
-    const SectionRef& ref = *found[k];
-    ByteReader r(bytes + ref.offset, ref.size);
-    decoder(r, data);
-    if (r.failed()) return invalid(path, truncatedText("section " + tagName(ref.tag), r.failedNeed(), r.failedLeft()));
-    if (r.remaining() != 0) {
-      return invalid(path, "section " + tagName(ref.tag) + ": " + num(uint64_t(r.remaining())) +
-                               " unexpected bytes after its data");
-    }
-    return Status();
-  };
+// Decodes one section's payload; it must fill the payload exactly.
+template <typename Decoder>
+Status parseSection(const uint8_t* bytes, const SectionRef& ref, const std::string& path, Decoder decoder,
+                    BakeData& data) {
+  ByteReader r(bytes + ref.offset, ref.size);
+  decoder(r, data);
+  if (r.failed()) return invalid(path, truncatedText("section " + tagName(ref.tag), r.failedNeed(), r.failedLeft()));
+  if (r.remaining() != 0) {
+    return invalid(path, "section " + tagName(ref.tag) + ": " + num(uint64_t(r.remaining())) +
+                             " unexpected bytes after its data");
+  }
+  return Status();
+}
+
+Status parseSections(const uint8_t* bytes, const SectionRef* const (&found)[kKnownSectionCount],
+                     const std::string& path, BakeData& data) {
+  auto parse = [&](int k, auto decoder) { return parseSection(bytes, *found[k], path, decoder, data); };
   if (Status s = parse(0, decodeHead); !s.ok()) return s;
   if (Status s = parse(1, decodePages); !s.ok()) return s;
   if (Status s = parse(2, decodeTriangleUvs); !s.ok()) return s;
@@ -438,6 +456,24 @@ Expected<BakeData> decodeBakeFile(const uint8_t* bytes, size_t size, const std::
     if (Status s = parse(7, decodeProxy); !s.ok()) return s;
     if (Status s = parse(8, decodeProbes); !s.ok()) return s;
   }
+  return Status();
+}
+
+}  // namespace
+
+namespace bakeio {
+
+Expected<BakeData> decodeBakeFile(const uint8_t* bytes, size_t size, const std::string& path) {
+  if (Status s = checkMagic(bytes, size, path); !s.ok()) return s;
+  uint32_t version = 0, section_count = 0;
+  if (Status s = readHeader(bytes, path, version, section_count); !s.ok()) return s;
+  std::vector<SectionRef> sections;
+  if (Status s = readSectionTable(bytes, size, section_count, path, sections); !s.ok()) return s;
+  const SectionRef* found[kKnownSectionCount] = {};
+  BakeData data;
+  data.version = version;
+  if (Status s = findKnownSections(sections, path, found, data.has_runtime_sections); !s.ok()) return s;
+  if (Status s = parseSections(bytes, found, path, data); !s.ok()) return s;
   if (Status s = validateBakeData(data, path); !s.ok()) return s;
   return data;
 }

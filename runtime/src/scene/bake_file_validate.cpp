@@ -10,6 +10,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "numeric.h"
+
 namespace svit::bakeio {
 namespace {
 
@@ -28,11 +30,6 @@ std::string num(int32_t v) { return std::to_string(v); }
 std::string vecText(const Vec3& v) { return "(" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + ")"; }
 std::string vecText(const Rgb& c) { return "(" + num(c.r) + ", " + num(c.g) + ", " + num(c.b) + ")"; }
 std::string vecText(const Vec2& v) { return "(" + num(v.x) + ", " + num(v.y) + ")"; }
-
-bool finite(float v) { return std::isfinite(v); }
-bool finite(const Vec2& v) { return finite(v.x) && finite(v.y); }
-bool finite(const Vec3& v) { return finite(v.x) && finite(v.y) && finite(v.z); }
-bool finite(const Rgb& c) { return finite(c.r) && finite(c.g) && finite(c.b); }
 
 Status invalid(const std::string& path, const std::string& what) {
   return Status(StatusCode::kInvalidInput, path + ": " + what);

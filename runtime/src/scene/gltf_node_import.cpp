@@ -10,6 +10,7 @@
 
 #include "glm_interop.h"
 #include "gltf_import_context.h"
+#include "numeric.h"
 #include "transforms.h"
 
 namespace svit::gltf {
@@ -128,12 +129,11 @@ Status readLight(const tinygltf::Value& object, const std::string& what, Light& 
     if (!object.Has("spot") || !object.Get("spot").IsObject()) {
       return invalid(what + ": spot light without a 'spot' object");
     }
-    double inner = 0, outer = 0.78539816339744831;
+    double inner = 0, outer = kPi / 4;  // glTF default
     const tinygltf::Value& spot = object.Get("spot");
     if (Status s = lightNumber(spot, "innerConeAngle", what + ": spot", 0.0, inner); !s.ok()) return s;
     if (Status s = lightNumber(spot, "outerConeAngle", what + ": spot", outer, outer); !s.ok()) return s;
-    constexpr double kHalfPi = 1.5707963267948966;
-    if (!(inner >= 0 && inner < outer && outer <= kHalfPi)) {
+    if (!(inner >= 0 && inner < outer && outer <= kPi / 2)) {
       return invalid(what + ": spot cone angles inner " + std::to_string(inner) + ", outer " +
                      std::to_string(outer) + " need 0 <= inner < outer <= pi/2");
     }
@@ -143,63 +143,66 @@ Status readLight(const tinygltf::Value& object, const std::string& what, Light& 
   return Status();
 }
 
-}  // namespace
-
-Status importNodesAndLights(ImportContext& context, std::vector<int>& scene_roots) {
-  const tinygltf::Model& model = context.model;
-  Scene& scene = context.scene;
-  const std::string& path = context.path;
-
-  // Light definitions, placed by the nodes that use them.
-  std::vector<Light> definitions;
+// Light definitions of KHR_lights_punctual, placed by the nodes that use them.
+Status readLightDefinitions(const tinygltf::Model& model, const std::string& path, std::vector<Light>& definitions) {
   auto lights_ext = model.extensions.find("KHR_lights_punctual");
-  if (lights_ext != model.extensions.end() && lights_ext->second.Has("lights")) {
-    const tinygltf::Value& lights = lights_ext->second.Get("lights");
-    if (!lights.IsArray()) return invalid(path + ": KHR_lights_punctual.lights is not an array");
-    for (size_t i = 0; i < lights.ArrayLen(); ++i) {
-      const tinygltf::Value& object = lights.Get(int(i));
-      std::string what = path + ": light " + std::to_string(i);
-      if (object.IsObject() && object.Has("name") && object.Get("name").IsString()) {
-        what += " '" + object.Get("name").Get<std::string>() + "'";
-      }
-      Light light;
-      if (Status s = readLight(object, what, light); !s.ok()) return s;
-      if (light.name.empty()) light.name = "light " + std::to_string(i);
-      definitions.push_back(light);
+  if (lights_ext == model.extensions.end() || !lights_ext->second.Has("lights")) return Status();
+  const tinygltf::Value& lights = lights_ext->second.Get("lights");
+  if (!lights.IsArray()) return invalid(path + ": KHR_lights_punctual.lights is not an array");
+  for (size_t i = 0; i < lights.ArrayLen(); ++i) {
+    const tinygltf::Value& object = lights.Get(int(i));
+    std::string what = path + ": light " + std::to_string(i);
+    if (object.IsObject() && object.Has("name") && object.Get("name").IsString()) {
+      what += " '" + object.Get("name").Get<std::string>() + "'";
     }
+    Light light;
+    if (Status s = readLight(object, what, light); !s.ok()) return s;
+    if (light.name.empty()) light.name = "light " + std::to_string(i);
+    definitions.push_back(light);
   }
+  return Status();
+}
 
-  scene.nodes.resize(model.nodes.size());
-  for (size_t i = 0; i < model.nodes.size(); ++i) {
-    const tinygltf::Node& source = model.nodes[i];
-    const std::string what = path + ": " + nodeLabel(model, int(i));
-    Node& node = scene.nodes[i];
-    node.name = source.name;
-    if (source.mesh >= 0 && size_t(source.mesh) >= model.meshes.size()) {
-      return invalid(what + ": mesh " + std::to_string(source.mesh) + " does not exist");
-    }
-    node.mesh = source.mesh;
-    if (Status s = readLocalTransform(source, what, node); !s.ok()) return s;
-    if (Status s = readDynamicMark(source, what, node.dynamic); !s.ok()) return s;
-    for (int child : source.children) {
-      if (child < 0 || size_t(child) >= model.nodes.size() || size_t(child) == i) {
-        return invalid(what + ": child " + std::to_string(child) + " is not another node");
-      }
-      node.children.push_back(child);
-    }
-    auto ext = source.extensions.find("KHR_lights_punctual");
-    if (ext != source.extensions.end() && ext->second.Has("light")) {
-      const tinygltf::Value& index = ext->second.Get("light");
-      const int light_index = index.IsInt() ? index.Get<int>() : -1;
-      if (light_index < 0 || size_t(light_index) >= definitions.size()) {
-        return invalid(what + ": KHR_lights_punctual light " + std::to_string(light_index) +
-                       " does not exist (file has " + std::to_string(definitions.size()) + ")");
-      }
-      Light light = definitions[size_t(light_index)];
-      light.node = int(i);
-      scene.lights.push_back(light);
-    }
+// The light node `i` places, if any, appended to the scene's lights.
+Status placeNodeLight(const tinygltf::Node& source, size_t i, const std::string& what,
+                      const std::vector<Light>& definitions, Scene& scene) {
+  auto ext = source.extensions.find("KHR_lights_punctual");
+  if (ext == source.extensions.end() || !ext->second.Has("light")) return Status();
+  const tinygltf::Value& index = ext->second.Get("light");
+  const int light_index = index.IsInt() ? index.Get<int>() : -1;
+  if (light_index < 0 || size_t(light_index) >= definitions.size()) {
+    return invalid(what + ": KHR_lights_punctual light " + std::to_string(light_index) +
+                   " does not exist (file has " + std::to_string(definitions.size()) + ")");
   }
+  Light light = definitions[size_t(light_index)];
+  light.node = int(i);
+  scene.lights.push_back(light);
+  return Status();
+}
+
+Status readNode(const tinygltf::Model& model, size_t i, const std::string& path,
+                const std::vector<Light>& definitions, Scene& scene) {
+  const tinygltf::Node& source = model.nodes[i];
+  const std::string what = path + ": " + nodeLabel(model, int(i));
+  Node& node = scene.nodes[i];
+  node.name = source.name;
+  if (source.mesh >= 0 && size_t(source.mesh) >= model.meshes.size()) {
+    return invalid(what + ": mesh " + std::to_string(source.mesh) + " does not exist");
+  }
+  node.mesh = source.mesh;
+  if (Status s = readLocalTransform(source, what, node); !s.ok()) return s;
+  if (Status s = readDynamicMark(source, what, node.dynamic); !s.ok()) return s;
+  for (int child : source.children) {
+    if (child < 0 || size_t(child) >= model.nodes.size() || size_t(child) == i) {
+      return invalid(what + ": child " + std::to_string(child) + " is not another node");
+    }
+    node.children.push_back(child);
+  }
+  return placeNodeLight(source, i, what, definitions, scene);
+}
+
+// Sets every node's parent; a node listed as the child of two is an error.
+Status linkParents(const tinygltf::Model& model, const std::string& path, Scene& scene) {
   for (size_t i = 0; i < scene.nodes.size(); ++i) {
     for (int child : scene.nodes[i].children) {
       Node& c = scene.nodes[size_t(child)];
@@ -210,7 +213,11 @@ Status importNodesAndLights(ImportContext& context, std::vector<int>& scene_root
       c.parent = int(i);
     }
   }
-  // With at most one parent each, a cycle is a chain that never reaches a root.
+  return Status();
+}
+
+// With at most one parent each, a cycle is a chain that never reaches a root.
+Status checkNoCycles(const tinygltf::Model& model, const std::string& path, const Scene& scene) {
   for (size_t i = 0; i < scene.nodes.size(); ++i) {
     int n = int(i);
     size_t steps = 0;
@@ -220,30 +227,52 @@ Status importNodesAndLights(ImportContext& context, std::vector<int>& scene_root
     }
     if (n >= 0) return invalid(path + ": " + nodeLabel(model, int(i)) + " is part of a cycle");
   }
+  return Status();
+}
 
+// The roots of the active glTF scene, or every parentless node when the file has no scene.
+Status findSceneRoots(const tinygltf::Model& model, const std::string& path, const Scene& scene,
+                      std::vector<int>& scene_roots) {
   scene_roots.clear();
   const int active = model.defaultScene >= 0 ? model.defaultScene : (model.scenes.empty() ? -1 : 0);
-  if (active >= 0) {
-    if (size_t(active) >= model.scenes.size()) {
-      return invalid(path + ": scene " + std::to_string(active) + " does not exist");
-    }
-    for (int root : model.scenes[size_t(active)].nodes) {
-      if (root < 0 || size_t(root) >= scene.nodes.size()) {
-        return invalid(path + ": scene " + std::to_string(active) + ": node " +
-                       std::to_string(root) + " does not exist");
-      }
-      if (scene.nodes[size_t(root)].parent >= 0) {
-        return invalid(path + ": scene " + std::to_string(active) + ": " + nodeLabel(model, root) +
-                       " is not a root node");
-      }
-      scene_roots.push_back(root);
-    }
-  } else {
+  if (active < 0) {
     for (size_t i = 0; i < scene.nodes.size(); ++i) {
       if (scene.nodes[i].parent < 0) scene_roots.push_back(int(i));
     }
+    return Status();
+  }
+  if (size_t(active) >= model.scenes.size()) {
+    return invalid(path + ": scene " + std::to_string(active) + " does not exist");
+  }
+  for (int root : model.scenes[size_t(active)].nodes) {
+    if (root < 0 || size_t(root) >= scene.nodes.size()) {
+      return invalid(path + ": scene " + std::to_string(active) + ": node " + std::to_string(root) +
+                     " does not exist");
+    }
+    if (scene.nodes[size_t(root)].parent >= 0) {
+      return invalid(path + ": scene " + std::to_string(active) + ": " + nodeLabel(model, root) +
+                     " is not a root node");
+    }
+    scene_roots.push_back(root);
   }
   return Status();
+}
+
+}  // namespace
+
+Status importNodesAndLights(ImportContext& context, std::vector<int>& scene_roots) {
+  const tinygltf::Model& model = context.model;
+  Scene& scene = context.scene;
+  const std::string& path = context.path;
+  std::vector<Light> definitions;
+  if (Status s = readLightDefinitions(model, path, definitions); !s.ok()) return s;
+  scene.nodes.resize(model.nodes.size());
+  for (size_t i = 0; i < model.nodes.size(); ++i) {
+    if (Status s = readNode(model, i, path, definitions, scene); !s.ok()) return s;
+  }
+  if (Status s = linkParents(model, path, scene); !s.ok()) return s;
+  if (Status s = checkNoCycles(model, path, scene); !s.ok()) return s;
+  return findSceneRoots(model, path, scene, scene_roots);
 }
 
 }  // namespace svit::gltf

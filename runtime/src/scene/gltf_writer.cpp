@@ -9,6 +9,7 @@
 
 #include <tiny_gltf.h>
 
+#include "numeric.h"
 #include "svit/level.h"
 
 namespace svit {
@@ -135,7 +136,7 @@ void writeMesh(const Mesh& mesh, tinygltf::Model& model) {
   const size_t vertices = mesh.positions.size();
   const int positions = addAccessor(model, addView(model, mesh.positions.data(), vertices * 12, TINYGLTF_TARGET_ARRAY_BUFFER),
                                     TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, vertices);
-  std::vector<double> lo(3, 1e300), hi(3, -1e300);
+  std::vector<double> lo(3, kNoUpperBound), hi(3, kNoLowerBound);
   for (const Vec3& p : mesh.positions) {
     const float c[3] = {p.x, p.y, p.z};
     for (int k = 0; k < 3; ++k) {

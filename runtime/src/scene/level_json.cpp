@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "glm_interop.h"
+#include "numeric.h"
 #include "scene_finalize.h"
 #include "svit/level.h"
 #include "transforms.h"
@@ -41,7 +42,6 @@ void addOutwardTriangle(Mesh& mesh, uint32_t a, uint32_t b, uint32_t c) {
 // A UV sphere of `radius` metres with smooth normals; poles on +-Y.
 void buildSphere(float radius, int segments, Mesh& mesh) {
   const int rings = segments / 2;
-  constexpr double kPi = 3.14159265358979323846;
   mesh.positions.push_back({0, radius, 0});
   mesh.normals.push_back({0, 1, 0});
   for (int k = 1; k < rings; ++k) {
@@ -335,7 +335,7 @@ struct LevelReader {
       if (j.contains("outer_cone_rad")) {
         if (Status s = nonNegative(j["outer_cone_rad"], field + ".outer_cone_rad", light.outer_cone_rad); !s.ok()) return s;
       }
-      if (!(light.inner_cone_rad < light.outer_cone_rad && light.outer_cone_rad <= 1.5707964f)) {
+      if (!(light.inner_cone_rad < light.outer_cone_rad && light.outer_cone_rad <= float(kPi / 2))) {
         return error(field, "spot cone angles need 0 <= inner_cone_rad < outer_cone_rad <= pi/2");
       }
     }
@@ -380,13 +380,41 @@ struct LevelReader {
         !s.ok()) {
       return s;
     }
+    std::string name, shape;
+    if (Status s = readObjectName(j, field, scene, name); !s.ok()) return s;
+    if (Status s = readObjectShape(j, field, shape); !s.ok()) return s;
+    Material material;
+    if (Status s = readObjectMaterial(j, field, name, material); !s.ok()) return s;
+    Mesh mesh;
+    mesh.name = name;
+    if (Status s = buildObjectMesh(j, field, shape, mesh); !s.ok()) return s;
+    const uint32_t material_index = uint32_t(scene.materials.size());
+    const size_t triangles = mesh.triangleCount();
+    mesh.triangle_material.assign(triangles, material_index);
+    mesh.triangle_albedo.assign(triangles, material.base_color);
+    mesh.triangle_emission.assign(triangles, material.emissive_luminance);
+    for (size_t t = 0; t < triangles; ++t) mesh.triangle_source.push_back({0, uint32_t(t)});
+    Node node;
+    if (Status s = readObjectNode(j, field, name, node); !s.ok()) return s;
+    node.mesh = int(scene.meshes.size());
+    scene.materials.push_back(std::move(material));
+    scene.meshes.push_back(std::move(mesh));
+    node_out = int(scene.nodes.size());
+    scene.nodes.push_back(std::move(node));
+    return Status();
+  }
+
+  Status readObjectName(const Json& j, const std::string& field, const Scene& scene, std::string& name) const {
     if (!j.contains("name")) return error(field + ".name", "is required (paths name the object by it)");
-    std::string name;
     if (Status s = string(j["name"], field + ".name", name); !s.ok()) return s;
     if (name.empty()) return error(field + ".name", "must not be empty");
     if (scene.findNode(name) >= 0) return error(field + ".name", "a node named '" + name + "' already exists");
+    return Status();
+  }
+
+  // "sphere" or "box", with the size fields that shape takes and no others.
+  Status readObjectShape(const Json& j, const std::string& field, std::string& shape) const {
     if (!j.contains("shape")) return error(field + ".shape", "is required (\"sphere\" or \"box\")");
-    std::string shape;
     if (Status s = string(j["shape"], field + ".shape", shape); !s.ok()) return s;
     std::set<std::string> required, forbidden;
     if (shape == "sphere") {
@@ -404,8 +432,11 @@ struct LevelReader {
     for (const std::string& key : forbidden) {
       if (j.contains(key)) return error(field + "." + key, "does not apply to a " + shape);
     }
+    return Status();
+  }
 
-    Material material;
+  Status readObjectMaterial(const Json& j, const std::string& field, const std::string& name,
+                            Material& material) const {
     material.name = name;
     material.base_color = {0.8f, 0.8f, 0.8f};
     if (j.contains("albedo")) {
@@ -421,47 +452,54 @@ struct LevelReader {
     if (j.contains("double_sided")) {
       if (Status s = boolean(j["double_sided"], field + ".double_sided", material.double_sided); !s.ok()) return s;
     }
+    return Status();
+  }
 
-    Mesh mesh;
-    mesh.name = name;
+  Status buildObjectMesh(const Json& j, const std::string& field, const std::string& shape, Mesh& mesh) const {
     if (shape == "sphere") {
       float radius = 0;
       if (Status s = positiveLength(j["radius_m"], field + ".radius_m", radius); !s.ok()) return s;
       int segments = kDefaultSphereSegments;
-      if (j.contains("segments")) {
-        const Json& v = j["segments"];
-        if (!v.is_number_integer()) return error(field + ".segments", "must be an integer");
-        if (!v.is_number_unsigned() || v.get<uint64_t>() < uint64_t(kMinSphereSegments) ||
-            v.get<uint64_t>() > uint64_t(kMaxSphereSegments)) {
-          return error(field + ".segments", v.dump() + " is outside [" + std::to_string(kMinSphereSegments) +
-                                                ", " + std::to_string(kMaxSphereSegments) + "]");
-        }
-        segments = int(v.get<uint64_t>());
-      }
+      if (Status s = sphereSegments(j, field, segments); !s.ok()) return s;
       buildSphere(radius, segments, mesh);
-    } else {
-      Vec3 size{};
-      if (j["size_m"].is_number()) {
-        float edge = 0;
-        if (Status s = positiveLength(j["size_m"], field + ".size_m", edge); !s.ok()) return s;
-        size = {edge, edge, edge};
-      } else {
-        if (Status s = vec3(j["size_m"], field + ".size_m", size); !s.ok()) return s;
-        const float e[3] = {size.x, size.y, size.z};
-        for (int i = 0; i < 3; ++i) {
-          if (!(e[i] > 0)) return error(field + ".size_m[" + std::to_string(i) + "]", "must be > 0");
-        }
-      }
-      buildBox(size, mesh);
+      return Status();
     }
-    const uint32_t material_index = uint32_t(scene.materials.size());
-    const size_t triangles = mesh.triangleCount();
-    mesh.triangle_material.assign(triangles, material_index);
-    mesh.triangle_albedo.assign(triangles, material.base_color);
-    mesh.triangle_emission.assign(triangles, material.emissive_luminance);
-    for (size_t t = 0; t < triangles; ++t) mesh.triangle_source.push_back({0, uint32_t(t)});
+    Vec3 size{};
+    if (Status s = boxSize(j["size_m"], field + ".size_m", size); !s.ok()) return s;
+    buildBox(size, mesh);
+    return Status();
+  }
 
-    Node node;
+  Status sphereSegments(const Json& j, const std::string& field, int& segments) const {
+    if (!j.contains("segments")) return Status();
+    const Json& v = j["segments"];
+    if (!v.is_number_integer()) return error(field + ".segments", "must be an integer");
+    if (!v.is_number_unsigned() || v.get<uint64_t>() < uint64_t(kMinSphereSegments) ||
+        v.get<uint64_t>() > uint64_t(kMaxSphereSegments)) {
+      return error(field + ".segments", v.dump() + " is outside [" + std::to_string(kMinSphereSegments) +
+                                            ", " + std::to_string(kMaxSphereSegments) + "]");
+    }
+    segments = int(v.get<uint64_t>());
+    return Status();
+  }
+
+  // One edge for a cube, or three.
+  Status boxSize(const Json& value, const std::string& field, Vec3& size) const {
+    if (value.is_number()) {
+      float edge = 0;
+      if (Status s = positiveLength(value, field, edge); !s.ok()) return s;
+      size = {edge, edge, edge};
+      return Status();
+    }
+    if (Status s = vec3(value, field, size); !s.ok()) return s;
+    const float e[3] = {size.x, size.y, size.z};
+    for (int i = 0; i < 3; ++i) {
+      if (!(e[i] > 0)) return error(field + "[" + std::to_string(i) + "]", "must be > 0");
+    }
+    return Status();
+  }
+
+  Status readObjectNode(const Json& j, const std::string& field, const std::string& name, Node& node) const {
     node.name = name;
     if (j.contains("translation")) {
       if (Status s = vec3(j["translation"], field + ".translation", node.translation); !s.ok()) return s;
@@ -473,11 +511,6 @@ struct LevelReader {
       if (Status s = boolean(j["dynamic"], field + ".dynamic", node.dynamic); !s.ok()) return s;
     }
     node.parent_from_node = fromGlm(composeTrs(toGlm(node.translation), toGlm(node.rotation), glm::vec3(1)));
-    node.mesh = int(scene.meshes.size());
-    scene.materials.push_back(std::move(material));
-    scene.meshes.push_back(std::move(mesh));
-    node_out = int(scene.nodes.size());
-    scene.nodes.push_back(std::move(node));
     return Status();
   }
 
@@ -591,7 +624,7 @@ struct LevelReader {
   }
 };
 
-Expected<Scene> loadLevelJson(const std::string& path, const LoadOptions& options) {
+Expected<Json> readLevelRoot(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return Status(StatusCode::kNotFound, path + ": file not found");
   std::ifstream file(path, std::ios::binary);
@@ -606,18 +639,16 @@ Expected<Scene> loadLevelJson(const std::string& path, const LoadOptions& option
   } catch (const Json::exception& e) {
     return Status(StatusCode::kInvalidInput, path + ": not valid JSON: " + e.what());
   }
-  LevelReader reader{path, 0, {}};
-  if (Status s = reader.checkKeys(root, "", {"gltf", "description", "sun", "sky", "exclude", "objects",
-                                             "lights", "dynamic", "paths", "camera_paths"});
-      !s.ok()) {
-    return s;
-  }
+  return root;
+}
+
+// The level's glTF, not yet finalized: the level adds to it first.
+Expected<Scene> importLevelGltf(const Json& root, const std::string& path, const LoadOptions& options,
+                                LevelReader& reader, std::vector<int>& roots) {
   if (!root.contains("gltf")) return reader.error("gltf", "is required (the glTF file of the level)");
   std::string gltf;
   if (Status s = reader.string(root["gltf"], "gltf", gltf); !s.ok()) return s;
   const std::string gltf_path = (std::filesystem::path(path).parent_path() / gltf).lexically_normal().string();
-
-  std::vector<int> roots;
   Expected<Scene> imported = importGltfUnfinalized(gltf_path, options, roots);
   if (!imported.ok()) {
     return Status(imported.status().code(), path + ": gltf: " + imported.status().message());
@@ -626,72 +657,121 @@ Expected<Scene> loadLevelJson(const std::string& path, const LoadOptions& option
   scene.source_path = path;
   scene.gltf_path = gltf_path;
   reader.gltf_nodes = scene.nodes.size();
+  return scene;
+}
 
-  if (root.contains("description") && !root["description"].is_string()) {
-    return reader.error("description", "must be a string");
+// Calls read(element, "<key>[i]") for each element of the array root[key], if present.
+template <typename ReadElement>
+Status forEachElement(const Json& root, const char* key, const LevelReader& reader,
+                      const std::string& not_array, ReadElement read) {
+  if (!root.contains(key)) return Status();
+  if (!root[key].is_array()) return reader.error(key, not_array);
+  for (size_t i = 0; i < root[key].size(); ++i) {
+    if (Status s = read(root[key][i], std::string(key) + "[" + std::to_string(i) + "]"); !s.ok()) return s;
   }
-  // Exclusions first: nothing later may name an excluded node.
-  if (root.contains("exclude")) {
-    if (!root["exclude"].is_array()) return reader.error("exclude", "must be an array of node names or indices");
-    std::vector<int> nodes;
-    for (size_t i = 0; i < root["exclude"].size(); ++i) {
-      int node = -1;
-      if (Status s = reader.nodeByName(root["exclude"][i], "exclude[" + std::to_string(i) + "]", scene, node); !s.ok()) return s;
-      nodes.push_back(node);
-    }
-    reader.excluded.assign(scene.nodes.size(), 0);
-    for (int node : nodes) {
-      reader.excluded[size_t(node)] = 1;
-      detachNode(scene, roots, node);
-    }
+  return Status();
+}
+
+Status readExclusions(const Json& root, LevelReader& reader, Scene& scene, std::vector<int>& roots) {
+  if (!root.contains("exclude")) return Status();
+  std::vector<int> nodes;
+  const Status listed = forEachElement(root, "exclude", reader, "must be an array of node names or indices",
+                                       [&](const Json& element, const std::string& field) {
+                                         int node = -1;
+                                         if (Status s = reader.nodeByName(element, field, scene, node); !s.ok()) return s;
+                                         nodes.push_back(node);
+                                         return Status();
+                                       });
+  if (!listed.ok()) return listed;
+  reader.excluded.assign(scene.nodes.size(), 0);
+  for (int node : nodes) {
+    reader.excluded[size_t(node)] = 1;
+    detachNode(scene, roots, node);
   }
-  // Objects next, so that lights, dynamic and paths may name them.
-  if (root.contains("objects")) {
-    if (!root["objects"].is_array()) return reader.error("objects", "must be an array");
-    for (size_t i = 0; i < root["objects"].size(); ++i) {
-      int node = -1;
-      if (Status s = reader.readObject(root["objects"][i], "objects[" + std::to_string(i) + "]", scene, node); !s.ok()) return s;
-      roots.push_back(node);
-    }
-  }
+  return Status();
+}
+
+Status readObjects(const Json& root, const LevelReader& reader, Scene& scene, std::vector<int>& roots) {
+  return forEachElement(root, "objects", reader, "must be an array", [&](const Json& element, const std::string& field) {
+    int node = -1;
+    if (Status s = reader.readObject(element, field, scene, node); !s.ok()) return s;
+    roots.push_back(node);
+    return Status();
+  });
+}
+
+Status readSunAndSky(const Json& root, const LevelReader& reader, Scene& scene) {
   if (root.contains("sun")) {
     if (Status s = reader.readSun(root["sun"], scene.sun); !s.ok()) return s;
   }
   if (root.contains("sky")) {
     if (Status s = reader.readSky(root["sky"], scene.sky); !s.ok()) return s;
   }
-  if (root.contains("lights")) {
-    if (!root["lights"].is_array()) return reader.error("lights", "must be an array");
-    for (size_t i = 0; i < root["lights"].size(); ++i) {
-      Light light;
-      if (Status s = reader.readLight(root["lights"][i], "lights[" + std::to_string(i) + "]", scene, light); !s.ok()) return s;
-      scene.lights.push_back(light);
-    }
+  return Status();
+}
+
+Status readLights(const Json& root, const LevelReader& reader, Scene& scene) {
+  return forEachElement(root, "lights", reader, "must be an array", [&](const Json& element, const std::string& field) {
+    Light light;
+    if (Status s = reader.readLight(element, field, scene, light); !s.ok()) return s;
+    scene.lights.push_back(light);
+    return Status();
+  });
+}
+
+Status readDynamicNodes(const Json& root, const LevelReader& reader, Scene& scene) {
+  return forEachElement(root, "dynamic", reader, "must be an array of node names",
+                        [&](const Json& element, const std::string& field) {
+                          int node = -1;
+                          if (Status s = reader.nodeByName(element, field, scene, node); !s.ok()) return s;
+                          scene.nodes[size_t(node)].dynamic = true;
+                          return Status();
+                        });
+}
+
+Status readPaths(const Json& root, const LevelReader& reader, Scene& scene) {
+  const Status object_paths = forEachElement(root, "paths", reader, "must be an array",
+                                             [&](const Json& element, const std::string& field) {
+                                               ObjectPath object_path;
+                                               if (Status s = reader.readPath(element, field, scene, object_path); !s.ok()) return s;
+                                               scene.object_paths.push_back(std::move(object_path));
+                                               return Status();
+                                             });
+  if (!object_paths.ok()) return object_paths;
+  return forEachElement(root, "camera_paths", reader, "must be an array",
+                        [&](const Json& element, const std::string& field) {
+                          CameraPath camera;
+                          if (Status s = reader.readCameraPath(element, field, camera); !s.ok()) return s;
+                          scene.camera_paths.push_back(std::move(camera));
+                          return Status();
+                        });
+}
+
+Expected<Scene> loadLevelJson(const std::string& path, const LoadOptions& options) {
+  Expected<Json> parsed = readLevelRoot(path);
+  if (!parsed.ok()) return parsed.status();
+  const Json& root = parsed.value();
+  LevelReader reader{path, 0, {}};
+  if (Status s = reader.checkKeys(root, "", {"gltf", "description", "sun", "sky", "exclude", "objects",
+                                             "lights", "dynamic", "paths", "camera_paths"});
+      !s.ok()) {
+    return s;
   }
-  if (root.contains("dynamic")) {
-    if (!root["dynamic"].is_array()) return reader.error("dynamic", "must be an array of node names");
-    for (size_t i = 0; i < root["dynamic"].size(); ++i) {
-      int node = -1;
-      if (Status s = reader.nodeByName(root["dynamic"][i], "dynamic[" + std::to_string(i) + "]", scene, node); !s.ok()) return s;
-      scene.nodes[size_t(node)].dynamic = true;
-    }
+  std::vector<int> roots;
+  Expected<Scene> imported = importLevelGltf(root, path, options, reader, roots);
+  if (!imported.ok()) return imported.status();
+  Scene scene = std::move(imported).value();
+  if (root.contains("description") && !root["description"].is_string()) {
+    return reader.error("description", "must be a string");
   }
-  if (root.contains("paths")) {
-    if (!root["paths"].is_array()) return reader.error("paths", "must be an array");
-    for (size_t i = 0; i < root["paths"].size(); ++i) {
-      ObjectPath object_path;
-      if (Status s = reader.readPath(root["paths"][i], "paths[" + std::to_string(i) + "]", scene, object_path); !s.ok()) return s;
-      scene.object_paths.push_back(std::move(object_path));
-    }
-  }
-  if (root.contains("camera_paths")) {
-    if (!root["camera_paths"].is_array()) return reader.error("camera_paths", "must be an array");
-    for (size_t i = 0; i < root["camera_paths"].size(); ++i) {
-      CameraPath camera;
-      if (Status s = reader.readCameraPath(root["camera_paths"][i], "camera_paths[" + std::to_string(i) + "]", camera); !s.ok()) return s;
-      scene.camera_paths.push_back(std::move(camera));
-    }
-  }
+  // Exclusions first: nothing later may name an excluded node. Objects
+  // next, so that lights, dynamic and paths may name them.
+  if (Status s = readExclusions(root, reader, scene, roots); !s.ok()) return s;
+  if (Status s = readObjects(root, reader, scene, roots); !s.ok()) return s;
+  if (Status s = readSunAndSky(root, reader, scene); !s.ok()) return s;
+  if (Status s = readLights(root, reader, scene); !s.ok()) return s;
+  if (Status s = readDynamicNodes(root, reader, scene); !s.ok()) return s;
+  if (Status s = readPaths(root, reader, scene); !s.ok()) return s;
   // finalizeScene names the glTF; the level file is what the user loaded
   // and what made it so (an `exclude` that leaves no triangles: found by
   // fuzz_level_json's check that every error names the file).

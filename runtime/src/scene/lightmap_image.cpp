@@ -149,9 +149,11 @@ bool headerAttributes(const std::vector<unsigned char>& bytes, const std::string
   }
 }
 
-}  // namespace
+Status invalidExr(const std::string& path, const std::string& what) {
+  return Status(StatusCode::kInvalidInput, path + ": " + what);
+}
 
-Expected<LightmapImage> readLightmapExr(const std::string& path) {
+Expected<std::vector<unsigned char>> readFileBytes(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return Status(StatusCode::kNotFound, path + ": file not found");
   if (std::filesystem::is_directory(path, ec)) return Status(StatusCode::kIoError, path + ": is a directory, not an EXR");
@@ -164,30 +166,29 @@ Expected<LightmapImage> readLightmapExr(const std::string& path) {
     bytes.insert(bytes.end(), chunk, chunk + in.gcount());
   }
   if (in.bad()) return Status(StatusCode::kIoError, path + ": read failed");
-  auto invalid = [&](const std::string& what) { return Status(StatusCode::kInvalidInput, path + ": " + what); };
+  return bytes;
+}
 
-  // The reader takes what writeLightmapExr writes and what other tools
-  // write for the same job: one scanline part with R, G and B channels of
-  // half or float. tinyexr's whole-file LoadEXR() is avoided on purpose: it
-  // also takes tiled and deep files through less-tested paths, and the
-  // lower-level calls let every header field be checked before the pixels
-  // are allocated (docs/fuzzing.md).
-  EXRVersion version;
+Status checkVersion(const std::vector<unsigned char>& bytes, const std::string& path, EXRVersion& version) {
   if (ParseEXRVersionFromMemory(&version, bytes.data(), bytes.size()) != TINYEXR_SUCCESS) {
-    return invalid("not a readable EXR: no OpenEXR magic number and version 2");
+    return invalidExr(path, "not a readable EXR: no OpenEXR magic number and version 2");
   }
   if (version.multipart || version.non_image || version.tiled) {
     return Status(StatusCode::kUnsupported, path + ": " +
                                                 (version.multipart ? "multi-part" : version.non_image ? "deep" : "tiled") +
                                                 " EXR; lightmap pages are single-part scanline images");
   }
-  // Debian's tinyexr keeps assert() on: a part type other than the four it
-  // knows aborts the process inside ParseEXRHeaderFromMemory (found by
-  // fuzz_lightmap_exr). A lightmap is a scanline image; say so first.
-  // Every 'type' attribute counts (tinyexr keeps whichever it parsed last
-  // with data), read as tinyexr reads it: up to the first NUL.
+  return Status();
+}
+
+// Debian's tinyexr keeps assert() on: a part type other than the four it
+// knows aborts the process inside ParseEXRHeaderFromMemory (found by
+// fuzz_lightmap_exr). A lightmap is a scanline image; say so first.
+// Every 'type' attribute counts (tinyexr keeps whichever it parsed last
+// with data), read as tinyexr reads it: up to the first NUL.
+Status checkPartTypes(const std::vector<unsigned char>& bytes, const std::string& path) {
   std::vector<std::string> part_types;
-  if (!headerAttributes(bytes, "type", part_types)) return invalid("not a readable EXR: header runs past the file");
+  if (!headerAttributes(bytes, "type", part_types)) return invalidExr(path, "not a readable EXR: header runs past the file");
   for (const std::string& value : part_types) {
     const std::string part_type = value.substr(0, value.find('\0'));
     if (part_type.empty() || part_type == "scanlineimage") continue;
@@ -196,23 +197,36 @@ Expected<LightmapImage> readLightmapExr(const std::string& path) {
     return Status(StatusCode::kUnsupported,
                   path + ": part type '" + printable + "'; lightmap pages are scanline images");
   }
-  ExrHeaderGuard header;
+  return Status();
+}
+
+Status parseHeader(const std::vector<unsigned char>& bytes, const EXRVersion& version, const std::string& path,
+                   EXRHeader& h) {
   const char* error = nullptr;
-  if (ParseEXRHeaderFromMemory(&header.header, &version, bytes.data(), bytes.size(), &error) != TINYEXR_SUCCESS) {
-    return invalid("not a readable EXR: " + exrMessage(error));
+  if (ParseEXRHeaderFromMemory(&h, &version, bytes.data(), bytes.size(), &error) != TINYEXR_SUCCESS) {
+    return invalidExr(path, "not a readable EXR: " + exrMessage(error));
   }
-  EXRHeader& h = header.header;
-  if (h.tiled || h.multipart || h.non_image) return invalid("header disagrees with the version field (tiled, deep or multi-part)");
-  // svit-bake writes ZIP; uncompressed, RLE and single-line ZIP are as
-  // simple. PIZ is refused: tinyexr 1.0.1's Huffman decoder reads its table
-  // header past the end of a short chunk (heap overread, found by
-  // fuzz_lightmap_exr), and its other decoders were never needed here.
+  if (h.tiled || h.multipart || h.non_image) {
+    return invalidExr(path, "header disagrees with the version field (tiled, deep or multi-part)");
+  }
+  return Status();
+}
+
+// svit-bake writes ZIP; uncompressed, RLE and single-line ZIP are as
+// simple. PIZ is refused: tinyexr 1.0.1's Huffman decoder reads its table
+// header past the end of a short chunk (heap overread, found by
+// fuzz_lightmap_exr), and its other decoders were never needed here.
+Status checkCompression(const EXRHeader& h, const std::string& path) {
   if (h.compression_type != TINYEXR_COMPRESSIONTYPE_NONE && h.compression_type != TINYEXR_COMPRESSIONTYPE_RLE &&
       h.compression_type != TINYEXR_COMPRESSIONTYPE_ZIPS && h.compression_type != TINYEXR_COMPRESSIONTYPE_ZIP) {
     return Status(StatusCode::kUnsupported, path + ": compression " + std::to_string(h.compression_type) +
                                                 " (lightmap pages are uncompressed, RLE or ZIP; PIZ is not read)");
   }
-  int rgb_channel[3] = {-1, -1, -1};
+  return Status();
+}
+
+// Finds the R, G and B channels and asks tinyexr for every channel as float.
+Status selectChannels(EXRHeader& h, const std::string& path, int rgb_channel[3]) {
   for (int c = 0; c < h.num_channels; ++c) {
     const EXRChannelInfo& channel = h.channels[c];
     for (int k = 0; k < 3; ++k) {
@@ -220,7 +234,7 @@ Expected<LightmapImage> readLightmapExr(const std::string& path) {
     }
     if (h.pixel_types[c] != TINYEXR_PIXELTYPE_HALF && h.pixel_types[c] != TINYEXR_PIXELTYPE_FLOAT &&
         h.pixel_types[c] != TINYEXR_PIXELTYPE_UINT) {
-      return invalid("channel " + std::to_string(c) + " has unknown pixel type " + std::to_string(h.pixel_types[c]));
+      return invalidExr(path, "channel " + std::to_string(c) + " has unknown pixel type " + std::to_string(h.pixel_types[c]));
     }
     if (channel.x_sampling != 1 || channel.y_sampling != 1) {
       return Status(StatusCode::kUnsupported, path + ": channel " + std::to_string(c) + " is subsampled (" +
@@ -232,48 +246,62 @@ Expected<LightmapImage> readLightmapExr(const std::string& path) {
     if (h.pixel_types[c] == TINYEXR_PIXELTYPE_HALF) h.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
   }
   for (int k = 0; k < 3; ++k) {
-    if (rgb_channel[k] < 0) return invalid(std::string("no ") + "RGB"[k] + " channel (a lightmap page has R, G and B)");
+    if (rgb_channel[k] < 0) return invalidExr(path, std::string("no ") + "RGB"[k] + " channel (a lightmap page has R, G and B)");
     if (h.pixel_types[rgb_channel[k]] == TINYEXR_PIXELTYPE_UINT) {
-      return invalid(std::string("channel ") + "RGB"[k] + " holds unsigned integers, not half or float");
+      return invalidExr(path, std::string("channel ") + "RGB"[k] + " holds unsigned integers, not half or float");
     }
   }
-  const int64_t width = int64_t(h.data_window.max_x) - h.data_window.min_x + 1;
-  const int64_t height = int64_t(h.data_window.max_y) - h.data_window.min_y + 1;
+  return Status();
+}
+
+// Refuses sizes that a file of this length cannot hold before any pixel is allocated.
+Status checkImageSize(const EXRHeader& h, size_t file_bytes, const std::string& path, int64_t& width,
+                      int64_t& height) {
+  width = int64_t(h.data_window.max_x) - h.data_window.min_x + 1;
+  height = int64_t(h.data_window.max_y) - h.data_window.min_y + 1;
   if (width < 1 || height < 1 || width > kMaxLightmapSide || height > kMaxLightmapSide) {
-    return invalid("data window " + std::to_string(width) + " x " + std::to_string(height) +
-                   " texels is empty or larger than " + std::to_string(kMaxLightmapSide) + " on a side");
+    return invalidExr(path, "data window " + std::to_string(width) + " x " + std::to_string(height) +
+                                " texels is empty or larger than " + std::to_string(kMaxLightmapSide) + " on a side");
   }
   // The offset table holds one 8-byte offset per chunk of at least one
   // scanline; tinyexr sizes it from a chunkCount attribute if there is one
   // (825 million for 9 scanlines asked for 6.6 GB: found by
   // fuzz_lightmap_exr).
-  if (h.chunk_count < 0 || h.chunk_count > height || int64_t(h.chunk_count) * 8 > int64_t(bytes.size())) {
-    return invalid("chunkCount " + std::to_string(h.chunk_count) + " does not fit " + std::to_string(height) +
-                   " scanlines in a file of " + std::to_string(bytes.size()) + " bytes");
+  if (h.chunk_count < 0 || h.chunk_count > height || int64_t(h.chunk_count) * 8 > int64_t(file_bytes)) {
+    return invalidExr(path, "chunkCount " + std::to_string(h.chunk_count) + " does not fit " + std::to_string(height) +
+                                " scanlines in a file of " + std::to_string(file_bytes) + " bytes");
   }
   const int64_t decoded_bytes = width * height * int64_t(h.num_channels) * 4;
-  if (decoded_bytes > kMaxExpansion * int64_t(bytes.size())) {
-    return invalid(std::to_string(width) + " x " + std::to_string(height) + " texels of " +
-                   std::to_string(h.num_channels) + " channels cannot be stored in a file of " +
-                   std::to_string(bytes.size()) + " bytes");
+  if (decoded_bytes > kMaxExpansion * int64_t(file_bytes)) {
+    return invalidExr(path, std::to_string(width) + " x " + std::to_string(height) + " texels of " +
+                                std::to_string(h.num_channels) + " channels cannot be stored in a file of " +
+                                std::to_string(file_bytes) + " bytes");
   }
+  return Status();
+}
 
-  ExrImageGuard image;
+Status decodeImage(const std::vector<unsigned char>& bytes, EXRHeader& h, int64_t width, int64_t height,
+                   const std::string& path, EXRImage& exr) {
   // tinyexr 1.0.1 sets num_channels only once decoding succeeds, so when a
   // corrupt chunk fails the decode its own cleanup frees no channel planes
   // (a leak per bad file, found by fuzz_lightmap_exr). Set it up front: the
   // cleanup then frees them. Nothing else reads it before it is set.
-  image.image.num_channels = h.num_channels;
-  if (LoadEXRImageFromMemory(&image.image, &h, bytes.data(), bytes.size(), &error) != TINYEXR_SUCCESS) {
+  exr.num_channels = h.num_channels;
+  const char* error = nullptr;
+  if (LoadEXRImageFromMemory(&exr, &h, bytes.data(), bytes.size(), &error) != TINYEXR_SUCCESS) {
     // tinyexr has already released what it could (FreeEXRImage without
     // resetting the pointers): forget them, or the guard frees them twice.
-    InitEXRImage(&image.image);
-    return invalid("not a readable EXR: " + exrMessage(error));
+    InitEXRImage(&exr);
+    return invalidExr(path, "not a readable EXR: " + exrMessage(error));
   }
-  const EXRImage& exr = image.image;
   if (exr.images == nullptr || exr.width != width || exr.height != height || exr.num_channels != h.num_channels) {
-    return invalid("decoded image does not match its header");
+    return invalidExr(path, "decoded image does not match its header");
   }
+  return Status();
+}
+
+Expected<LightmapImage> copyRgbPlanes(const EXRImage& exr, const int rgb_channel[3], int64_t width,
+                                      int64_t height, const std::string& path) {
   LightmapImage out;
   out.width = int(width);
   out.height = int(height);
@@ -285,13 +313,41 @@ Expected<LightmapImage> readLightmapExr(const std::string& path) {
       // NaN or Inf would spread through every bilinear lookup that touches
       // the texel (found by fuzz_lightmap_exr: such pages were accepted).
       if (!std::isfinite(plane[i])) {
-        return invalid("texel (" + std::to_string(i % size_t(width)) + ", " + std::to_string(i / size_t(width)) +
-                       ") channel " + "RGB"[k] + " is not finite");
+        return invalidExr(path, "texel (" + std::to_string(i % size_t(width)) + ", " +
+                                    std::to_string(i / size_t(width)) + ") channel " + "RGB"[k] + " is not finite");
       }
       out.rgb[i * 3 + size_t(k)] = plane[i];
     }
   }
   return out;
+}
+
+}  // namespace
+
+// The reader takes what writeLightmapExr writes and what other tools write
+// for the same job: one scanline part with R, G and B channels of half or
+// float. tinyexr's whole-file LoadEXR() is avoided on purpose: it also takes
+// tiled and deep files through less-tested paths, and the lower-level calls
+// let every header field be checked before the pixels are allocated
+// (docs/fuzzing.md).
+Expected<LightmapImage> readLightmapExr(const std::string& path) {
+  Expected<std::vector<unsigned char>> read = readFileBytes(path);
+  if (!read.ok()) return read.status();
+  const std::vector<unsigned char>& bytes = read.value();
+  EXRVersion version;
+  if (Status s = checkVersion(bytes, path, version); !s.ok()) return s;
+  if (Status s = checkPartTypes(bytes, path); !s.ok()) return s;
+  ExrHeaderGuard header;
+  EXRHeader& h = header.header;
+  if (Status s = parseHeader(bytes, version, path, h); !s.ok()) return s;
+  if (Status s = checkCompression(h, path); !s.ok()) return s;
+  int rgb_channel[3] = {-1, -1, -1};
+  if (Status s = selectChannels(h, path, rgb_channel); !s.ok()) return s;
+  int64_t width = 0, height = 0;
+  if (Status s = checkImageSize(h, bytes.size(), path, width, height); !s.ok()) return s;
+  ExrImageGuard image;
+  if (Status s = decodeImage(bytes, h, width, height, path, image.image); !s.ok()) return s;
+  return copyRgbPlanes(image.image, rgb_channel, width, height, path);
 }
 
 }  // namespace svit

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "glm_interop.h"
+#include "numeric.h"
 
 namespace svit {
 
@@ -16,7 +17,6 @@ SceneSummary summarize(const Scene& scene) {
   summary.materials = scene.materials.size();
   summary.textures = scene.textures.size();
   summary.instances = scene.instances.size();
-  constexpr double kPi = 3.14159265358979323846;
   double flux_rgb[3] = {0, 0, 0};
   for (const Instance& instance : scene.instances) {
     const Mesh& mesh = scene.meshes[size_t(instance.mesh)];
