@@ -9,6 +9,7 @@
 #include <GLFW/glfw3.h>
 
 #include <cmath>
+#include <numbers>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -85,7 +86,7 @@ svit::Status runFrames(svit::Runtime& runtime, svit::SceneRenderer& renderer, co
   for (int frame = 0; frame < frames; ++frame) {
     if (object.present) {
       // Slide the object 20 cm along x and back over the run.
-      const float offset_m = 0.2f * std::sin(3.14159265f * float(frame) / float(frames));
+      const float offset_m = 0.2f * std::sin(std::numbers::pi_v<float> * float(frame) / float(frames));
       svit::Mat4 moved = object.rest;
       moved.m[12] += offset_m;  // column 3, row 0: translation x
       if (svit::Status s = runtime.setObjectTransform(object.id, moved); !s.ok()) return s;

@@ -32,7 +32,7 @@ struct CornellBake {
 const CornellBake& cornell() {
   static const std::unique_ptr<CornellBake> bake = [] {
     auto b = std::make_unique<CornellBake>();
-    b->scene = std::move(loadLevel(std::string(SVIT_SHARED_SCENES_DIR) + "/cornell_box_original/CornellBox-Original.gltf")).value();
+    b->scene = std::move(loadLevel(SVIT_CORNELL_GLTF)).value();
     b->geometry = std::move(flattenStaticGeometry(b->scene)).value();
     b->caster = std::move(makeEmbreeCaster(b->geometry)).value();
     RadiositySettings settings;

@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   const std::string out = argc > 1 ? argv[1] : "bench_import.json";
   const std::string scenes = SVIT_SHARED_SCENES_DIR;
   const std::vector<std::pair<std::string, std::string>> levels = {
-      {"cornell_box_original", scenes + "/cornell_box_original/CornellBox-Original.gltf"},
+      {"cornell_box_original", std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/CornellBox-Original.gltf"},
       {"cornell_box_vinc3r", scenes + "/cornell_box_vinc3r/cornellBox-2.80-Eevee-gltf.gltf"},
       {"virtual_city", scenes + "/virtual_city/VC.gltf"},
       {"sponza", scenes + "/sponza/Sponza.gltf"}};

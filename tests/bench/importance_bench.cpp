@@ -1,4 +1,4 @@
-// Importance caching benchmark (issue 7), headless under xvfb-run on
+// Importance caching benchmark, headless under xvfb-run on
 // whatever GL is there (Mesa llvmpipe on the CI machines). On a generated
 // house (samples/levels/house/make_house.py, baked by importance_bench.sh):
 //  1. a walk through four rooms while every table in the house slides (or,

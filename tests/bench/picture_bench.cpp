@@ -1,4 +1,4 @@
-// Picture error against time along a level's walk (issue 19): the level's
+// Picture error against time along a level's walk: the level's
 // dynamic objects follow their paths and the camera its path, as svit-walk
 // plays them headless, with a deterministic sample budget per frame. At the
 // reference frames, the runtime view and the baked-only view (doing

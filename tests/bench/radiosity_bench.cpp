@@ -1,4 +1,4 @@
-// Radiosity benchmark (issue 3): (1) rays per second of the whole shooter
+// Radiosity benchmark: (1) rays per second of the whole shooter
 // against Embree's raw throughput on rays of the same distribution (uniform
 // surface points, cosine directions) over the same scene, side by side in
 // one process — the ratio is the figure; (2) convergence: the estimated and
@@ -121,7 +121,7 @@ int main(int argc, char** argv) {
     }
   }
   if (levels.empty()) {
-    levels = {{std::string(SVIT_SHARED_SCENES_DIR) + "/cornell_box_original/CornellBox-Original.gltf", "cornell_box_original"},
+    levels = {{std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/CornellBox-Original.gltf", "cornell_box_original"},
               {std::string(SVIT_SOURCE_DIR) + "/samples/levels/sponza/level.json", "sponza (sun + sky)"}};
   }
   std::string json = "[\n";

@@ -1,4 +1,4 @@
-// Runtime benchmark (issue 5), run headless under xvfb-run on whatever GL is
+// Runtime benchmark, run headless under xvfb-run on whatever GL is
 // there (Mesa llvmpipe on the CI machines: a CPU rasteriser, so absolute
 // times are far above a GPU's; the ratios are the figures):
 //  1. per-stage frame time (maps, reduction, bounces, upload) for the Cornell

@@ -1,5 +1,5 @@
 // The runtime's error after a dynamic object moves, against a bake of the
-// level with the object static at its new place (issue 8, error against
+// level with the object static at its new place (error against
 // time; driven by error_vs_time.sh). For each per-frame budget: a fresh
 // runtime settled with the object at its start, the object teleported, then
 // `frames` updates of update(budget); after each, the RMS difference of

@@ -1,4 +1,4 @@
-// Runtime scaling benchmark (issue 8 item 3), one measurement per process so
+// Runtime scaling benchmark, one measurement per process so
 // tests/bench/scaling.py can sweep a parameter across levels: mean per-stage
 // frame time (maps, reduction, bounce, upload) of a baked level while N crates
 // circle in a ring, every emitter brought up to date each frame (budget 0,

@@ -1,6 +1,6 @@
-// Cross-check (DESIGN.md "Runtime: index shadow maps"): the per-receiver
+// Cross-check (docs/architecture.md "Runtime: index shadow maps"): the per-receiver
 // flux an index map gives a point sample must match Embree rays shot from
-// the same sample with the same lobe, on the shared Cornell box and Sponza.
+// the same sample with the same lobe, on the Cornell box and, when ../shared/scenes is there, Sponza.
 //
 // Receivers: a deterministic partition of the static triangles by instance x
 // coarse spatial cell x dominant normal axis (each side its own receiver on
@@ -24,6 +24,7 @@
 
 #include "gl_test_context.h"
 #include "index_map_test_util.h"
+#include "shared_scene.h"
 #include "svit/level.h"
 
 namespace svit::test {
@@ -178,7 +179,7 @@ double crossCheck(Level& level, std::vector<PointSample> samples, const char* na
 TEST(IndexMapCrossCheck, CornellBoxAgainstEmbree) {
   GlTestContext ctx;
   SVIT_REQUIRE_GL(ctx);
-  Level level = loadFlattened(std::string(SVIT_SHARED_SCENES_DIR) + "/cornell_box_original/CornellBox-Original.gltf", 4);
+  Level level = loadFlattened(SVIT_CORNELL_GLTF, 4);
   ASSERT_TRUE(level.caster);
   const glm::dvec3 lo = dvec(level.geometry.bounds.min), hi = dvec(level.geometry.bounds.max);
   const glm::dvec3 c = 0.5 * (lo + hi), e = hi - lo;
@@ -201,7 +202,8 @@ TEST(IndexMapCrossCheck, CornellBoxAgainstEmbree) {
 TEST(IndexMapCrossCheck, SponzaAgainstEmbree) {
   GlTestContext ctx;
   SVIT_REQUIRE_GL(ctx);
-  Level level = loadFlattened(std::string(SVIT_SHARED_SCENES_DIR) + "/sponza/Sponza.gltf", 6);
+  SVIT_SKIP_WITHOUT_SHARED_SCENE("sponza/Sponza.gltf");
+  Level level = loadFlattened(sharedScenePath("sponza/Sponza.gltf"), 6);
   ASSERT_TRUE(level.caster);
   const glm::dvec3 lo = dvec(level.geometry.bounds.min), hi = dvec(level.geometry.bounds.max);
   const glm::dvec3 c = 0.5 * (lo + hi), e = hi - lo;

@@ -1,5 +1,5 @@
 #pragma once
-// The picture metric (issue 19): a frame the runtime shows against the
+// The picture metric: a frame the runtime shows against the
 // baked view of a level in which the dynamic object is static at the same
 // pose, both read back as linear radiance from the renderer's float
 // target at the same camera. Static surfaces: RMS of the luminance

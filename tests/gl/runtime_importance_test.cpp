@@ -1,4 +1,4 @@
-// Importance caching (thesis 5.9-5.10, issue 7) on the generated 2 x 2
+// Importance caching (thesis 5.9-5.10) on the generated 2 x 2
 // house: the view decides which out-of-date emitters refresh, a door that
 // opens promotes the next room's lamps, a lamp behind a shade still counts
 // through its cached factors, a switched lamp shows in the next frame, an
@@ -17,25 +17,19 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "gl_test_context.h"
+#include "runtime_house_util.h"
 #include "runtime_test_util.h"
 #include "svit/runtime.h"
 
 namespace svit {
 namespace {
 
-using test::bakedLevel;
-
-const test::BakedLevel& house() {
-  return bakedLevel("house", std::string(SVIT_SOURCE_DIR) + "/samples/levels/house/level.json", 0.2);
-}
-
-int nodeIndex(const Scene& scene, const std::string& name) {
-  for (size_t i = 0; i < scene.nodes.size(); ++i) {
-    if (scene.nodes[i].name == name) return int(i);
-  }
-  ADD_FAILURE() << "no node " << name;
-  return -1;
-}
+using test::cachingSettings;
+using test::house;
+using test::makeRuntime;
+using test::nodeIndex;
+using test::settle;
+using test::translated;
 
 int lightIndex(const Scene& scene, const std::string& name) {
   for (size_t i = 0; i < scene.lights.size(); ++i) {
@@ -90,38 +84,6 @@ RuntimeView viewInRoom00() {
   return view;
 }
 
-RuntimeSettings cachingSettings() {
-  RuntimeSettings settings;
-  settings.target_patches = 512;
-  settings.target_shooters = 64;
-  settings.map_resolution = 64;
-  settings.max_samples_per_emitter = 4;
-  settings.max_samples_per_frame = 16;
-  settings.max_refresh_interval = 8;
-  settings.view_pass_width = 96;
-  return settings;
-}
-
-std::unique_ptr<Runtime> makeRuntime(const test::BakedLevel& level, const RuntimeSettings& settings) {
-  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(level.scene, level.bake, level.dir, settings);
-  EXPECT_TRUE(runtime.ok()) << runtime.status().message();
-  return runtime.ok() ? std::move(runtime).value() : nullptr;
-}
-
-/// Updates without a sample budget until nothing is out of date (bounded),
-/// then sets `budget` (samples per frame).
-void settle(Runtime& runtime, int budget = cachingSettings().max_samples_per_frame) {
-  ASSERT_TRUE(runtime.setSampleBudget(0).ok());
-  bool settled = false;
-  for (int frame = 0; frame < 16 && !settled; ++frame) {
-    const FrameStats stats = runtime.update(0);
-    ASSERT_TRUE(stats.error.empty()) << stats.error;
-    settled = stats.idle || stats.emitters_pending == 0;
-  }
-  ASSERT_TRUE(runtime.setSampleBudget(budget).ok());
-  ASSERT_TRUE(settled) << "the runtime did not settle in 16 updates";
-}
-
 Mat4 withYRotation(const Mat4& placed, float angle_rad) {
   glm::mat4 m = glm::make_mat4(placed.m.data());
   const glm::vec3 t(m[3]);
@@ -132,13 +94,6 @@ Mat4 withYRotation(const Mat4& placed, float angle_rad) {
   r[3] = glm::vec4(t, 1);
   Mat4 out;
   for (int i = 0; i < 16; ++i) out.m[size_t(i)] = glm::value_ptr(r)[i];
-  return out;
-}
-
-Mat4 translated(const Mat4& placed, float dx, float dz) {
-  Mat4 out = placed;
-  out.m[12] += dx;
-  out.m[14] += dz;
   return out;
 }
 
@@ -388,93 +343,6 @@ TEST(RuntimeImportance, AnObjectEnteringAnEmittersReachInvalidatesOnlyThatEmitte
   for (const char* lamp : {"lamp_0_0_a", "lamp_0_0_b", "lamp_1_1_a", "lamp_1_1_b"}) {
     EXPECT_TRUE(invalidated(moved, lamp)) << lamp << " (the crate left or entered its reach)";
   }
-}
-
-
-/// Settles a runtime of the house, moves table (0, 0) by 30 cm and brings
-/// everything up to date again; the deltas then, and the triangles the
-/// maps drew after the move.
-struct MoveResult {
-  std::vector<Rgb> deltas;
-  uint64_t triangles_drawn = 0, triangles_hidden = 0;
-  uint32_t samples = 0;
-};
-MoveResult moveTableAndSettle(bool lit_set_culling, bool occlusion_culling = true) {
-  RuntimeSettings settings = cachingSettings();
-  settings.lit_set_culling = lit_set_culling;
-  settings.occlusion_culling = occlusion_culling;
-  std::unique_ptr<Runtime> runtime = makeRuntime(house(), settings);
-  if (!runtime) return {};
-  settle(*runtime, 0);
-  const ObjectId table = runtime->objectForNode(nodeIndex(house().scene, "table_0_0"));
-  EXPECT_TRUE(runtime->setObjectTransform(table, translated(runtime->objectInfo(table)->world_from_object, 0.3f, 0.0f)).ok());
-  MoveResult out;
-  for (int frame = 0; frame < 16; ++frame) {
-    const FrameStats stats = runtime->update(0);
-    EXPECT_TRUE(stats.error.empty()) << stats.error;
-    out.triangles_drawn += stats.triangles_drawn;
-    out.triangles_hidden += stats.triangles_hidden;
-    out.samples += stats.samples_rendered;
-    if (stats.idle) break;
-  }
-  out.deltas = runtime->patchDeltas();
-  return out;
-}
-
-// The largest |delta| of `reference` and the worst |difference| of `other`
-// from it, in lux (luminance of the patch deltas).
-std::pair<double, double> largestAndWorstDifference(const MoveResult& reference, const MoveResult& other) {
-  double largest = 0, worst = 0;
-  for (size_t i = 0; i < reference.deltas.size(); ++i) {
-    largest = std::max(largest, double(std::abs(luminance(reference.deltas[i]))));
-    worst = std::max(worst, double(std::abs(luminance(reference.deltas[i]) - luminance(other.deltas[i]))));
-  }
-  return {largest, worst};
-}
-
-TEST(RuntimeImportance, LitSetCullingDrawsLessAndChangesNothing) {
-  // An emitter's later maps draw only the static runs its static-level maps
-  // showed: the same result (objects only hide surfaces) for less drawing.
-  test::GlTestContext gl;
-  SVIT_REQUIRE_GL(gl);
-  const MoveResult box = moveTableAndSettle(false), lit = moveTableAndSettle(true);
-  ASSERT_EQ(box.deltas.size(), lit.deltas.size());
-  ASSERT_GT(box.samples, 0u);
-  EXPECT_EQ(box.samples, lit.samples);
-  const auto [largest, worst] = largestAndWorstDifference(box, lit);
-  std::printf("lit set: %llu triangles drawn against %llu by boxes (%u samples); largest delta %.4g lux, worst "
-              "difference %.3g lux\n",
-              (unsigned long long)lit.triangles_drawn, (unsigned long long)box.triangles_drawn, lit.samples, largest,
-              worst);
-  ASSERT_GT(largest, 0.0);
-  EXPECT_LE(worst, 1e-4 * largest);
-  EXPECT_LT(double(lit.triangles_drawn), 0.9 * double(box.triangles_drawn));
-}
-
-TEST(RuntimeImportance, OcclusionCullingDrawsLessAndChangesNothing) {
-  // Maps of samples with no lit set (here every sample: lit-set culling is
-  // off) draw their nearest chunks first, then only what those do not hide:
-  // the same maps (hidden chunks cannot win a texel, nor pass the fallback's
-  // vertex tests) for less drawing. Depth ties may resolve in another
-  // order, so the bound is a rounding one, not zero.
-  test::GlTestContext gl;
-  SVIT_REQUIRE_GL(gl);
-  const MoveResult all = moveTableAndSettle(false, false), culled = moveTableAndSettle(false, true);
-  ASSERT_EQ(all.deltas.size(), culled.deltas.size());
-  ASSERT_GT(all.samples, 0u);
-  EXPECT_EQ(all.samples, culled.samples);
-  EXPECT_EQ(all.triangles_hidden, 0u);
-  const auto [largest, worst] = largestAndWorstDifference(all, culled);
-  std::printf("occlusion: %llu triangles drawn against %llu (%llu hidden; %u samples); largest delta %.4g lux, worst "
-              "difference %.3g lux\n",
-              (unsigned long long)culled.triangles_drawn, (unsigned long long)all.triangles_drawn,
-              (unsigned long long)culled.triangles_hidden, culled.samples, largest, worst);
-  ASSERT_GT(largest, 0.0);
-  EXPECT_LE(worst, 1e-4 * largest);
-  // Every sample here already draws only its reach box (its room), so
-  // little is left to hide; bench_importance shows the 8 x 8 house.
-  EXPECT_GT(culled.triangles_hidden, 0u);
-  EXPECT_LT(culled.triangles_drawn, all.triangles_drawn);
 }
 
 }  // namespace

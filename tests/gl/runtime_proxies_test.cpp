@@ -1,4 +1,4 @@
-// LOD proxies in the index maps (issue 5, RuntimeSettings::use_proxies): a
+// LOD proxies in the index maps (RuntimeSettings::use_proxies): a
 // bake patch is drawn from its proxy only where the proxy is much simpler
 // than the patch's own triangles. A flat level therefore draws exactly its
 // own triangles (the same deltas as full geometry), and a finely

@@ -61,8 +61,6 @@ inline const BakedLevel& bakedLevel(const std::string& key, const std::string& l
 }
 
 inline std::string cornellLevel() { return std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/level.json"; }
-inline std::string cornellGltf() {
-  return std::string(SVIT_SHARED_SCENES_DIR) + "/cornell_box_original/CornellBox-Original.gltf";
-}
+inline std::string cornellGltf() { return SVIT_CORNELL_GLTF; }
 
 }  // namespace svit::test

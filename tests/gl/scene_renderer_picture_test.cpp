@@ -1,4 +1,4 @@
-// The picture a player sees (issue 19): the runtime view of the Cornell
+// The picture a player sees: the runtime view of the Cornell
 // box with its tall box dynamic, against the baked view of a bake in which
 // the box is static at the same pose (another seed), in linear radiance
 // (tests/gl/picture_metric.h). The baked-only view of the dynamic level

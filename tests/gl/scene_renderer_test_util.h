@@ -90,9 +90,7 @@ inline const BakedLevel& bakedLevel(const std::string& level_path, const TestBak
 }
 
 inline std::string cornellLevel() { return std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/level.json"; }
-inline std::string cornellGltf() {
-  return std::string(SVIT_SHARED_SCENES_DIR) + "/cornell_box_original/CornellBox-Original.gltf";
-}
+inline std::string cornellGltf() { return SVIT_CORNELL_GLTF; }
 
 // The Cornell box with two runtime lights: a point lamp above the short box
 // (0.33, 1.2, 0.38), 2 cd, and a narrow spot at (0.5, 1.5, 0) aimed at the

@@ -1,8 +1,7 @@
 // bake.svit: round trip of every section (bitwise), static-only files, and
 // every validation path of the reader (truncation, corruption, magic,
 // version, huge counts, bad indices) and of the writer (bad data refused,
-// previous file untouched, no .tmp left). Also hashLevel: stable across
-// loads, sensitive to what a bake depends on, blind to names.
+// previous file untouched, no .tmp left).
 //
 // The tests that corrupt a file on purpose find sections with their own
 // small parser of the documented layout ("SVITBAKE", u32 version, u32
@@ -33,8 +32,6 @@ namespace {
 namespace fs = std::filesystem;
 using test::describe;
 using test::messageHas;
-
-const std::string kCornell = SVIT_SHARED_SCENES_DIR "/cornell_box_original/CornellBox-Original.gltf";
 
 // A fresh directory per test, removed afterwards.
 class BakeFileTest : public ::testing::Test {
@@ -602,81 +599,6 @@ TEST(BakeFileHash, Fnv1a64KnownValues) {
   EXPECT_EQ(fnv1a64("foobar", 6), 0x85944171f73967e8ull);
   // Chaining through `seed` equals hashing the concatenation.
   EXPECT_EQ(fnv1a64("bar", 3, fnv1a64("foo", 3)), fnv1a64("foobar", 6));
-}
-
-// --- hashLevel -------------------------------------------------------------
-
-Scene loadCornell() {
-  Expected<Scene> scene = loadLevel(kCornell);
-  EXPECT_TRUE(scene.ok()) << describe(scene.status());
-  return scene.ok() ? std::move(scene).value() : Scene();
-}
-
-TEST(LevelHash, EqualForTwoLoadsOfTheSameGltf) {
-  const Scene a = loadCornell(), b = loadCornell();
-  ASSERT_FALSE(a.meshes.empty());
-  EXPECT_EQ(hashLevel(a), hashLevel(b));
-  EXPECT_NE(hashLevel(a), hashLevel(Scene()));
-}
-
-TEST(LevelHash, ChangesWithALightsIntensity) {
-  Scene base = loadCornell();
-  Light lamp;
-  lamp.type = LightType::kPoint;
-  lamp.intensity = 10;
-  lamp.position = {0, 1.5f, 0};
-  base.lights.push_back(lamp);
-  Scene brighter = base;
-  brighter.lights.back().intensity = 10.5f;
-  EXPECT_NE(hashLevel(base), hashLevel(brighter));
-  Scene no_light = base;
-  no_light.lights.clear();
-  EXPECT_NE(hashLevel(base), hashLevel(no_light));
-  // The Cornell box's own light is an emissive material.
-  Scene dimmer = loadCornell();
-  bool changed = false;
-  for (Material& m : dimmer.materials) {
-    if (m.emissive_luminance.r > 0 && !changed) {
-      m.emissive_luminance.r *= 0.5f;
-      changed = true;
-    }
-  }
-  ASSERT_TRUE(changed) << "the Cornell box has no emissive material";
-  EXPECT_NE(hashLevel(loadCornell()), hashLevel(dimmer));
-}
-
-TEST(LevelHash, ChangesWithOneVertex) {
-  const Scene base = loadCornell();
-  Scene moved = base;
-  ASSERT_FALSE(moved.meshes.empty());
-  ASSERT_FALSE(moved.meshes[0].positions.empty());
-  moved.meshes[0].positions[0].y = std::nextafter(moved.meshes[0].positions[0].y, 10.0f);  // one ulp
-  EXPECT_NE(hashLevel(base), hashLevel(moved));
-  Scene dynamic = base;
-  ASSERT_FALSE(dynamic.instances.empty());
-  dynamic.instances[0].dynamic = !dynamic.instances[0].dynamic;
-  EXPECT_NE(hashLevel(base), hashLevel(dynamic));
-  Scene sunny = base;
-  sunny.sun.enabled = true;
-  sunny.sun.illuminance_lux = 1e5f;
-  EXPECT_NE(hashLevel(base), hashLevel(sunny));
-}
-
-TEST(LevelHash, UnchangedByNamesWarningsAndCameraPaths) {
-  const Scene base = loadCornell();
-  Scene renamed = base;
-  ASSERT_FALSE(renamed.nodes.empty());
-  renamed.nodes[0].name += "_renamed";
-  EXPECT_EQ(hashLevel(base), hashLevel(renamed));
-  if (!renamed.meshes.empty()) renamed.meshes[0].name = "another";
-  if (!renamed.materials.empty()) renamed.materials[0].name = "another";
-  renamed.warnings.push_back("a warning");
-  renamed.source_path = "/elsewhere/level.json";
-  CameraPath path;
-  path.name = "tour";
-  path.keys.push_back({});
-  renamed.camera_paths.push_back(path);
-  EXPECT_EQ(hashLevel(base), hashLevel(renamed));
 }
 
 }  // namespace

@@ -1,21 +1,21 @@
-// Every level in ../shared/scenes imports with the counts its SOURCE.txt
-// states, and with physically sensible emitters.
+// Every level in ../shared/scenes, and the Cornell box copied from there into
+// samples/levels/cornell, imports with the counts its SOURCE.txt states, and
+// with physically sensible emitters. A scene missing from ../shared skips.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
+#include "shared_scene.h"
 #include "svit/level.h"
 #include "svit/scene_summary.h"
 
 namespace svit {
 namespace {
 
-const std::string kScenes = SVIT_SHARED_SCENES_DIR;
-
 TEST(SharedScenes, CornellBoxOriginalHas36TrianglesAndOneEmissiveQuad) {
-  Expected<Scene> scene = loadLevel(kScenes + "/cornell_box_original/CornellBox-Original.gltf");
+  Expected<Scene> scene = loadLevel(SVIT_CORNELL_GLTF);
   ASSERT_TRUE(scene.ok()) << scene.status().message();
   const SceneSummary summary = summarize(*scene);
   EXPECT_EQ(summary.static_triangles, 36u);
@@ -38,7 +38,8 @@ TEST(SharedScenes, CornellBoxOriginalHas36TrianglesAndOneEmissiveQuad) {
 }
 
 TEST(SharedScenes, CornellBoxVinc3rKeepsAuthoredLightmapUvs) {
-  Expected<Scene> scene = loadLevel(kScenes + "/cornell_box_vinc3r/cornellBox-2.80-Eevee-gltf.gltf");
+  SVIT_SKIP_WITHOUT_SHARED_SCENE("cornell_box_vinc3r/cornellBox-2.80-Eevee-gltf.gltf");
+  Expected<Scene> scene = loadLevel(test::sharedScenePath("cornell_box_vinc3r/cornellBox-2.80-Eevee-gltf.gltf"));
   ASSERT_TRUE(scene.ok()) << scene.status().message();
   const SceneSummary summary = summarize(*scene);
   EXPECT_EQ(summary.static_triangles, 4410u);
@@ -50,7 +51,8 @@ TEST(SharedScenes, CornellBoxVinc3rKeepsAuthoredLightmapUvs) {
 }
 
 TEST(SharedScenes, SponzaPlaces262087Triangles) {
-  Expected<Scene> scene = loadLevel(kScenes + "/sponza/Sponza.gltf");
+  SVIT_SKIP_WITHOUT_SHARED_SCENE("sponza/Sponza.gltf");
+  Expected<Scene> scene = loadLevel(test::sharedScenePath("sponza/Sponza.gltf"));
   ASSERT_TRUE(scene.ok()) << scene.status().message();
   const SceneSummary summary = summarize(*scene);
   EXPECT_EQ(summary.static_triangles + summary.dynamic_triangles + scene->counters.zero_area_triangles,
@@ -70,7 +72,8 @@ TEST(SharedScenes, SponzaPlaces262087Triangles) {
 }
 
 TEST(SharedScenes, VirtualCityAnimationIsFound) {
-  Expected<Scene> scene = loadLevel(kScenes + "/virtual_city/VC.gltf");
+  SVIT_SKIP_WITHOUT_SHARED_SCENE("virtual_city/VC.gltf");
+  Expected<Scene> scene = loadLevel(test::sharedScenePath("virtual_city/VC.gltf"));
   ASSERT_TRUE(scene.ok()) << scene.status().message();
   ASSERT_EQ(scene->animations.size(), 1u);
   EXPECT_EQ(scene->animations[0].tracks.size(), 73u);

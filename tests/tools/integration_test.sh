@@ -4,9 +4,9 @@
 # build the example with find_package(svit), bake the Cornell level quickly,
 # run a few frames and check the last frame's PNG. Needs a display (CTest
 # label gl: scripts/test runs it under xvfb-run).
-# usage: integration_test.sh BUILD_DIR EXAMPLE_SOURCE_DIR SVIT_BAKE SOURCE_DIR SHARED_SCENES_DIR
+# usage: integration_test.sh BUILD_DIR EXAMPLE_SOURCE_DIR SVIT_BAKE SOURCE_DIR CORNELL_GLTF
 set -euo pipefail
-build="$1" example="$2" bake="$3" src="$4" scenes="$5"
+build="$1" example="$2" bake="$3" src="$4" cornell_gltf="$5"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 level="$src/samples/levels/cornell/level.json"
@@ -30,7 +30,7 @@ grep -q "wrote $work/last.png" <<<"$out"
 [[ "$(od -An -tu1 -j16 -N8 "$work/last.png" | tr -s ' ' | sed 's/^ //')" == "0 0 2 128 0 0 1 104" ]]
 [[ $(stat -c %s "$work/last.png") -gt 5000 ]]
 # A bake of another level is refused with a message, not a crash.
-"$bake" "$scenes/cornell_box_original/CornellBox-Original.gltf" -o "$work/other" \
+"$bake" "$cornell_gltf" -o "$work/other" \
   --quality 0.05 --time 5 --texels-per-m 8 --quiet
 if "$work/build/svit-integration-example" "$level" "$work/other" "$work/x.png" 1 2>"$work/err.txt"; then
   echo "a bake of another level was accepted"; exit 1

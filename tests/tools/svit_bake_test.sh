@@ -1,12 +1,11 @@
 #!/usr/bin/env bash
-# svit-bake and svit-probe as users script them (DESIGN.md "Command-line
+# svit-bake and svit-probe as users script them (docs/architecture.md "Command-line
 # contracts"): outputs, exit codes, cancellation, atomic output, determinism.
-# usage: svit_bake_test.sh SVIT_BAKE SVIT_PROBE SHARED_SCENES_DIR TEST_DATA_DIR
+# usage: svit_bake_test.sh SVIT_BAKE SVIT_PROBE CORNELL_GLTF TEST_DATA_DIR
 set -u
-bake="$1" probe="$2" scenes="$3" data="$4"
+bake="$1" probe="$2" cornell="$3" data="$4"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-cornell="$scenes/cornell_box_original/CornellBox-Original.gltf"
 failures=0
 fail() { echo "FAIL $*"; failures=$((failures + 1)); }
 ok() { echo "ok   $*"; }

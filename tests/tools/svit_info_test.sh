@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # svit-info as a user runs it: output on good levels, exit codes on bad ones.
-# usage: svit_info_test.sh SVIT_INFO SHARED_SCENES_DIR TEST_DATA_DIR
+# usage: svit_info_test.sh SVIT_INFO CORNELL_GLTF TEST_DATA_DIR
 set -u
-info="$1" scenes="$2" data="$3"
+info="$1" cornell="$2" data="$3"
 failures=0
 check() {  # check NAME EXPECTED_EXIT PATTERN -- command...
   local name="$1" want="$2" pattern="$3"
@@ -18,7 +18,6 @@ check() {  # check NAME EXPECTED_EXIT PATTERN -- command...
   fi
   echo "ok   $name"
 }
-cornell="$scenes/cornell_box_original/CornellBox-Original.gltf"
 check cornell_text 0 '^triangles +36 \(36 static, 0 dynamic\)' -- "$info" "$cornell"
 check cornell_emitters 0 '^emitters +2 emissive triangles' -- "$info" "$cornell"
 check cornell_json 0 '"static": 36' -- "$info" "$cornell" --json

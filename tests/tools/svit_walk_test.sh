@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# svit-walk as users script it (DESIGN.md "Command-line contracts"): a
+# svit-walk as users script it (docs/architecture.md "Command-line contracts"): a
 # headless scripted walk of the Cornell level writes frames, stats and probe
 # irradiance; bad inputs exit 1 naming what is wrong, bad usage exits 2.
 # Needs a display (CTest label gl: scripts/test runs it under xvfb-run).
-# usage: svit_walk_test.sh SVIT_WALK SVIT_BAKE SOURCE_DIR SHARED_SCENES_DIR
+# usage: svit_walk_test.sh SVIT_WALK SVIT_BAKE SOURCE_DIR CORNELL_GLTF
 set -u
-walk="$1" bake="$2" src="$3" scenes="$4"
+walk="$1" bake="$2" src="$3" cornell_gltf="$4"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 level="$src/samples/levels/cornell/level.json"
@@ -150,7 +150,7 @@ cmp -s "$work/png2/frame-0000.png" "$work/png8/frame-0000.png" && fail "png fram
 # Bad input: exit 1, the message names the file and element.
 expect_exit missing_bake 1 -- "$walk" "$level" --bake "$work/nothing" --headless --frames 1
 expect_err missing_bake_message "bake.svit"
-"$bake" "$scenes/cornell_box_original/CornellBox-Original.gltf" -o "$work/gltf_bake" --quality 0.05 --time 5 \
+"$bake" "$cornell_gltf" -o "$work/gltf_bake" --quality 0.05 --time 5 \
   --texels-per-m 8 --quiet || fail "bake of the bare glTF"
 expect_exit other_level_bake 1 -- "$walk" "$level" --bake "$work/gltf_bake" --headless --frames 1
 expect_err other_level_bake_message "another level"

@@ -104,7 +104,7 @@ Status checkCamera(const Camera& camera) {
   if (!(glm::length(forward) > 0) || !(glm::length(glm::cross(forward, up)) > 0)) {
     return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera looks nowhere (look_at == position or along up)");
   }
-  if (!(camera.yfov_rad > 0 && camera.yfov_rad < 3.14159f) || !(camera.near_m > 0 && camera.far_m > camera.near_m)) {
+  if (!(camera.yfov_rad > 0 && camera.yfov_rad < float(kPi)) || !(camera.near_m > 0 && camera.far_m > camera.near_m)) {
     return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera yfov_rad " + std::to_string(camera.yfov_rad) +
                                                  " or near/far " + std::to_string(camera.near_m) + "/" +
                                                  std::to_string(camera.far_m) + " out of range");

@@ -613,7 +613,7 @@ struct LevelReader {
       if (keys[k].contains("yfov_rad")) {
         double fov = 0;
         if (Status s = number(keys[k]["yfov_rad"], key_field + ".yfov_rad", fov); !s.ok()) return s;
-        if (!(fov > 0 && fov < 3.14159)) return error(key_field + ".yfov_rad", "must be in (0, pi)");
+        if (!(fov > 0 && fov < kPi)) return error(key_field + ".yfov_rad", "must be in (0, pi)");
         key.yfov_rad = float(fov);
       } else if (k > 0) {
         key.yfov_rad = camera.keys.back().yfov_rad;
