@@ -2,7 +2,7 @@
 // Moeller-Trumbore test (Moeller & Trumbore, "Fast, Minimum Storage
 // Ray/Triangle Intersection", JGT 1997) evaluated in double, so its answers
 // are as exact as the float32 inputs allow. No acceleration structure, so
-// nothing to get wrong: tests compare Embree against it (STYLE.md section 8).
+// nothing to get wrong: tests compare Embree against it (docs/style.md §8).
 
 #include <algorithm>
 #include <cmath>

@@ -70,7 +70,7 @@ using SceneHandle = std::unique_ptr<std::remove_pointer_t<RTCScene>, SceneReleas
 /// denormal assists can slow traversal badly. MXCSR is per thread, so doing
 /// it here (not once in main) covers whatever worker calls intersect(), and
 /// every call traces under the same mode whatever the caller set: results do
-/// not depend on which thread ran a batch (STYLE.md section 5).
+/// not depend on which thread ran a batch (docs/style.md §5).
 class FlushDenormalsScope {
  public:
   FlushDenormalsScope() : saved_(_mm_getcsr()) {

@@ -1,7 +1,7 @@
 #pragma once
 // The one random generator of the baker: a counter-based stream so every
 // work item draws from its own sequence derived from stable ids, whatever
-// thread runs it (STYLE.md section 5). SplitMix64 (Steele, Lea & Flood 2014)
+// thread runs it (docs/style.md §5). SplitMix64 (Steele, Lea & Flood 2014)
 // mixes the key; PCG32's output permutation (O'Neill 2014) draws numbers.
 
 #include <cstdint>

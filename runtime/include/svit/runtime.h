@@ -1,6 +1,6 @@
 #pragma once
 // svit::Runtime — what a game links to keep the baked lighting right while
-// objects and lights move (thesis ch. 5, DESIGN.md "Runtime"). The bake
+// objects and lights move (thesis ch. 5, docs/architecture.md §8). The bake
 // holds the static solution; the runtime tracks per-patch irradiance deltas
 // against it, computed from index shadow maps rendered from point samples
 // of emitters, bounced, and compensated as ambient; the host shades with the

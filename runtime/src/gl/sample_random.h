@@ -1,5 +1,5 @@
 #pragma once
-// Counter-based random numbers for sample placement (STYLE.md 5): a value is
+// Counter-based random numbers for sample placement (docs/style.md §5): a value is
 // a pure function of (seed, stream, index), so a sample's position does not
 // depend on the order emitters are refreshed in.
 

@@ -1,6 +1,6 @@
 #pragma once
 // Ray casting behind a small interface, so the solver never sees Embree and
-// tests can swap in a brute-force caster (STYLE.md section 1).
+// tests can swap in a brute-force caster (docs/style.md §1).
 
 #include <cstdint>
 #include <limits>
