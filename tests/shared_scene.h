@@ -22,11 +22,12 @@ inline std::string sharedScenePath(const std::string& relative_path) {
 
 /// Skips the calling TEST (GTEST_SKIP returns from it) when the shared scene
 /// file `relative_path` is not there, saying which file and why it may be missing.
-#define SVIT_SKIP_WITHOUT_SHARED_SCENE(relative_path)                                                          \
-  do {                                                                                                         \
-    const std::string svit_shared_scene_file_ = ::svit::test::sharedScenePath(relative_path);                 \
-    if (!std::filesystem::exists(svit_shared_scene_file_))                                                     \
-      GTEST_SKIP() << "needs " << svit_shared_scene_file_                                                      \
-                   << ", which is missing: the large scenes are optional and live in ../shared/scenes beside " \
-                      "the checkout (CMake cache SVIT_SHARED_SCENES_DIR)";                                     \
+#define SVIT_SKIP_WITHOUT_SHARED_SCENE(relative_path)                                         \
+  do {                                                                                        \
+    const std::string svit_shared_scene_file_ = ::svit::test::sharedScenePath(relative_path); \
+    if (!std::filesystem::exists(svit_shared_scene_file_))                                    \
+      GTEST_SKIP() << "needs " << svit_shared_scene_file_                                     \
+                   << ", which is missing: the large scenes are optional and live in "        \
+                      "../shared/scenes beside "                                              \
+                      "the checkout (CMake cache SVIT_SHARED_SCENES_DIR)";                    \
   } while (false)

@@ -44,8 +44,10 @@ struct TexelAccumulator {
       sum_y2.assign(pass.size(), 0.0);
     }
     for (size_t i = 0; i < pass.size(); ++i) {
-      sum[i].direct = {sum[i].direct.r + pass[i].direct.r, sum[i].direct.g + pass[i].direct.g, sum[i].direct.b + pass[i].direct.b};
-      sum[i].indirect = {sum[i].indirect.r + pass[i].indirect.r, sum[i].indirect.g + pass[i].indirect.g,
+      sum[i].direct = {sum[i].direct.r + pass[i].direct.r, sum[i].direct.g + pass[i].direct.g,
+                       sum[i].direct.b + pass[i].direct.b};
+      sum[i].indirect = {sum[i].indirect.r + pass[i].indirect.r,
+                         sum[i].indirect.g + pass[i].indirect.g,
                          sum[i].indirect.b + pass[i].indirect.b};
       const double y = luminanceOf(pass[i].direct) + luminanceOf(pass[i].indirect);
       sum_y[i] += y;
@@ -98,13 +100,24 @@ nlohmann::ordered_json sectionsJson(const BakeData& data) {
   const size_t probes = size_t(data.probes.dims[0]) * data.probes.dims[1] * data.probes.dims[2];
   const std::map<std::string, std::pair<std::string, std::string>> what = {
       {"HEAD", {"header", "level hash, seed"}},
-      {"PAGE", {"pages", std::to_string(data.pages.size()) + " lightmap pages (names, sizes, hashes)"}},
-      {"TUVS", {"triangle_uvs", std::to_string(data.triangle_uvs.size()) + " static triangles' lightmap coordinates"}},
-      {"PTCH", {"patches", std::to_string(data.patches.size()) + " patches the runtime's deltas live on"}},
-      {"PELM", {"patch_elements", std::to_string(data.patch_elements.size()) + " elements of those patches"}},
-      {"CLST", {"clusters", std::to_string(data.clusters.size()) + " cluster-tree nodes over the patches"}},
-      {"EMIT", {"emitters", std::to_string(data.emitters.size()) + " baked emitters with their form factors"}},
-      {"PRXY", {"proxy", std::to_string(data.proxy.indices.size() / 3) + " LOD-proxy triangles the index maps draw"}},
+      {"PAGE",
+       {"pages", std::to_string(data.pages.size()) + " lightmap pages (names, sizes, hashes)"}},
+      {"TUVS",
+       {"triangle_uvs",
+        std::to_string(data.triangle_uvs.size()) + " static triangles' lightmap coordinates"}},
+      {"PTCH",
+       {"patches", std::to_string(data.patches.size()) + " patches the runtime's deltas live on"}},
+      {"PELM",
+       {"patch_elements",
+        std::to_string(data.patch_elements.size()) + " elements of those patches"}},
+      {"CLST",
+       {"clusters", std::to_string(data.clusters.size()) + " cluster-tree nodes over the patches"}},
+      {"EMIT",
+       {"emitters",
+        std::to_string(data.emitters.size()) + " baked emitters with their form factors"}},
+      {"PRXY",
+       {"proxy", std::to_string(data.proxy.indices.size() / 3) +
+                     " LOD-proxy triangles the index maps draw"}},
       {"PROB", {"probes", std::to_string(probes) + " irradiance probes for dynamic objects"}},
   };
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
@@ -124,7 +137,9 @@ nlohmann::ordered_json seriesJson(const std::vector<ErrorPoint>& series, bool wi
     nlohmann::ordered_json point;
     point["t_s"] = p.t_s;
     point["est_rel_error"] = p.est_rel_error;
-    if (with_reference) point["ref_rel_error"] = std::isfinite(p.ref_rel_error) ? nlohmann::ordered_json(p.ref_rel_error) : nullptr;
+    if (with_reference)
+      point["ref_rel_error"] =
+          std::isfinite(p.ref_rel_error) ? nlohmann::ordered_json(p.ref_rel_error) : nullptr;
     out.push_back(point);
   }
   return out;
@@ -134,12 +149,15 @@ nlohmann::ordered_json seriesJson(const std::vector<ErrorPoint>& series, bool wi
 // stage took, and the progress reports (which also poll `cancel`).
 class BakeClock {
  public:
-  BakeClock(const std::function<bool(const BakeProgress&)>& progress, const std::atomic<bool>* cancel, double budget_s)
+  BakeClock(const std::function<bool(const BakeProgress&)>& progress,
+            const std::atomic<bool>* cancel, double budget_s)
       : progress_(progress), cancel_(cancel), budget_s_(budget_s) {}
 
   double elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
   /// Seconds left of the budget; -1 without one.
-  double remaining() const { return std::isfinite(budget_s_) ? std::max(0.0, budget_s_ - elapsed()) : -1.0; }
+  double remaining() const {
+    return std::isfinite(budget_s_) ? std::max(0.0, budget_s_ - elapsed()) : -1.0;
+  }
   double stageStart() const { return stage_start_; }
   const std::vector<std::pair<std::string, double>>& stageSeconds() const { return stage_seconds_; }
 
@@ -176,43 +194,53 @@ struct BakeRun {
 
   bool cancelRequested() const { return cancel && cancel->load(); }
   /// `s`, or the bake's own kCancelled status when `s` is a cancellation.
-  Status orCancelled(const Status& s) const { return s.code() == StatusCode::kCancelled ? cancelled : s; }
+  Status orCancelled(const Status& s) const {
+    return s.code() == StatusCode::kCancelled ? cancelled : s;
+  }
 };
 
 // The pages of the --reference bake, checked to be of the same level; none
 // without --reference.
-Expected<std::vector<LightmapImage>> readReferencePages(const std::string& reference_dir, uint64_t level_hash) {
+Expected<std::vector<LightmapImage>> readReferencePages(const std::string& reference_dir,
+                                                        uint64_t level_hash) {
   std::vector<LightmapImage> reference_pages;
   if (reference_dir.empty()) return reference_pages;
   const std::string reference_file = (fs::path(reference_dir) / "bake.svit").string();
   Expected<BakeData> reference = readBakeFile(reference_file);
-  if (!reference.ok()) return Status(reference.status().code(), "--reference: " + reference.status().message());
+  if (!reference.ok())
+    return Status(reference.status().code(), "--reference: " + reference.status().message());
   if (reference->level_hash != level_hash) {
-    return Status(StatusCode::kInvalidInput, "--reference: " + reference_file + " is a bake of another level (or of a changed one)");
+    return Status(
+        StatusCode::kInvalidInput,
+        "--reference: " + reference_file + " is a bake of another level (or of a changed one)");
   }
   for (const BakeLightmapPage& page : reference->pages) {
     Expected<LightmapImage> image = readLightmapExr((fs::path(reference_dir) / page.file).string());
-    if (!image.ok()) return Status(image.status().code(), "--reference: " + image.status().message());
+    if (!image.ok())
+      return Status(image.status().code(), "--reference: " + image.status().message());
     reference_pages.push_back(std::move(image).value());
   }
   return reference_pages;
 }
 
 // Radiosity until the plan's error target or time cap.
-Expected<std::unique_ptr<RadiositySolver>> solveRadiosity(BakeRun& run, const Scene& scene, const BakeGeometry& geometry,
+Expected<std::unique_ptr<RadiositySolver>> solveRadiosity(BakeRun& run, const Scene& scene,
+                                                          const BakeGeometry& geometry,
                                                           const RayCaster& caster) {
   RadiositySettings solver_settings;
   solver_settings.seed = run.options.seed;
   solver_settings.threads = run.options.threads;
-  Expected<std::unique_ptr<RadiositySolver>> solver = RadiositySolver::create(scene, geometry, caster, solver_settings);
+  Expected<std::unique_ptr<RadiositySolver>> solver =
+      RadiositySolver::create(scene, geometry, caster, solver_settings);
   if (!solver.ok()) return solver.status();
   StopRule stop;
   stop.target_est_rel_error = run.plan.solver_target_est_rel_error;
   stop.max_seconds = run.plan.solver_max_seconds;
   stop.cancel = run.cancel;
   stop.progress = [&](const SolverProgress& p) {
-    const double fraction = std::min(1.0, std::max(p.elapsed_s / stop.max_seconds,
-                                                   std::log(p.est_rel_error) / std::log(stop.target_est_rel_error)));
+    const double fraction =
+        std::min(1.0, std::max(p.elapsed_s / stop.max_seconds,
+                               std::log(p.est_rel_error) / std::log(stop.target_est_rel_error)));
     return run.clock.report(std::max(0.0, fraction), run.clock.remaining());
   };
   if (Status s = (*solver)->improve(stop); !s.ok()) return run.orCancelled(s);
@@ -232,16 +260,20 @@ Expected<LightmapAtlas> buildAtlas(BakeRun& run, const Scene& scene, const BakeG
 }
 
 // --reference pages must have this bake's atlas, texel for texel.
-Status checkReferenceAtlas(const std::vector<LightmapImage>& reference_pages, const TexelSet& texels) {
+Status checkReferenceAtlas(const std::vector<LightmapImage>& reference_pages,
+                           const TexelSet& texels) {
   if (reference_pages.empty()) return Status();
   const bool same = reference_pages.size() == size_t(texels.page_count) &&
-                    reference_pages[0].width == texels.page_width && reference_pages[0].height == texels.page_height;
+                    reference_pages[0].width == texels.page_width &&
+                    reference_pages[0].height == texels.page_height;
   if (same) return Status();
-  return Status(StatusCode::kInvalidInput,
-                "--reference: its atlas differs from this bake's (" + std::to_string(reference_pages.size()) +
-                    " pages of " + std::to_string(reference_pages[0].width) + "x" + std::to_string(reference_pages[0].height) +
-                    " vs " + std::to_string(texels.page_count) + " of " + std::to_string(texels.page_width) + "x" +
-                    std::to_string(texels.page_height) + "); bake both with the same --texels-per-m");
+  return Status(
+      StatusCode::kInvalidInput,
+      "--reference: its atlas differs from this bake's (" + std::to_string(reference_pages.size()) +
+          " pages of " + std::to_string(reference_pages[0].width) + "x" +
+          std::to_string(reference_pages[0].height) + " vs " + std::to_string(texels.page_count) +
+          " of " + std::to_string(texels.page_width) + "x" + std::to_string(texels.page_height) +
+          "); bake both with the same --texels-per-m");
 }
 
 // What the lighting passes leave: their running mean and the error series
@@ -256,8 +288,9 @@ struct LightingPasses {
 // Lighting passes, averaged: each is an independent estimate, so their
 // spread is the lightmap's error estimate. Without a budget the quality
 // sets the pass count; with one, passes continue while time remains.
-Expected<LightingPasses> runLightingPasses(BakeRun& run, const Scene& scene, const BakeGeometry& geometry,
-                                           const RayCaster& caster, const RadiositySolver& solver, const TexelSet& texels,
+Expected<LightingPasses> runLightingPasses(BakeRun& run, const Scene& scene,
+                                           const BakeGeometry& geometry, const RayCaster& caster,
+                                           const RadiositySolver& solver, const TexelSet& texels,
                                            const std::vector<LightmapImage>& reference_pages) {
   const BakePlan& plan = run.plan;
   LightingPasses out;
@@ -280,13 +313,15 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const Scene& scene, con
     // Stage progress: the share of the stage's time used (with a budget),
     // or of the planned passes (without one); never goes backwards.
     const double stage_budget = plan.has_budget ? std::max(1e-3, plan.budget_s - stage_start) : 0.0;
-    Expected<std::vector<TexelIrradiance>> lit = lightTexels(
-        scene, geometry, caster, solver, texels, lighting_settings, run.cancel, [&](size_t done, size_t total) {
-          const double within = double(done) / double(std::max<size_t>(total, 1));
-          const double fraction = plan.has_budget ? (run.clock.elapsed() - stage_start) / stage_budget
-                                                  : (double(pass) + within) / double(plan.quality_passes);
-          return run.clock.report(std::min(1.0, fraction), run.clock.remaining());
-        });
+    Expected<std::vector<TexelIrradiance>> lit =
+        lightTexels(scene, geometry, caster, solver, texels, lighting_settings, run.cancel,
+                    [&](size_t done, size_t total) {
+                      const double within = double(done) / double(std::max<size_t>(total, 1));
+                      const double fraction =
+                          plan.has_budget ? (run.clock.elapsed() - stage_start) / stage_budget
+                                          : (double(pass) + within) / double(plan.quality_passes);
+                      return run.clock.report(std::min(1.0, fraction), run.clock.remaining());
+                    });
     if (!lit.ok()) return run.orCancelled(lit.status());
     out.accumulator.add(*lit);
     pass_seconds = run.clock.elapsed() - pass_start;
@@ -295,7 +330,8 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const Scene& scene, con
     const double texel_error = out.accumulator.relativeError();
     point.est_rel_error = std::sqrt(solver_error * solver_error + texel_error * texel_error);
     point.rays = solver.stats().rays;
-    if (!reference_pages.empty()) point.ref_rel_error = referenceError(texels, out.accumulator.mean(), reference_pages);
+    if (!reference_pages.empty())
+      point.ref_rel_error = referenceError(texels, out.accumulator.mean(), reference_pages);
     out.series.push_back(point);
   }
   return out;
@@ -303,8 +339,9 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const Scene& scene, con
 
 // The bake file's lightmap part: the pages' names and hashes, and every
 // static triangle's lightmap coordinates.
-BakeData lightmapBakeData(const BakeOptions& options, uint64_t level_hash, const BakeGeometry& geometry,
-                          const LightmapAtlas& atlas, const LightmapPages& pages) {
+BakeData lightmapBakeData(const BakeOptions& options, uint64_t level_hash,
+                          const BakeGeometry& geometry, const LightmapAtlas& atlas,
+                          const LightmapPages& pages) {
   BakeData data;
   data.level_hash = level_hash;
   data.seed = options.seed;
@@ -313,7 +350,8 @@ BakeData lightmapBakeData(const BakeOptions& options, uint64_t level_hash, const
     page.width = uint32_t(pages.images[p].width);
     page.height = uint32_t(pages.images[p].height);
     page.file = "lightmap-" + std::to_string(p) + ".exr";
-    page.texel_hash = fnv1a64(pages.images[p].rgb.data(), pages.images[p].rgb.size() * sizeof(float));
+    page.texel_hash =
+        fnv1a64(pages.images[p].rgb.data(), pages.images[p].rgb.size() * sizeof(float));
     data.pages.push_back(page);
   }
   for (size_t t = 0; t < geometry.triangleCount(); ++t) {
@@ -329,19 +367,24 @@ BakeData lightmapBakeData(const BakeOptions& options, uint64_t level_hash, const
 
 // Adds the runtime's sections to `data` when the level needs them; returns
 // the report's list of sections left out.
-Expected<nlohmann::ordered_json> addRuntimeSections(BakeRun& run, const Scene& scene, const BakeGeometry& geometry,
-                                                    const RayCaster& caster, const RadiositySolver& solver, BakeData& data) {
+Expected<nlohmann::ordered_json> addRuntimeSections(BakeRun& run, const Scene& scene,
+                                                    const BakeGeometry& geometry,
+                                                    const RayCaster& caster,
+                                                    const RadiositySolver& solver, BakeData& data) {
   nlohmann::ordered_json left_out = nlohmann::ordered_json::array();
   if (levelNeedsRuntimeSections(scene)) {
     RuntimeSectionSettings runtime_settings;
     runtime_settings.seed = run.options.seed;
     runtime_settings.threads = run.options.threads;
-    if (Status s = buildRuntimeSections(scene, geometry, caster, solver, runtime_settings, data, run.cancel); !s.ok()) {
+    if (Status s = buildRuntimeSections(scene, geometry, caster, solver, runtime_settings, data,
+                                        run.cancel);
+        !s.ok()) {
       return run.orCancelled(s);
     }
   } else {
     for (const char* section : {"patches", "clusters", "emitters", "proxy", "probes"}) {
-      left_out.push_back({{"section", section}, {"reason", "the level has no dynamic objects and no runtime lights"}});
+      left_out.push_back({{"section", section},
+                          {"reason", "the level has no dynamic objects and no runtime lights"}});
     }
   }
   return left_out;
@@ -406,17 +449,20 @@ nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
                        {"captured_fraction", stats.captured_fraction},
                        {"back_absorbed_rays", stats.back_absorbed},
                        {"inside_origin_rays", stats.inside_origin_rays}};
-  json["lightmap"] = {{"pages", in.pages.images.size()},
-                      {"page_width", in.texels.page_width},
-                      {"page_height", in.texels.page_height},
-                      {"atlas", in.atlas.authored ? "TEXCOORD_1" : "xatlas"},
-                      {"covered_texels", counts.covered},
-                      {"dilated_texels", counts.dilated},
-                      {"lighting_passes", in.lighting.accumulator.passes},
-                      {"gather_rays_per_texel", in.lighting.accumulator.passes * in.lighting.gather_rays}};
+  json["lightmap"] = {
+      {"pages", in.pages.images.size()},
+      {"page_width", in.texels.page_width},
+      {"page_height", in.texels.page_height},
+      {"atlas", in.atlas.authored ? "TEXCOORD_1" : "xatlas"},
+      {"covered_texels", counts.covered},
+      {"dilated_texels", counts.dilated},
+      {"lighting_passes", in.lighting.accumulator.passes},
+      {"gather_rays_per_texel", in.lighting.accumulator.passes * in.lighting.gather_rays}};
   nlohmann::ordered_json warnings = in.scene.warnings;
   if (in.degenerate > 0) {
-    warnings.push_back(std::to_string(in.degenerate) + " static triangles flattened to zero area by their instance transform; skipped");
+    warnings.push_back(
+        std::to_string(in.degenerate) +
+        " static triangles flattened to zero area by their instance transform; skipped");
   }
   json["warnings"] = warnings;
   json["sections_written"] = sectionsJson(in.data);
@@ -428,20 +474,25 @@ nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
 // Writes the pages, the bake file and report.json into a fresh directory
 // beside OUT, then swaps it in; OUT is left as it was on any failure.
 Expected<BakeResult> writeBake(BakeRun& run, const LightmapPages& pages, const BakeData& data,
-                               const std::vector<ErrorPoint>& series, nlohmann::ordered_json& json) {
+                               const std::vector<ErrorPoint>& series,
+                               nlohmann::ordered_json& json) {
   const fs::path out = fs::path(run.options.out_dir);
-  const fs::path temporary = out.parent_path() / (out.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  const fs::path temporary =
+      out.parent_path() / (out.filename().string() + ".tmp-" + std::to_string(::getpid()));
   std::error_code ec;
   fs::remove_all(temporary, ec);
   fs::create_directories(temporary, ec);
-  if (ec) return Status(StatusCode::kIoError, temporary.string() + ": cannot create: " + ec.message());
+  if (ec)
+    return Status(StatusCode::kIoError, temporary.string() + ": cannot create: " + ec.message());
   auto fail = [&](const Status& s) {
     std::error_code ignored;
     fs::remove_all(temporary, ignored);
     return s;
   };
   for (size_t p = 0; p < pages.images.size(); ++p) {
-    if (Status s = writeLightmapExr(pages.images[p], (temporary / data.pages[p].file).string()); !s.ok()) return fail(s);
+    if (Status s = writeLightmapExr(pages.images[p], (temporary / data.pages[p].file).string());
+        !s.ok())
+      return fail(s);
     if (run.cancelRequested()) return fail(run.cancelled);
   }
   if (Status s = writeBakeFile(data, (temporary / "bake.svit").string()); !s.ok()) return fail(s);
@@ -449,7 +500,8 @@ Expected<BakeResult> writeBake(BakeRun& run, const LightmapPages& pages, const B
   result.pages = pages.images.size();
   result.covered_texels = countTexels(pages).covered;
   result.est_rel_error = series.empty() ? 1.0 : series.back().est_rel_error;
-  result.ref_rel_error = series.empty() ? std::numeric_limits<double>::quiet_NaN() : series.back().ref_rel_error;
+  result.ref_rel_error =
+      series.empty() ? std::numeric_limits<double>::quiet_NaN() : series.back().ref_rel_error;
   run.clock.endStage("done");
   json["stage_seconds"]["write"] = run.clock.stageSeconds().back().second;
   result.seconds = run.clock.elapsed();
@@ -458,20 +510,26 @@ Expected<BakeResult> writeBake(BakeRun& run, const LightmapPages& pages, const B
   {
     std::ofstream file(temporary / "report.json");
     file << result.report_json;
-    if (!file) return fail(Status(StatusCode::kIoError, (temporary / "report.json").string() + ": cannot write"));
+    if (!file)
+      return fail(
+          Status(StatusCode::kIoError, (temporary / "report.json").string() + ": cannot write"));
   }
   if (run.cancelRequested()) return fail(run.cancelled);
-  const fs::path old = out.parent_path() / (out.filename().string() + ".old-" + std::to_string(::getpid()));
+  const fs::path old =
+      out.parent_path() / (out.filename().string() + ".old-" + std::to_string(::getpid()));
   const bool had_previous = fs::exists(out, ec);
   if (had_previous) {
     fs::rename(out, old, ec);
-    if (ec) return fail(Status(StatusCode::kIoError, out.string() + ": cannot move the previous bake aside: " + ec.message()));
+    if (ec)
+      return fail(Status(StatusCode::kIoError,
+                         out.string() + ": cannot move the previous bake aside: " + ec.message()));
   }
   fs::rename(temporary, out, ec);
   if (ec) {
     std::error_code ignored;
     if (had_previous) fs::rename(old, out, ignored);
-    return fail(Status(StatusCode::kIoError, out.string() + ": cannot move the new bake in place: " + ec.message()));
+    return fail(Status(StatusCode::kIoError,
+                       out.string() + ": cannot move the new bake in place: " + ec.message()));
   }
   if (had_previous) fs::remove_all(old, ec);
   return result;
@@ -485,24 +543,29 @@ Status validateBakeOptions(const BakeOptions& o) {
   if (o.out_dir.empty()) return bad("no output directory given (-o OUT)");
   if (!(o.time_budget_s > 0)) return bad("--time must be a positive number of seconds");
   if (!(o.quality > 0 && o.quality <= 1)) return bad("--quality must be in (0, 1]");
-  if (!(o.texels_per_m >= 0 && o.texels_per_m <= 4096)) return bad("--texels-per-m must be in (0, 4096]");
+  if (!(o.texels_per_m >= 0 && o.texels_per_m <= 4096))
+    return bad("--texels-per-m must be in (0, 4096]");
   if (o.threads < 0 || o.threads > 1024) return bad("--threads must be in [0, 1024]");
-  if (o.max_page_size < 16 || o.max_page_size > 16384) return bad("page size must be in [16, 16384]");
+  if (o.max_page_size < 16 || o.max_page_size > 16384)
+    return bad("page size must be in [16, 16384]");
   return Status();
 }
 
-Expected<BakeResult> bakeLevel(const BakeOptions& options, const std::function<bool(const BakeProgress&)>& progress,
+Expected<BakeResult> bakeLevel(const BakeOptions& options,
+                               const std::function<bool(const BakeProgress&)>& progress,
                                const std::atomic<bool>* cancel) {
   if (Status s = validateBakeOptions(options); !s.ok()) return s;
-  BakeRun run{options, planBake(options), BakeClock(progress, cancel, options.time_budget_s), cancel,
-              Status(StatusCode::kCancelled, "bake cancelled; " + options.out_dir + " left as it was")};
+  BakeRun run{
+      options, planBake(options), BakeClock(progress, cancel, options.time_budget_s), cancel,
+      Status(StatusCode::kCancelled, "bake cancelled; " + options.out_dir + " left as it was")};
 
   // Load the level, the --reference bake, and the ray caster.
   if (!run.clock.report(0, run.clock.remaining())) return run.cancelled;
   Expected<Scene> scene = loadLevel(options.level_path);
   if (!scene.ok()) return scene.status();
   const uint64_t level_hash = hashLevel(*scene);
-  Expected<std::vector<LightmapImage>> reference_pages = readReferencePages(options.reference_dir, level_hash);
+  Expected<std::vector<LightmapImage>> reference_pages =
+      readReferencePages(options.reference_dir, level_hash);
   if (!reference_pages.ok()) return reference_pages.status();
   size_t degenerate = 0;
   Expected<BakeGeometry> geometry = flattenStaticGeometry(*scene, &degenerate);
@@ -511,7 +574,8 @@ Expected<BakeResult> bakeLevel(const BakeOptions& options, const std::function<b
   if (!caster.ok()) return caster.status();
   run.clock.endStage("radiosity");
 
-  Expected<std::unique_ptr<RadiositySolver>> solver = solveRadiosity(run, *scene, *geometry, **caster);
+  Expected<std::unique_ptr<RadiositySolver>> solver =
+      solveRadiosity(run, *scene, *geometry, **caster);
   if (!solver.ok()) return solver.status();
   run.clock.endStage("atlas");
 
@@ -526,24 +590,27 @@ Expected<BakeResult> bakeLevel(const BakeOptions& options, const std::function<b
   if (Status s = checkReferenceAtlas(*reference_pages, *texels); !s.ok()) return s;
   run.clock.endStage("lighting");
 
-  Expected<LightingPasses> lighting = runLightingPasses(run, *scene, *geometry, **caster, **solver, *texels, *reference_pages);
+  Expected<LightingPasses> lighting =
+      runLightingPasses(run, *scene, *geometry, **caster, **solver, *texels, *reference_pages);
   if (!lighting.ok()) return lighting.status();
   run.clock.endStage("pages");
   PageSettings page_settings;
   page_settings.dilation_texels = atlas_settings.padding_texels;
   page_settings.edge_aware_filter = true;  // gather noise; never crosses charts or creases
-  const LightmapPages pages = buildLightmapPages(*geometry, *atlas, *texels, lighting->accumulator.mean(), page_settings);
+  const LightmapPages pages =
+      buildLightmapPages(*geometry, *atlas, *texels, lighting->accumulator.mean(), page_settings);
   BakeData data = lightmapBakeData(options, level_hash, *geometry, *atlas, pages);
   run.clock.endStage("runtime");
 
-  Expected<nlohmann::ordered_json> left_out = addRuntimeSections(run, *scene, *geometry, **caster, **solver, data);
+  Expected<nlohmann::ordered_json> left_out =
+      addRuntimeSections(run, *scene, *geometry, **caster, **solver, data);
   if (!left_out.ok()) return left_out.status();
   if (!run.clock.report(1, run.clock.remaining())) return run.cancelled;
   run.clock.endStage("write");
 
-  nlohmann::ordered_json json =
-      reportJson(run, ReportInputs{*scene, level_hash, degenerate, **solver, atlas_settings, *atlas, *texels, pages,
-                                   *lighting, data, *left_out, !reference_pages->empty()});
+  nlohmann::ordered_json json = reportJson(
+      run, ReportInputs{*scene, level_hash, degenerate, **solver, atlas_settings, *atlas, *texels,
+                        pages, *lighting, data, *left_out, !reference_pages->empty()});
   return writeBake(run, pages, data, lighting->series, json);
 }
 

@@ -50,9 +50,11 @@ BakePlan planBake(const BakeOptions& options) {
   plan.budget_s = options.time_budget_s;
   plan.has_budget = std::isfinite(plan.budget_s);
   plan.solver_target_est_rel_error =
-      plan.has_budget ? kBudgetSolverTarget : kBestSolverTarget + kSolverTargetPerLostQuality * (1.0 - options.quality);
-  plan.solver_max_seconds =
-      plan.has_budget ? kSolverBudgetShare * plan.budget_s : kSolverSecondsPerQuality * options.quality + kSolverBaseSeconds;
+      plan.has_budget ? kBudgetSolverTarget
+                      : kBestSolverTarget + kSolverTargetPerLostQuality * (1.0 - options.quality);
+  plan.solver_max_seconds = plan.has_budget
+                                ? kSolverBudgetShare * plan.budget_s
+                                : kSolverSecondsPerQuality * options.quality + kSolverBaseSeconds;
   plan.texels_per_m = options.texels_per_m;
   plan.quality_passes = std::max(1u, uint32_t(std::lround(kPassesPerQuality * options.quality)));
   plan.max_lighting_passes = kMaxLightingPasses;
@@ -66,14 +68,15 @@ BakePlan planBake(const BakeOptions& options) {
 
 double atlasTexelsPerM(const BakePlan& plan, double total_area_m2) {
   if (plan.texels_per_m > 0) return plan.texels_per_m;
-  return std::clamp(std::sqrt(kAutoAtlasTexels / std::max(total_area_m2, kMinAtlasAreaM2)), kMinAutoTexelsPerM,
-                    kMaxAutoTexelsPerM);
+  return std::clamp(std::sqrt(kAutoAtlasTexels / std::max(total_area_m2, kMinAtlasAreaM2)),
+                    kMinAutoTexelsPerM, kMaxAutoTexelsPerM);
 }
 
 bool wantLightingPass(const BakePlan& plan, uint32_t pass, double elapsed_s, double last_pass_s) {
   if (pass >= plan.max_lighting_passes) return false;
   if (plan.has_budget) {
-    return !(pass > 0 && elapsed_s + last_pass_s * plan.pass_time_safety + plan.pass_time_margin_s > plan.budget_s);
+    return !(pass > 0 && elapsed_s + last_pass_s * plan.pass_time_safety + plan.pass_time_margin_s >
+                             plan.budget_s);
   }
   return pass < plan.quality_passes;
 }

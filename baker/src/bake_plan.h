@@ -10,8 +10,8 @@
 namespace svit::baker {
 
 struct BakePlan {
-  bool has_budget = false;    ///< a finite time budget; otherwise the quality decides
-  double budget_s = 0;        ///< the options' time budget (infinity without one)
+  bool has_budget = false;  ///< a finite time budget; otherwise the quality decides
+  double budget_s = 0;      ///< the options' time budget (infinity without one)
 
   // Radiosity.
   double solver_target_est_rel_error = 0;  ///< stop rule's error target
@@ -23,11 +23,12 @@ struct BakePlan {
   // Lighting passes.
   uint32_t quality_passes = 1;       ///< passes without a budget
   uint32_t max_lighting_passes = 0;  ///< hard cap, budget or not
-  double pass_time_safety = 0;       ///< with a budget: the next pass is assumed this much slower than the last
-  double pass_time_margin_s = 0;     ///< with a budget: seconds kept free for pages and writing
-  uint32_t gather_rays = 0;          ///< final-gather rays per texel and pass
-  uint32_t area_light_samples = 0;   ///< shadow rays to emissive surfaces per texel and pass
-  uint32_t sun_samples = 0;          ///< shadow rays across the sun's disk per texel and pass
+  /// with a budget: the next pass is assumed this much slower than the last
+  double pass_time_safety = 0;
+  double pass_time_margin_s = 0;    ///< with a budget: seconds kept free for pages and writing
+  uint32_t gather_rays = 0;         ///< final-gather rays per texel and pass
+  uint32_t area_light_samples = 0;  ///< shadow rays to emissive surfaces per texel and pass
+  uint32_t sun_samples = 0;         ///< shadow rays across the sun's disk per texel and pass
 };
 
 /// The plan for `options` (which validateBakeOptions accepted). Pure.

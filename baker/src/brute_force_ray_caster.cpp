@@ -24,16 +24,13 @@ DVec3 cross(const DVec3& a, const DVec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 
-
-
-
 class BruteForceRayCaster final : public RayCaster {
  public:
   explicit BruteForceRayCaster(const BakeGeometry& geometry) : geometry_(geometry) {}
 
   void intersect(std::span<const Ray> rays, std::span<RayHit> hits) const override {
-    SVIT_CHECK(rays.size() == hits.size(), "BruteForceRayCaster::intersect: %zu rays but %zu hits", rays.size(),
-               hits.size());
+    SVIT_CHECK(rays.size() == hits.size(), "BruteForceRayCaster::intersect: %zu rays but %zu hits",
+               rays.size(), hits.size());
     for (size_t i = 0; i < rays.size(); ++i) hits[i] = closestHit(rays[i]);
   }
 
@@ -49,8 +46,8 @@ class BruteForceRayCaster final : public RayCaster {
     double best_t = double(t_far);
     // Sizes as flattenStaticGeometry makes them; the minimum keeps a
     // malformed geometry from reading out of bounds.
-    const size_t triangles =
-        std::min({geometry_.triangleCount(), geometry_.positions.size() / 3, geometry_.normals.size()});
+    const size_t triangles = std::min(
+        {geometry_.triangleCount(), geometry_.positions.size() / 3, geometry_.normals.size()});
     for (size_t t = 0; t < triangles; ++t) {
       const DVec3 c0 = toDouble(geometry_.corner(t, 0));
       const DVec3 edge1 = toDouble(geometry_.corner(t, 1)) - c0;
@@ -71,7 +68,8 @@ class BruteForceRayCaster final : public RayCaster {
       const double hit_t = dot(edge2, q) * inv_det;
       // Strictly closer only, so on an exact tie the lower index (met
       // first) wins: deterministic, unlike a BVH's traversal order.
-      if (!(hit_t >= double(t_near) && (hit_t < best_t || (!best.hit() && hit_t <= best_t)))) continue;
+      if (!(hit_t >= double(t_near) && (hit_t < best_t || (!best.hit() && hit_t <= best_t))))
+        continue;
       best_t = hit_t;
       best.triangle = uint32_t(t);
       best.t = float(hit_t);

@@ -14,7 +14,8 @@
 
 namespace svit::baker {
 
-ElementTree::ElementTree(const BakeGeometry& geometry, const TreeSettings& settings, const EmissionOver& emission_over)
+ElementTree::ElementTree(const BakeGeometry& geometry, const TreeSettings& settings,
+                         const EmissionOver& emission_over)
     : geometry_(geometry), settings_(settings), emission_over_(emission_over) {
   const size_t triangles = geometry.triangleCount();
   element_roots_.assign(triangles * 2, -1);
@@ -40,7 +41,8 @@ ElementTree::ElementTree(const BakeGeometry& geometry, const TreeSettings& setti
         n.bary[k][1] = corners[order[side][k]][1];
       }
       n.area_m2 = geometry.areas_m2[t];
-      const glm::dvec3 p0 = dvec(geometry.corner(t, 0)), p1 = dvec(geometry.corner(t, 1)), p2 = dvec(geometry.corner(t, 2));
+      const glm::dvec3 p0 = dvec(geometry.corner(t, 0)), p1 = dvec(geometry.corner(t, 1)),
+                       p2 = dvec(geometry.corner(t, 2));
       n.perimeter_m = glm::length(p1 - p0) + glm::length(p2 - p1) + glm::length(p0 - p2);
       n.centroid = (p0 + p1 + p2) / 3.0;
       n.normal = dvec(geometry.normals[t]) * (side == 0 ? 1.0 : -1.0);
@@ -159,14 +161,16 @@ bool ElementTree::hasEdge(int n, uint32_t a, uint32_t b) const {
 glm::dvec3 ElementTree::pointIn(int n, double b1, double b2) const {
   const TreeNode& e = nodes_[size_t(n)];
   const glm::dvec3& p0 = vertex_positions_[e.vertex[0]];
-  return p0 + b1 * (vertex_positions_[e.vertex[1]] - p0) + b2 * (vertex_positions_[e.vertex[2]] - p0);
+  return p0 + b1 * (vertex_positions_[e.vertex[1]] - p0) +
+         b2 * (vertex_positions_[e.vertex[2]] - p0);
 }
 
 bool ElementTree::splitLeaf(int n, const std::function<void(int)>& on_split) {
   if (nodes_.size() + 2 > settings_.max_nodes) return false;
   const int k = longestEdge(n);
   const TreeNode parent = nodes_[size_t(n)];  // copy: push_back below reallocates
-  const uint32_t a = parent.vertex[k], b = parent.vertex[(k + 1) % 3], c = parent.vertex[(k + 2) % 3];
+  const uint32_t a = parent.vertex[k], b = parent.vertex[(k + 1) % 3],
+                 c = parent.vertex[(k + 2) % 3];
   const uint32_t m = midpoint(a, b);
   const float* ba = parent.bary[k];
   const float* bb = parent.bary[(k + 1) % 3];
@@ -189,7 +193,8 @@ bool ElementTree::splitLeaf(int n, const std::function<void(int)>& on_split) {
     }
     // A midpoint split halves the area exactly.
     child.area_m2 = 0.5 * parent.area_m2;
-    const glm::dvec3 q0 = vertex_positions_[child.vertex[0]], q1 = vertex_positions_[child.vertex[1]],
+    const glm::dvec3 q0 = vertex_positions_[child.vertex[0]],
+                     q1 = vertex_positions_[child.vertex[1]],
                      q2 = vertex_positions_[child.vertex[2]];
     child.perimeter_m = glm::length(q1 - q0) + glm::length(q2 - q1) + glm::length(q0 - q2);
     child.centroid = (q0 + q1 + q2) / 3.0;
@@ -212,7 +217,8 @@ bool ElementTree::splitLeaf(int n, const std::function<void(int)>& on_split) {
   return true;
 }
 
-void ElementTree::refineAcross(int f, uint32_t a, uint32_t b, const std::function<void(int)>& on_split) {
+void ElementTree::refineAcross(int f, uint32_t a, uint32_t b,
+                               const std::function<void(int)>& on_split) {
   // Rivara: split f on its own longest edge until the leaf holding (a, b)
   // has it as its longest edge, then split that one at the shared midpoint.
   while (nodes_[size_t(f)].isLeaf() && hasEdge(f, a, b)) {
@@ -295,8 +301,9 @@ namespace {
 // the normal most deviant from the area-weighted mean and the normal
 // farthest from it. Leaves `left` or `right` empty when the normals agree
 // within `orientation_split_rad` or the 2-means puts all on one side.
-void splitByOrientation(const std::vector<TreeNode>& nodes, const std::vector<int>& elements, double orientation_split_rad,
-                        std::vector<int>& left, std::vector<int>& right) {
+void splitByOrientation(const std::vector<TreeNode>& nodes, const std::vector<int>& elements,
+                        double orientation_split_rad, std::vector<int>& left,
+                        std::vector<int>& right) {
   // Area-weighted mean normal and the widest deviation from it.
   glm::dvec3 mean_normal(0.0);
   for (int e : elements) mean_normal += nodes[size_t(e)].normal * nodes[size_t(e)].area_m2;
@@ -344,23 +351,26 @@ void splitByOrientation(const std::vector<TreeNode>& nodes, const std::vector<in
 // Spatial split along the longest axis of the centroids' bounds: at the
 // widest gap when groups are distant (wider than `gap_split_fraction` of
 // the extent), else at the median (balance). Sorts `elements` along it.
-void splitSpatially(const std::vector<TreeNode>& nodes, std::vector<int>& elements, double gap_split_fraction,
-                    std::vector<int>& left, std::vector<int>& right) {
+void splitSpatially(const std::vector<TreeNode>& nodes, std::vector<int>& elements,
+                    double gap_split_fraction, std::vector<int>& left, std::vector<int>& right) {
   glm::dvec3 lo(kNoUpperBound), hi(kNoLowerBound);
   for (int e : elements) {
     lo = glm::min(lo, nodes[size_t(e)].centroid);
     hi = glm::max(hi, nodes[size_t(e)].centroid);
   }
   const glm::dvec3 extent = hi - lo;
-  const int axis_index = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+  const int axis_index =
+      extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
   std::sort(elements.begin(), elements.end(), [&](int a, int b) {
-    const double ca = nodes[size_t(a)].centroid[axis_index], cb = nodes[size_t(b)].centroid[axis_index];
+    const double ca = nodes[size_t(a)].centroid[axis_index],
+                 cb = nodes[size_t(b)].centroid[axis_index];
     return ca < cb || (ca == cb && a < b);
   });
   size_t split = elements.size() / 2;
   double widest = 0;
   for (size_t i = 1; i < elements.size(); ++i) {
-    const double gap = nodes[size_t(elements[i])].centroid[axis_index] - nodes[size_t(elements[i - 1])].centroid[axis_index];
+    const double gap = nodes[size_t(elements[i])].centroid[axis_index] -
+                       nodes[size_t(elements[i - 1])].centroid[axis_index];
     if (gap > widest) {
       widest = gap;
       if (gap > gap_split_fraction * extent[axis_index]) split = i;

@@ -30,13 +30,14 @@ struct TreeNode {
   uint16_t depth = 0;
   int32_t parent = -1;
   int32_t child[2] = {-1, -1};
-  uint32_t triangle = 0;          ///< BakeGeometry triangle (elements only)
+  uint32_t triangle = 0;           ///< BakeGeometry triangle (elements only)
   uint32_t vertex[3] = {0, 0, 0};  ///< welded vertex ids, counter-clockwise seen from `normal`
-  float bary[3][2] = {};          ///< corners as (u, v) barycentrics of the original triangle
-  double area_m2 = 0;             ///< one side; clusters: sum over leaves
-  double perimeter_m = 0;         ///< elements; clusters: 0
-  glm::dvec3 centroid{0.0};       ///< area-weighted for clusters
-  glm::dvec3 normal{0.0};         ///< unit for elements; area-weighted mean for clusters (may be short)
+  float bary[3][2] = {};           ///< corners as (u, v) barycentrics of the original triangle
+  double area_m2 = 0;              ///< one side; clusters: sum over leaves
+  double perimeter_m = 0;          ///< elements; clusters: 0
+  glm::dvec3 centroid{0.0};        ///< area-weighted for clusters
+  /// unit for elements; area-weighted mean for clusters (may be short)
+  glm::dvec3 normal{0.0};
   glm::dvec3 reflectance_area{0.0};  ///< sum over leaves of albedo * area (per channel), m2
   glm::dvec3 emitted_flux{0.0};      ///< sum over leaves of pi * L * area, lm per channel
   bool isLeaf() const { return child[0] < 0; }
@@ -64,7 +65,8 @@ class ElementTree {
  public:
   /// Builds the elements of `geometry` and one cluster tree per static
   /// instance. `emission_over` (optional) splits textured emitters.
-  ElementTree(const BakeGeometry& geometry, const TreeSettings& settings, const EmissionOver& emission_over = {});
+  ElementTree(const BakeGeometry& geometry, const TreeSettings& settings,
+              const EmissionOver& emission_over = {});
 
   const std::vector<TreeNode>& nodes() const { return nodes_; }
   const TreeNode& node(int index) const { return nodes_[size_t(index)]; }
@@ -112,9 +114,11 @@ class ElementTree {
   std::vector<int> element_roots_;
   std::vector<int> object_roots_;
   std::vector<glm::dvec3> vertex_positions_;
-  std::unordered_map<uint64_t, uint32_t> weld_map_;      // position bits -> vertex (lookup only)
-  std::unordered_map<uint64_t, uint32_t> midpoints_;     // edge key -> midpoint vertex (lookup only)
-  std::unordered_map<uint64_t, std::vector<int>> edges_;  // edge key -> leaves using it (lookup only)
+  std::unordered_map<uint64_t, uint32_t> weld_map_;  // position bits -> vertex (lookup only)
+  // edge key -> midpoint vertex (lookup only)
+  std::unordered_map<uint64_t, uint32_t> midpoints_;
+  // edge key -> leaves using it (lookup only)
+  std::unordered_map<uint64_t, std::vector<int>> edges_;
   size_t leaf_count_ = 0;
 };
 

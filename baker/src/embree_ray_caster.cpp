@@ -42,7 +42,8 @@ class ErrorLog {
   static void callback(void* user, RTCError code, const char* message) {
     auto* log = static_cast<ErrorLog*>(user);
     const std::lock_guard<std::mutex> lock(log->mutex_);
-    if (log->first_.empty()) log->first_ = std::string(errorName(code)) + ": " + (message ? message : "");
+    if (log->first_.empty())
+      log->first_ = std::string(errorName(code)) + ": " + (message ? message : "");
   }
   std::string first() const {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -85,9 +86,6 @@ class FlushDenormalsScope {
   unsigned int saved_;
 };
 
-
-
-
 class EmbreeRayCaster final : public RayCaster {
  public:
   explicit EmbreeRayCaster(const BakeGeometry& geometry) : geometry_(geometry) {}
@@ -112,8 +110,9 @@ class EmbreeRayCaster final : public RayCaster {
           // Copied, not shared: Embree wants every float3 element readable
           // with a 16-byte load, which would read past the end of
           // BakeGeometry::positions; rtcSetNewGeometryBuffer over-allocates.
-          auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-              mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), triangles * 3));
+          auto* vertices = static_cast<float*>(
+              rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                      3 * sizeof(float), triangles * 3));
           auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
               mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), triangles));
           if (vertices && indices) {
@@ -146,12 +145,14 @@ class EmbreeRayCaster final : public RayCaster {
   }
 
   void intersect(std::span<const Ray> rays, std::span<RayHit> hits) const override {
-    SVIT_CHECK(rays.size() == hits.size(), "EmbreeRayCaster::intersect: %zu rays but %zu hits", rays.size(), hits.size());
+    SVIT_CHECK(rays.size() == hits.size(), "EmbreeRayCaster::intersect: %zu rays but %zu hits",
+               rays.size(), hits.size());
     traceAll(rays, hits);
     // Outside the flush-to-zero scope, so a denormal direction component
     // decides front/back exactly as in the brute-force caster.
     for (size_t i = 0; i < rays.size(); ++i) {
-      if (hits[i].hit()) hits[i].front = arrivesOnFront(rays[i].direction, geometry_.normals[hits[i].triangle]);
+      if (hits[i].hit())
+        hits[i].front = arrivesOnFront(rays[i].direction, geometry_.normals[hits[i].triangle]);
     }
   }
 
@@ -220,7 +221,8 @@ Status validate(const BakeGeometry& geometry) {
     return Status(StatusCode::kInvalidInput,
                   "BakeGeometry: " + std::to_string(triangles) + " triangles but " +
                       std::to_string(geometry.positions.size()) + " positions and " +
-                      std::to_string(geometry.normals.size()) + " normals (want 3 and 1 per triangle)");
+                      std::to_string(geometry.normals.size()) +
+                      " normals (want 3 and 1 per triangle)");
   }
   // primID is a 32-bit value and RayHit::kNone is reserved; the index buffer
   // counts corners in 32 bits too.
@@ -235,8 +237,9 @@ Status validate(const BakeGeometry& geometry) {
       const Vec3& p = geometry.corner(t, k);
       for (float c : {p.x, p.y, p.z}) {
         if (!std::isfinite(c) || std::fabs(c) > kEmbreeMaxCoordinate) {
-          return Status(StatusCode::kInvalidInput, "BakeGeometry: triangle " + std::to_string(t) + " corner " +
-                                                       std::to_string(k) + ": coordinate " + std::to_string(c) +
+          return Status(StatusCode::kInvalidInput, "BakeGeometry: triangle " + std::to_string(t) +
+                                                       " corner " + std::to_string(k) +
+                                                       ": coordinate " + std::to_string(c) +
                                                        " is not a finite value Embree accepts");
         }
       }

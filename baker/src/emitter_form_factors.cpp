@@ -34,9 +34,9 @@ struct Source {
   BakeEmitter::Kind kind = BakeEmitter::Kind::kLight;
   uint32_t index = 0;
   glm::dvec3 flux{0.0};
-  LightSource light;                 // lights, sun, sky
-  std::vector<uint32_t> elements;    // patch: its emitting elements
-  std::vector<double> cdf;           // patch: cumulative emitted luminous flux
+  LightSource light;               // lights, sun, sky
+  std::vector<uint32_t> elements;  // patch: its emitting elements
+  std::vector<double> cdf;         // patch: cumulative emitted luminous flux
 };
 
 // The baked light sources of `scene`, one call per source so each keeps its
@@ -83,7 +83,8 @@ std::vector<Source> patchSources(const BakeGeometry& geometry, const PatchSet& p
     s.index = uint32_t(p);
     // The patch's own exitance (the tree's, which follows emissive textures)
     // times its area; elements are picked by their mean luminance.
-    s.flux = glm::dvec3(patch.emission.r, patch.emission.g, patch.emission.b) * double(patch.area_m2);
+    s.flux =
+        glm::dvec3(patch.emission.r, patch.emission.g, patch.emission.b) * double(patch.area_m2);
     double total = 0;
     for (uint32_t i = 0; i < patch.element_count; ++i) {
       const uint32_t e = patches.patch_elements[patch.first_element + i];
@@ -109,8 +110,8 @@ Ray patchRay(const BakeGeometry& geometry, const Source& s, Rng& rng) {
   const uint32_t t = e / 2;
   const glm::dvec3 n = dvec(geometry.normals[t]) * (e % 2 == 0 ? 1.0 : -1.0);
   const glm::dvec2 b = uniformTriangle(rng.uniformDouble(), rng.uniformDouble());
-  const glm::dvec3 p = (1.0 - b.x - b.y) * dvec(geometry.corner(t, 0)) + b.x * dvec(geometry.corner(t, 1)) +
-                       b.y * dvec(geometry.corner(t, 2));
+  const glm::dvec3 p = (1.0 - b.x - b.y) * dvec(geometry.corner(t, 0)) +
+                       b.x * dvec(geometry.corner(t, 1)) + b.y * dvec(geometry.corner(t, 2));
   Ray ray;
   ray.origin = offsetRayOrigin(vec3(p), vec3(n), cornerMagnitude(geometry, t));
   ray.direction = vec3(cosineHemisphere(n, rng.uniformDouble(), rng.uniformDouble()));
@@ -119,10 +120,12 @@ Ray patchRay(const BakeGeometry& geometry, const Source& s, Rng& rng) {
 
 }  // namespace
 
-Expected<std::vector<BakeEmitter>> buildEmitterFormFactors(const Scene& scene, const BakeGeometry& geometry,
-                                                          const RayCaster& caster, const PatchSet& patches,
-                                                          uint32_t rays, uint64_t seed, int threads,
-                                                          const std::atomic<bool>* cancel) {
+Expected<std::vector<BakeEmitter>> buildEmitterFormFactors(const Scene& scene,
+                                                           const BakeGeometry& geometry,
+                                                           const RayCaster& caster,
+                                                           const PatchSet& patches, uint32_t rays,
+                                                           uint64_t seed, int threads,
+                                                           const std::atomic<bool>* cancel) {
   Expected<std::vector<Source>> sources = lightSources(scene, geometry);
   if (!sources.ok()) return sources.status();
   for (Source& s : patchSources(geometry, patches)) sources->push_back(std::move(s));
@@ -133,7 +136,8 @@ Expected<std::vector<BakeEmitter>> buildEmitterFormFactors(const Scene& scene, c
   std::vector<int32_t> ray_patch;
   std::vector<uint32_t> sorted;
   for (size_t first = 0; first < sources->size(); first += per_group) {
-    if (cancel && cancel->load()) return Status(StatusCode::kCancelled, "runtime sections: form factors cancelled");
+    if (cancel && cancel->load())
+      return Status(StatusCode::kCancelled, "runtime sections: form factors cancelled");
     const size_t last = std::min(sources->size(), first + per_group);
     const size_t count = (last - first) * rays;
     ray_patch.assign(count, -1);
@@ -156,10 +160,12 @@ Expected<std::vector<BakeEmitter>> buildEmitterFormFactors(const Scene& scene, c
       caster.intersect(batch, hits);
       for (size_t j = begin; j < end; ++j) {
         const RayHit& h = hits[j - begin];
-        if (h.hit()) ray_patch[j] = patches.element_patch[size_t(h.triangle) * 2 + (h.front ? 0 : 1)];
+        if (h.hit())
+          ray_patch[j] = patches.element_patch[size_t(h.triangle) * 2 + (h.front ? 0 : 1)];
       }
     });
-    if (cancel && cancel->load()) return Status(StatusCode::kCancelled, "runtime sections: form factors cancelled");
+    if (cancel && cancel->load())
+      return Status(StatusCode::kCancelled, "runtime sections: form factors cancelled");
     for (size_t emitter = first; emitter < last; ++emitter) {
       const Source& s = (*sources)[emitter];
       BakeEmitter e;

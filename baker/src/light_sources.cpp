@@ -26,7 +26,8 @@ glm::dvec3 diskOrigin(const LightSource& light, const glm::dvec3& towards_source
 }  // namespace
 
 double spotFalloff(double cos_angle, double cos_inner, double cos_outer) {
-  const double t = std::clamp((cos_angle - cos_outer) / std::max(1e-9, cos_inner - cos_outer), 0.0, 1.0);
+  const double t =
+      std::clamp((cos_angle - cos_outer) / std::max(1e-9, cos_inner - cos_outer), 0.0, 1.0);
   return t * t;
 }
 
@@ -124,18 +125,21 @@ Enclosure enclosureOf(const BakeGeometry& geometry) {
 // Scenes built in code skip the loader's checks: NaN here would turn into
 // rays that silently miss.
 Status checkLightFinite(const Scene& scene, const Light& light) {
-  const char* bad = !finite(light.position)      ? "position"
-                    : !finite(light.direction)     ? "direction"
-                    : !finite(light.color)         ? "colour"
+  const char* bad = !finite(light.position)           ? "position"
+                    : !finite(light.direction)        ? "direction"
+                    : !finite(light.color)            ? "colour"
                     : !std::isfinite(light.intensity) ? "intensity"
-                    : !std::isfinite(light.inner_cone_rad) || !std::isfinite(light.outer_cone_rad) ? "cone angle"
-                                                    : nullptr;
+                    : !std::isfinite(light.inner_cone_rad) || !std::isfinite(light.outer_cone_rad)
+                        ? "cone angle"
+                        : nullptr;
   if (!bad) return Status();
-  return Status(StatusCode::kInvalidInput, scene.source_path + ": light '" + light.name + "': " + bad + " is not finite (as a float)");
+  return Status(StatusCode::kInvalidInput, scene.source_path + ": light '" + light.name +
+                                               "': " + bad + " is not finite (as a float)");
 }
 
 // A point, spot or directional light as a source; flux_y checked finite.
-Expected<LightSource> punctualSource(const Scene& scene, const Light& light, const Enclosure& enclosure) {
+Expected<LightSource> punctualSource(const Scene& scene, const Light& light,
+                                     const Enclosure& enclosure) {
   if (Status bad = checkLightFinite(scene, light); !bad.ok()) return bad;
   LightSource s;
   s.name = light.name;
@@ -157,7 +161,8 @@ Expected<LightSource> punctualSource(const Scene& scene, const Light& light, con
       s.cos_outer = std::cos(double(light.outer_cone_rad));
       // Integral of the falloff over the sphere: full inside the inner
       // cone, t^2 (mean 1/3 in cos) between the cones.
-      s.flux_rgb = intensity * (2.0 * kPi * ((1.0 - s.cos_inner) + (s.cos_inner - s.cos_outer) / 3.0));
+      s.flux_rgb =
+          intensity * (2.0 * kPi * ((1.0 - s.cos_inner) + (s.cos_inner - s.cos_outer) / 3.0));
       break;
     case LightType::kDirectional:
       s.kind = LightKind::kDirectional;
@@ -166,20 +171,25 @@ Expected<LightSource> punctualSource(const Scene& scene, const Light& light, con
   }
   s.flux_y = luminanceOf(s.flux_rgb);
   if (!std::isfinite(s.flux_y)) {
-    return Status(StatusCode::kInvalidInput, scene.source_path + ": light '" + light.name + "': flux is not finite");
+    return Status(StatusCode::kInvalidInput,
+                  scene.source_path + ": light '" + light.name + "': flux is not finite");
   }
   return s;
 }
 
 Status checkSunAndSkyFinite(const Scene& scene) {
-  if (scene.sun.enabled && (!finite(scene.sun.direction_to_sun) || !finite(scene.sun.color) ||
-                            !std::isfinite(scene.sun.illuminance_lux) || !std::isfinite(scene.sun.angular_radius_rad))) {
-    return Status(StatusCode::kInvalidInput, scene.source_path + ": sun: direction, colour, illuminance or radius is not finite");
+  if (scene.sun.enabled &&
+      (!finite(scene.sun.direction_to_sun) || !finite(scene.sun.color) ||
+       !std::isfinite(scene.sun.illuminance_lux) || !std::isfinite(scene.sun.angular_radius_rad))) {
+    return Status(
+        StatusCode::kInvalidInput,
+        scene.source_path + ": sun: direction, colour, illuminance or radius is not finite");
   }
   if (scene.sky.model != SkyModel::kNone &&
       (!finite(scene.sky.zenith_luminance) || !finite(scene.sky.horizon_luminance) ||
        !finite(scene.sky.ground_luminance))) {
-    return Status(StatusCode::kInvalidInput, scene.source_path + ": sky: a luminance is not finite");
+    return Status(StatusCode::kInvalidInput,
+                  scene.source_path + ": sky: a luminance is not finite");
   }
   return Status();
 }
@@ -195,7 +205,8 @@ LightSource sunSource(const Scene& scene, const Enclosure& enclosure) {
   s.radius = enclosure.radius;
   // Rays tilt by up to the angular radius over the 3R they travel.
   s.disk_radius = enclosure.radius * (1.0 + 3.0 * std::tan(double(scene.sun.angular_radius_rad)));
-  s.flux_rgb = dvec(scene.sun.color) * double(scene.sun.illuminance_lux) * (kPi * s.disk_radius * s.disk_radius);
+  s.flux_rgb = dvec(scene.sun.color) * double(scene.sun.illuminance_lux) *
+               (kPi * s.disk_radius * s.disk_radius);
   s.flux_y = luminanceOf(s.flux_rgb);
   return s;
 }
@@ -209,10 +220,12 @@ LightSource skySource(const Scene& scene, const Enclosure& enclosure) {
   s.disk_radius = enclosure.radius;
   s.zenith = dvec(scene.sky.zenith_luminance);
   s.horizon = scene.sky.model == SkyModel::kUniform ? s.zenith : dvec(scene.sky.horizon_luminance);
-  s.ground = scene.sky.model == SkyModel::kUniform ? glm::dvec3(0.0) : dvec(scene.sky.ground_luminance);
+  s.ground =
+      scene.sky.model == SkyModel::kUniform ? glm::dvec3(0.0) : dvec(scene.sky.ground_luminance);
   // Flux through a disk of area A from radiance L over solid angle w is
   // L*A*w: upper hemisphere 2*pi*(horizon + (zenith - horizon)/2), ground 2*pi*ground.
-  const glm::dvec3 upper = 2.0 * kPi * (s.horizon + 0.5 * (s.zenith - s.horizon)) * enclosure.disk_area_m2;
+  const glm::dvec3 upper =
+      2.0 * kPi * (s.horizon + 0.5 * (s.zenith - s.horizon)) * enclosure.disk_area_m2;
   const glm::dvec3 lower = 2.0 * kPi * s.ground * enclosure.disk_area_m2;
   s.flux_rgb = upper + lower;
   s.flux_y = luminanceOf(s.flux_rgb);
@@ -222,7 +235,8 @@ LightSource skySource(const Scene& scene, const Enclosure& enclosure) {
 
 }  // namespace
 
-Expected<std::vector<LightSource>> makeLightSources(const Scene& scene, const BakeGeometry& geometry) {
+Expected<std::vector<LightSource>> makeLightSources(const Scene& scene,
+                                                    const BakeGeometry& geometry) {
   std::vector<LightSource> sources;
   const Enclosure enclosure = enclosureOf(geometry);
   for (const Light& light : scene.lights) {
@@ -232,7 +246,8 @@ Expected<std::vector<LightSource>> makeLightSources(const Scene& scene, const Ba
     if (s->flux_y > 0) sources.push_back(std::move(s).value());
   }
   if (Status bad = checkSunAndSkyFinite(scene); !bad.ok()) return bad;
-  if (scene.sun.enabled && scene.sun.illuminance_lux > 0) sources.push_back(sunSource(scene, enclosure));
+  if (scene.sun.enabled && scene.sun.illuminance_lux > 0)
+    sources.push_back(sunSource(scene, enclosure));
   if (scene.sky.model != SkyModel::kNone) {
     const LightSource sky = skySource(scene, enclosure);
     if (sky.flux_y > 0) sources.push_back(sky);

@@ -21,7 +21,7 @@ enum class LightKind { kPoint, kSpot, kDirectional, kSky };
 struct LightRay {
   glm::dvec3 origin{0.0};
   glm::dvec3 direction{0.0, -1.0, 0.0};  ///< unit
-  glm::dvec3 colour{1.0};  ///< rgb per unit luminous flux: luminance(colour) = 1
+  glm::dvec3 colour{1.0};                ///< rgb per unit luminous flux: luminance(colour) = 1
 };
 
 class LightSource {
@@ -44,13 +44,14 @@ class LightSource {
   double radius = 1;                     ///< of the sphere
   double disk_radius = 1;                ///< of the shooting disk (sun: widened for the cone)
   glm::dvec3 zenith{0.0}, horizon{0.0}, ground{0.0};  ///< sky luminance, cd/m2
-  double upper_share = 1;                ///< sky: luminous share of the upper hemisphere
+  double upper_share = 1;  ///< sky: luminous share of the upper hemisphere
 };
 
 /// Builds the static (baked) light sources of `scene` around `geometry`'s
 /// bounds: lights not marked dynamic, the sun and the sky. Errors name the
 /// light and value (non-finite parameters reaching the baker).
-Expected<std::vector<LightSource>> makeLightSources(const Scene& scene, const BakeGeometry& geometry);
+Expected<std::vector<LightSource>> makeLightSources(const Scene& scene,
+                                                    const BakeGeometry& geometry);
 
 /// glTF KHR_lights_punctual spot falloff: t^2 with
 /// t = clamp((cos - cos_outer) / (cos_inner - cos_outer), 0, 1).

@@ -41,7 +41,8 @@ std::vector<SeamPoint> findSeamPoints(const BakeGeometry& geometry, const Lightm
   std::map<std::pair<uint64_t, uint64_t>, std::vector<EdgeUse>> edges;  // ordered: deterministic
   for (uint32_t t = 0; t < geometry.triangleCount(); ++t) {
     for (int k = 0; k < 3; ++k) {
-      const uint64_t a = positionKey(geometry.corner(t, k)), b = positionKey(geometry.corner(t, (k + 1) % 3));
+      const uint64_t a = positionKey(geometry.corner(t, k)),
+                     b = positionKey(geometry.corner(t, (k + 1) % 3));
       edges[{std::min(a, b), std::max(a, b)}].push_back({t, k, a, b});
     }
   }
@@ -58,17 +59,22 @@ std::vector<SeamPoint> findSeamPoints(const BakeGeometry& geometry, const Lightm
         const Vec3& ne = geometry.normals[e.triangle];
         const Vec3& nf = geometry.normals[f.triangle];
         if (ne.x * nf.x + ne.y * nf.y + ne.z * nf.z < kSmoothSeamCos) continue;
-        Vec2 a0 = atlas.triangle_uv[e.triangle * 3 + size_t(e.k)], a1 = atlas.triangle_uv[e.triangle * 3 + size_t((e.k + 1) % 3)];
-        Vec2 b0 = atlas.triangle_uv[f.triangle * 3 + size_t(f.k)], b1 = atlas.triangle_uv[f.triangle * 3 + size_t((f.k + 1) % 3)];
+        Vec2 a0 = atlas.triangle_uv[e.triangle * 3 + size_t(e.k)],
+             a1 = atlas.triangle_uv[e.triangle * 3 + size_t((e.k + 1) % 3)];
+        Vec2 b0 = atlas.triangle_uv[f.triangle * 3 + size_t(f.k)],
+             b1 = atlas.triangle_uv[f.triangle * 3 + size_t((f.k + 1) % 3)];
         if (f.a_key != e.a_key) std::swap(b0, b1);  // run both the same way along the edge
         const uint32_t pa = atlas.triangle_page[e.triangle], pb = atlas.triangle_page[f.triangle];
         const bool same = pa == pb && a0.x == b0.x && a0.y == b0.y && a1.x == b1.x && a1.y == b1.y;
         if (same) continue;
-        const double length = std::max(std::hypot(a1.x - a0.x, a1.y - a0.y), std::hypot(b1.x - b0.x, b1.y - b0.y));
+        const double length =
+            std::max(std::hypot(a1.x - a0.x, a1.y - a0.y), std::hypot(b1.x - b0.x, b1.y - b0.y));
         const int samples = std::max(2, int(std::ceil(length * texels * 2.0)));
         for (int s = 0; s < samples; ++s) {
           const float t = (float(s) + 0.5f) / float(samples);
-          points.push_back({pa, pb, {a0.x + t * (a1.x - a0.x), a0.y + t * (a1.y - a0.y)},
+          points.push_back({pa,
+                            pb,
+                            {a0.x + t * (a1.x - a0.x), a0.y + t * (a1.y - a0.y)},
                             {b0.x + t * (b1.x - b0.x), b0.y + t * (b1.y - b0.y)}});
         }
       }
@@ -96,7 +102,8 @@ LightmapPages blankPages(const TexelSet& texels) {
 // Indirect light, optionally smoothed within charts (cross-bilateral on
 // normal and chart: it never blurs across a chart border or a crease).
 std::vector<Rgb> filteredIndirect(const LightmapAtlas& atlas, const TexelSet& texels,
-                                  const std::vector<TexelIrradiance>& lighting, const PageSettings& settings) {
+                                  const std::vector<TexelIrradiance>& lighting,
+                                  const PageSettings& settings) {
   const int w = texels.page_width, h = texels.page_height;
   std::vector<Rgb> indirect(lighting.size());
   for (size_t i = 0; i < lighting.size(); ++i) indirect[i] = lighting[i].indirect;
@@ -114,7 +121,8 @@ std::vector<Rgb> filteredIndirect(const LightmapAtlas& atlas, const TexelSet& te
         if (j < 0) continue;
         const TexelSample& o = texels.samples[size_t(j)];
         if (atlas.triangle_chart[o.triangle] != chart) continue;
-        const double c = s.normal.x * o.normal.x + s.normal.y * o.normal.y + s.normal.z * o.normal.z;
+        const double c =
+            s.normal.x * o.normal.x + s.normal.y * o.normal.y + s.normal.z * o.normal.z;
         if (c <= 0) continue;
         const double spatial = std::exp(-double(dx * dx + dy * dy) / (2.0 * r * r));
         const double weight = spatial * std::pow(c, settings.filter_normal_power);
@@ -125,13 +133,15 @@ std::vector<Rgb> filteredIndirect(const LightmapAtlas& atlas, const TexelSet& te
         weight_sum += weight;
       }
     }
-    if (weight_sum > 0) indirect[i] = {float(sum[0] / weight_sum), float(sum[1] / weight_sum), float(sum[2] / weight_sum)};
+    if (weight_sum > 0)
+      indirect[i] = {float(sum[0] / weight_sum), float(sum[1] / weight_sum),
+                     float(sum[2] / weight_sum)};
   }
   return indirect;
 }
 
-void writeSamples(const TexelSet& texels, const std::vector<TexelIrradiance>& lighting, const std::vector<Rgb>& indirect,
-                  LightmapPages& pages) {
+void writeSamples(const TexelSet& texels, const std::vector<TexelIrradiance>& lighting,
+                  const std::vector<Rgb>& indirect, LightmapPages& pages) {
   const int w = texels.page_width;
   for (size_t i = 0; i < texels.samples.size(); ++i) {
     const TexelSample& s = texels.samples[i];
@@ -165,7 +175,9 @@ void dilatePage(int rounds, LightmapImage& image, std::vector<uint8_t>& valid) {
             ++count;
           }
         }
-        if (count > 0) filled.push_back({texelIndex(w, x, y), {float(sum[0] / count), float(sum[1] / count), float(sum[2] / count)}});
+        if (count > 0)
+          filled.push_back({texelIndex(w, x, y),
+                            {float(sum[0] / count), float(sum[1] / count), float(sum[2] / count)}});
       }
     }
     for (const auto& [index, value] : filled) {
@@ -178,12 +190,13 @@ void dilatePage(int rounds, LightmapImage& image, std::vector<uint8_t>& valid) {
 }
 
 // Seams: pull the texels nearest to matching edge points to their average.
-void stitchSeams(const BakeGeometry& geometry, const LightmapAtlas& atlas, const TexelSet& texels, int iterations,
-                 LightmapPages& pages) {
+void stitchSeams(const BakeGeometry& geometry, const LightmapAtlas& atlas, const TexelSet& texels,
+                 int iterations, LightmapPages& pages) {
   const int w = texels.page_width, h = texels.page_height;
   const std::vector<SeamPoint> seam = findSeamPoints(geometry, atlas);
   auto nearest = [&](uint32_t page, Vec2 uv) -> float* {
-    const int x = std::clamp(int(uv.x * float(w)), 0, w - 1), y = std::clamp(int(uv.y * float(h)), 0, h - 1);
+    const int x = std::clamp(int(uv.x * float(w)), 0, w - 1),
+              y = std::clamp(int(uv.y * float(h)), 0, h - 1);
     if (!pages.valid[page][texelIndex(w, x, y)]) return nullptr;
     return &pages.images[page].rgb[texelIndex(w, x, y) * 3];
   };
@@ -203,8 +216,10 @@ void stitchSeams(const BakeGeometry& geometry, const LightmapAtlas& atlas, const
 
 }  // namespace
 
-LightmapPages buildLightmapPages(const BakeGeometry& geometry, const LightmapAtlas& atlas, const TexelSet& texels,
-                                 const std::vector<TexelIrradiance>& lighting, const PageSettings& settings) {
+LightmapPages buildLightmapPages(const BakeGeometry& geometry, const LightmapAtlas& atlas,
+                                 const TexelSet& texels,
+                                 const std::vector<TexelIrradiance>& lighting,
+                                 const PageSettings& settings) {
   LightmapPages pages = blankPages(texels);
   writeSamples(texels, lighting, filteredIndirect(atlas, texels, lighting, settings), pages);
   for (int p = 0; p < texels.page_count; ++p) {

@@ -18,7 +18,8 @@ uint8_t toSrgb8(double linear) {
 
 }  // namespace
 
-Status writeLightmapPreviewPng(const std::vector<LightmapImage>& pages, const std::string& path, double exposure) {
+Status writeLightmapPreviewPng(const std::vector<LightmapImage>& pages, const std::string& path,
+                               double exposure) {
   if (pages.empty()) return Status(StatusCode::kInvalidInput, path + ": no lightmap pages to show");
   int width = 0, height = 0;
   for (const LightmapImage& page : pages) {

@@ -25,7 +25,8 @@ void parallelFor(size_t count, size_t chunk, int threads, const Body& body) {
   }
   std::atomic<size_t> next{0};
   auto worker = [&] {
-    for (size_t c = next++; c < chunks; c = next++) body(c * chunk, std::min(count, (c + 1) * chunk));
+    for (size_t c = next++; c < chunks; c = next++)
+      body(c * chunk, std::min(count, (c + 1) * chunk));
   };
   std::vector<std::thread> pool;
   const int extra = int(std::min<size_t>(size_t(threads), chunks)) - 1;

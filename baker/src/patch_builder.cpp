@@ -55,8 +55,9 @@ void growBounds(Aabb& box, const Vec3& p) {
 
 // Adds the patch made of `elements` (sums over them in double, then one
 // rounding) and marks it on cluster `index`.
-void addPatch(const BakeGeometry& geometry, const ElementTree& tree, const std::vector<Rgb> (&radiosity)[2],
-              const std::vector<int>& elements, int32_t index, PatchSet& out) {
+void addPatch(const BakeGeometry& geometry, const ElementTree& tree,
+              const std::vector<Rgb> (&radiosity)[2], const std::vector<int>& elements,
+              int32_t index, PatchSet& out) {
   const uint32_t patch_index = uint32_t(out.patches.size());
   std::vector<uint32_t> ids;
   ids.reserve(elements.size());
@@ -108,10 +109,11 @@ void growClusterBounds(PatchSet& out) {
 
 }  // namespace
 
-PatchSet buildPatches(const BakeGeometry& geometry, const RadiositySolver& solver, double max_area_m2,
-                      double max_normal_rad) {
+PatchSet buildPatches(const BakeGeometry& geometry, const RadiositySolver& solver,
+                      double max_area_m2, double max_normal_rad) {
   const ElementTree& tree = solver.tree();
-  const std::vector<Rgb> radiosity[2] = {solver.triangleRadiosity(true), solver.triangleRadiosity(false)};
+  const std::vector<Rgb> radiosity[2] = {solver.triangleRadiosity(true),
+                                         solver.triangleRadiosity(false)};
   const double cos_max = std::cos(max_normal_rad);
   PatchSet out;
   out.element_patch.assign(geometry.triangleCount() * 2, -1);

@@ -17,13 +17,15 @@ namespace fs = std::filesystem;
 
 }  // namespace
 
-Expected<std::vector<ProbeResult>> probeBake(const std::string& out_dir, const std::vector<ProbePoint>& points) {
+Expected<std::vector<ProbeResult>> probeBake(const std::string& out_dir,
+                                             const std::vector<ProbePoint>& points) {
   const std::string bake_path = (fs::path(out_dir) / "bake.svit").string();
   Expected<BakeData> bake = readBakeFile(bake_path);
   if (!bake.ok()) return bake.status();
   const std::string report_path = (fs::path(out_dir) / "report.json").string();
   std::ifstream report_file(report_path);
-  if (!report_file) return Status(StatusCode::kNotFound, report_path + ": cannot open (it names the level)");
+  if (!report_file)
+    return Status(StatusCode::kNotFound, report_path + ": cannot open (it names the level)");
   nlohmann::json report;
   try {
     report_file >> report;
@@ -37,19 +39,24 @@ Expected<std::vector<ProbeResult>> probeBake(const std::string& out_dir, const s
   Expected<Scene> scene = loadLevel(level_path, LoadOptions{true});
   if (!scene.ok()) return scene.status();
   if (hashLevel(*scene) != bake->level_hash) {
-    return Status(StatusCode::kInvalidInput, bake_path + ": the level " + level_path + " changed since it was baked; bake it again");
+    return Status(StatusCode::kInvalidInput, bake_path + ": the level " + level_path +
+                                                 " changed since it was baked; bake it again");
   }
   Expected<BakedSurfaces> surfaces = BakedSurfaces::build(*scene, *bake);
-  if (!surfaces.ok()) return Status(surfaces.status().code(), bake_path + ": " + surfaces.status().message());
+  if (!surfaces.ok())
+    return Status(surfaces.status().code(), bake_path + ": " + surfaces.status().message());
   Expected<std::vector<LightmapImage>> pages = readLightmapPages(*bake, out_dir);
   if (!pages.ok()) return pages.status();
   const double cos_limit = 0.5;  // 60 degrees
   std::vector<ProbeResult> results;
   for (const ProbePoint& point : points) {
-    const std::optional<SurfaceHit> hit = surfaces->nearest(point.position, point.normal, cos_limit);
+    const std::optional<SurfaceHit> hit =
+        surfaces->nearest(point.position, point.normal, cos_limit);
     if (!hit) {
-      return Status(StatusCode::kInvalidInput, "no static surface faces the normal (" + std::to_string(point.normal.x) + ", " +
-                                                   std::to_string(point.normal.y) + ", " + std::to_string(point.normal.z) + ")");
+      return Status(StatusCode::kInvalidInput, "no static surface faces the normal (" +
+                                                   std::to_string(point.normal.x) + ", " +
+                                                   std::to_string(point.normal.y) + ", " +
+                                                   std::to_string(point.normal.z) + ")");
     }
     ProbeResult result;
     result.irradiance = (*pages)[hit->page].sampleBilinear(hit->uv);

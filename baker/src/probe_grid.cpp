@@ -38,9 +38,10 @@ constexpr double kSpherePdf = 1.0 / (4.0 * kPi);
 // The emissive triangles, to sample points on by luminance x area.
 struct EmitterTable {
   std::vector<uint32_t> triangle;
-  std::vector<double> cdf;        // inclusive, last = total
-  std::vector<double> weight;     // per geometry triangle: channel-sum luminance (cd/m2), 0 when not emissive
-  double total = 0;               // sum of luminance x area (cd)
+  std::vector<double> cdf;  // inclusive, last = total
+  // per geometry triangle: channel-sum luminance (cd/m2), 0 when not emissive
+  std::vector<double> weight;
+  double total = 0;  // sum of luminance x area (cd)
 
   explicit EmitterTable(const BakeGeometry& g) : weight(g.triangleCount(), 0.0) {
     for (size_t t = 0; t < g.triangleCount(); ++t) {
@@ -74,13 +75,12 @@ struct EmitterTable {
 // of the zenith angle, ground below.
 glm::dvec3 skyLuminance(const Sky& sky, const glm::dvec3& d) {
   switch (sky.model) {
-    case SkyModel::kNone:
-      return glm::dvec3(0.0);
-    case SkyModel::kUniform:
-      return d.y >= 0 ? dvec(sky.zenith_luminance) : glm::dvec3(0.0);
+    case SkyModel::kNone: return glm::dvec3(0.0);
+    case SkyModel::kUniform: return d.y >= 0 ? dvec(sky.zenith_luminance) : glm::dvec3(0.0);
     case SkyModel::kGradient:
       if (d.y < 0) return dvec(sky.ground_luminance);
-      return dvec(sky.horizon_luminance) + (dvec(sky.zenith_luminance) - dvec(sky.horizon_luminance)) * d.y;
+      return dvec(sky.horizon_luminance) +
+             (dvec(sky.zenith_luminance) - dvec(sky.horizon_luminance)) * d.y;
   }
   return glm::dvec3(0.0);
 }
@@ -98,7 +98,8 @@ GridLayout layOutGrid(const BakeGeometry& geometry, double spacing_m) {
   const glm::dvec3 extent = hi - lo;
   for (int a = 0; a < 3; ++a) {
     const double cells = std::ceil(extent[a] / spacing_m);
-    const uint32_t n = uint32_t(std::clamp(std::isfinite(cells) ? cells : 1.0, 1.0, double(kMaxProbesPerAxis)));
+    const uint32_t n =
+        uint32_t(std::clamp(std::isfinite(cells) ? cells : 1.0, 1.0, double(kMaxProbesPerAxis)));
     layout.grid.dims[a] = n;
     layout.spacing[a] = extent[a] > 0 ? extent[a] / n : spacing_m;
     layout.origin[a] = extent[a] > 0 ? lo[a] + 0.5 * layout.spacing[a] : lo[a];
@@ -137,7 +138,8 @@ void aimProbeRays(const ProbeContext& c, const glm::dvec3& position, Rng& rng, P
   }
   // Points on the emitters, the triangle choice stratified.
   for (uint32_t j = 0; j < c.emitter_samples; ++j) {
-    const uint32_t t = c.emitters.triangle[c.emitters.pick((double(j) + rng.uniformDouble()) / c.emitter_samples)];
+    const uint32_t t =
+        c.emitters.triangle[c.emitters.pick((double(j) + rng.uniformDouble()) / c.emitter_samples)];
     const glm::dvec2 b = uniformTriangle(rng.uniformDouble(), rng.uniformDouble());
     const glm::dvec3 c0 = dvec(c.geometry.corner(t, 0)), c1 = dvec(c.geometry.corner(t, 1)),
                      c2 = dvec(c.geometry.corner(t, 2));
@@ -175,11 +177,13 @@ glm::dvec3 emissionWeighted(const ProbeContext& c, const RayHit& h, const glm::d
 
 // Projects probe p's radiance into grid.sh; false when most of its rays
 // see backs (the probe is inside something solid).
-bool gatherProbe(const ProbeContext& c, const GridLayout& layout, size_t p, ProbeRays& r, std::vector<float>& sh) {
+bool gatherProbe(const ProbeContext& c, const GridLayout& layout, size_t p, ProbeRays& r,
+                 std::vector<float>& sh) {
   const BakeGeometry& geometry = c.geometry;
   const size_t nx = layout.grid.dims[0], ny = layout.grid.dims[1];
   const size_t ix = p % nx, iy = (p / nx) % ny, iz = p / (nx * ny);
-  const glm::dvec3 position = layout.origin + glm::dvec3(double(ix), double(iy), double(iz)) * layout.spacing;
+  const glm::dvec3 position =
+      layout.origin + glm::dvec3(double(ix), double(iy), double(iz)) * layout.spacing;
   Rng rng(hashIds(c.seed, kProbeStream, p));
   aimProbeRays(c, position, rng, r);
   c.caster.intersect(r.rays, r.hits);
@@ -192,8 +196,10 @@ bool gatherProbe(const ProbeContext& c, const GridLayout& layout, size_t p, Prob
       sums.add(d, skyLuminance(c.scene.sky, d) / (kProbeRays * kSpherePdf));
     } else if (h.front || geometry.double_sided[h.triangle]) {
       // Leaving radiance of a Lambertian side: (pi L_e + albedo E) / pi.
-      const Rgb e = c.solver.irradianceAt(h.triangle, h.front, h.u, h.v, InterpolationMode::kVertex);
-      sums.add(d, dvec(geometry.albedo[h.triangle]) * dvec(e) / kPi / (kProbeRays * kSpherePdf) + emissionWeighted(c, h, d));
+      const Rgb e =
+          c.solver.irradianceAt(h.triangle, h.front, h.u, h.v, InterpolationMode::kVertex);
+      sums.add(d, dvec(geometry.albedo[h.triangle]) * dvec(e) / kPi / (kProbeRays * kSpherePdf) +
+                      emissionWeighted(c, h, d));
     } else {
       ++back_hits;  // the black back of a single-sided surface
     }
@@ -202,7 +208,8 @@ bool gatherProbe(const ProbeContext& c, const GridLayout& layout, size_t p, Prob
   // triangle's emitting side first (anything else in between shadows it).
   for (uint32_t j = 0; j < c.emitter_samples; ++j) {
     const RayHit& h = r.hits[kProbeRays + j];
-    if (!h.hit() || h.triangle != r.target[j] || !(h.front || geometry.double_sided[h.triangle])) continue;
+    if (!h.hit() || h.triangle != r.target[j] || !(h.front || geometry.double_sided[h.triangle]))
+      continue;
     const glm::dvec3 d = dvec(r.rays[kProbeRays + j].direction);
     sums.add(d, emissionWeighted(c, h, d));
   }
@@ -244,8 +251,9 @@ void fillInvalidProbes(BakeProbeGrid& grid, const std::vector<uint8_t>& valid) {
 
 }  // namespace
 
-Expected<BakeProbeGrid> buildProbeGrid(const Scene& scene, const BakeGeometry& geometry, const RayCaster& caster,
-                                       const RadiositySolver& solver, double spacing_m, uint64_t seed, int threads,
+Expected<BakeProbeGrid> buildProbeGrid(const Scene& scene, const BakeGeometry& geometry,
+                                       const RayCaster& caster, const RadiositySolver& solver,
+                                       double spacing_m, uint64_t seed, int threads,
                                        const std::atomic<bool>* cancel) {
   GridLayout layout = layOutGrid(geometry, spacing_m);
   BakeProbeGrid& grid = layout.grid;
@@ -264,9 +272,11 @@ Expected<BakeProbeGrid> buildProbeGrid(const Scene& scene, const BakeGeometry& g
     scratch.rays.resize(ray_count);
     scratch.hits.resize(ray_count);
     scratch.target.resize(emitter_samples);
-    for (size_t p = begin; p < end; ++p) valid[p] = gatherProbe(context, layout, p, scratch, grid.sh) ? 1 : 0;
+    for (size_t p = begin; p < end; ++p)
+      valid[p] = gatherProbe(context, layout, p, scratch, grid.sh) ? 1 : 0;
   });
-  if (cancel && cancel->load()) return Status(StatusCode::kCancelled, "runtime sections: probes cancelled");
+  if (cancel && cancel->load())
+    return Status(StatusCode::kCancelled, "runtime sections: probes cancelled");
   fillInvalidProbes(grid, valid);
   return std::move(layout.grid);
 }

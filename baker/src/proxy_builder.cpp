@@ -30,7 +30,8 @@ constexpr size_t kChunkFaces = 256;
 
 // Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision
 // Detection, 5.1.5), as a squared distance.
-double distance2ToTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+double distance2ToTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
+                           const glm::dvec3& c) {
   const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
   auto d2to = [&](const glm::dvec3& q) { return glm::dot(p - q, p - q); };
@@ -46,7 +47,8 @@ double distance2ToTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0 && d2 >= 0 && d6 <= 0) return d2to(a + ac * (d2 / (d2 - d6)));
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return d2to(b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return d2to(b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
   const double denom = 1.0 / (va + vb + vc);
   return d2to(a + ab * (vb * denom) + ac * (vc * denom));
 }
@@ -71,7 +73,8 @@ struct CandidateSweep {
   std::vector<double> keys;     // centre[axis] in that order
 
   explicit CandidateSweep(const std::vector<Candidate>& candidates) {
-    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()),
+        hi(-std::numeric_limits<double>::infinity());
     for (const Candidate& c : candidates) {
       lo = glm::min(lo, c.centre);
       hi = glm::max(hi, c.centre);
@@ -93,7 +96,8 @@ struct CandidateSweep {
 // (or of any candidate when `any_side`); -1 when none qualifies. Ties go to
 // the earliest candidate, as a scan in candidate order would give them.
 int32_t nearestPatch(const BakeGeometry& geometry, const std::vector<Candidate>& candidates,
-                     const CandidateSweep& sweep, const glm::dvec3& p, const glm::dvec3& n, bool any_side) {
+                     const CandidateSweep& sweep, const glm::dvec3& p, const glm::dvec3& n,
+                     bool any_side) {
   double best = std::numeric_limits<double>::infinity();
   uint32_t best_index = std::numeric_limits<uint32_t>::max();
   auto visit = [&](uint32_t index) {
@@ -102,7 +106,8 @@ int32_t nearestPatch(const BakeGeometry& geometry, const std::vector<Candidate>&
     // Bounding-sphere cut: a sphere farther than the best cannot be nearer.
     const double lower = std::max(0.0, glm::length(p - c.centre) - c.radius);
     if (lower * lower > best) return;
-    const double d2 = distance2ToTriangle(p, dvec(geometry.corner(c.triangle, 0)), dvec(geometry.corner(c.triangle, 1)),
+    const double d2 = distance2ToTriangle(p, dvec(geometry.corner(c.triangle, 0)),
+                                          dvec(geometry.corner(c.triangle, 1)),
                                           dvec(geometry.corner(c.triangle, 2)));
     if (d2 < best || (d2 == best && index < best_index)) {
       best = d2;
@@ -114,21 +119,24 @@ int32_t nearestPatch(const BakeGeometry& geometry, const std::vector<Candidate>&
     const double gap = std::abs(key - p[sweep.axis]) - sweep.max_radius;
     return gap > 0 && gap * gap > best;
   };
-  const size_t start = size_t(std::lower_bound(sweep.keys.begin(), sweep.keys.end(), p[sweep.axis]) - sweep.keys.begin());
+  const size_t start = size_t(
+      std::lower_bound(sweep.keys.begin(), sweep.keys.end(), p[sweep.axis]) - sweep.keys.begin());
   size_t up = start, down = start;  // next to visit: up, and down - 1
   while (up < sweep.keys.size() || down > 0) {
     const bool up_open = up < sweep.keys.size() && !outOfReach(sweep.keys[up]);
     const bool down_open = down > 0 && !outOfReach(sweep.keys[down - 1]);
     if (!up_open && !down_open) break;
     // The nearer side first, so `best` shrinks early.
-    const bool go_up = up_open && (!down_open || sweep.keys[up] - p[sweep.axis] <= p[sweep.axis] - sweep.keys[down - 1]);
+    const bool go_up = up_open && (!down_open || sweep.keys[up] - p[sweep.axis] <=
+                                                     p[sweep.axis] - sweep.keys[down - 1]);
     if (go_up) {
       visit(sweep.order[up++]);
     } else {
       visit(sweep.order[--down]);
     }
   }
-  return best_index == std::numeric_limits<uint32_t>::max() ? -1 : int32_t(candidates[best_index].patch);
+  return best_index == std::numeric_limits<uint32_t>::max() ? -1
+                                                            : int32_t(candidates[best_index].patch);
 }
 
 // One instance's triangles welded by exact position (float bits),
@@ -136,7 +144,8 @@ int32_t nearestPatch(const BakeGeometry& geometry, const std::vector<Candidate>&
 struct WeldedMesh {
   std::vector<glm::dvec3> positions;
   std::vector<uint32_t> indices;
-  std::unordered_map<uint64_t, std::vector<uint32_t>> weld;  // position hash -> vertices (lookup only)
+  // position hash -> vertices (lookup only)
+  std::unordered_map<uint64_t, std::vector<uint32_t>> weld;
 };
 
 void weldInstance(const BakeGeometry& geometry, size_t first, size_t last, WeldedMesh& mesh) {
@@ -175,7 +184,8 @@ SimplifiedMesh simplifyInstance(WeldedMesh& mesh, size_t faces, double ratio) {
     return simplified;
   }
   std::vector<glm::dvec3>& positions = mesh.positions;
-  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()),
+      hi(-std::numeric_limits<double>::infinity());
   for (const glm::dvec3& q : positions) {
     lo = glm::min(lo, q);
     hi = glm::max(hi, q);
@@ -191,13 +201,15 @@ SimplifiedMesh simplifyInstance(WeldedMesh& mesh, size_t faces, double ratio) {
 }
 
 // Candidates: the instance's existing triangle sides that belong to a patch.
-void collectCandidates(const BakeGeometry& geometry, const PatchSet& patches, size_t first, size_t last,
-                       std::vector<Candidate>& candidates) {
+void collectCandidates(const BakeGeometry& geometry, const PatchSet& patches, size_t first,
+                       size_t last, std::vector<Candidate>& candidates) {
   candidates.clear();
   for (size_t t = first; t < last; ++t) {
-    const glm::dvec3 a = dvec(geometry.corner(t, 0)), b = dvec(geometry.corner(t, 1)), c = dvec(geometry.corner(t, 2));
+    const glm::dvec3 a = dvec(geometry.corner(t, 0)), b = dvec(geometry.corner(t, 1)),
+                     c = dvec(geometry.corner(t, 2));
     const glm::dvec3 centre = (a + b + c) / 3.0;
-    const double radius = std::max({glm::length(a - centre), glm::length(b - centre), glm::length(c - centre)});
+    const double radius =
+        std::max({glm::length(a - centre), glm::length(b - centre), glm::length(c - centre)});
     for (int side = 0; side < 2; ++side) {
       const int32_t patch = patches.element_patch[t * 2 + size_t(side)];
       if (patch < 0) continue;
@@ -224,7 +236,8 @@ void appendProxyFaces(const BakeGeometry& geometry, const std::vector<Candidate>
       const glm::dvec3 b = simplified.positions[simplified.indices[f * 3 + 1]];
       const glm::dvec3 c = simplified.positions[simplified.indices[f * 3 + 2]];
       const glm::dvec3 centroid = (a + b + c) / 3.0;
-      const glm::dvec3 n = glm::cross(b - a, c - a);  // unnormalised: only its sign against sides matters
+      // unnormalised: only its sign against sides matters
+      const glm::dvec3 n = glm::cross(b - a, c - a);
       int32_t patch = nearestPatch(geometry, candidates, sweep, centroid, n, false);
       // A face turned against every original side (a collapse fold, or a
       // zero-area face) still stands for the nearest surface.
@@ -236,14 +249,15 @@ void appendProxyFaces(const BakeGeometry& geometry, const std::vector<Candidate>
 
 }  // namespace
 
-Expected<BakeProxyMesh> buildProxy(const BakeGeometry& geometry, const PatchSet& patches, double ratio, int threads,
-                                   const std::atomic<bool>* cancel) {
+Expected<BakeProxyMesh> buildProxy(const BakeGeometry& geometry, const PatchSet& patches,
+                                   double ratio, int threads, const std::atomic<bool>* cancel) {
   BakeProxyMesh proxy;
   const size_t triangles = geometry.triangleCount();
   WeldedMesh welded;
   std::vector<Candidate> candidates;
   for (size_t first = 0; first < triangles;) {
-    if (cancel && cancel->load()) return Status(StatusCode::kCancelled, "runtime sections: proxy cancelled");
+    if (cancel && cancel->load())
+      return Status(StatusCode::kCancelled, "runtime sections: proxy cancelled");
     // Triangles of one instance are contiguous (BakeGeometry order).
     size_t last = first;
     while (last < triangles && geometry.instance[last] == geometry.instance[first]) ++last;

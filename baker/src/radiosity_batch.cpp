@@ -26,10 +26,10 @@ enum class ShooterKind : uint8_t { kLight, kEmission, kEnergy };
 
 struct Shooter {
   ShooterKind kind;
-  int index;           // light index, or node
-  glm::dvec3 rgb;      // flux to shoot before the batch fraction, lm
-  glm::dvec3 level;    // kEnergy: the node's unshot irradiance (for choosing leaves)
-  double y;            // luminance of rgb
+  int index;         // light index, or node
+  glm::dvec3 rgb;    // flux to shoot before the batch fraction, lm
+  glm::dvec3 level;  // kEnergy: the node's unshot irradiance (for choosing leaves)
+  double y;          // luminance of rgb
 };
 
 struct RayPayload {
@@ -49,22 +49,23 @@ struct BatchHit {
 // it hit.
 struct BatchRays {
   std::vector<Shooter> shooters;
-  size_t count = 0;      // rays
-  double fraction = 0;   // share of every shooter's unshot flux this batch shoots
-  double ray_y = 0;      // luminous flux per ray, lm
+  size_t count = 0;             // rays
+  double fraction = 0;          // share of every shooter's unshot flux this batch shoots
+  double ray_y = 0;             // luminous flux per ray, lm
   std::vector<uint32_t> owner;  // per ray: index into shooters
   std::vector<Ray> rays;
   std::vector<RayPayload> payload;
   std::vector<RayHit> hits;
-  std::vector<int> hit_leaf;     // per ray: the leaf hit, or -1
-  std::vector<uint8_t> inside;   // per ray: 1 when its origin lies inside a solid
+  std::vector<int> hit_leaf;    // per ray: the leaf hit, or -1
+  std::vector<uint8_t> inside;  // per ray: 1 when its origin lies inside a solid
 };
 
 // The batch's hits, binned per leaf, and the rays that went back to their
 // shooters.
 struct BinnedHits {
   std::vector<BatchHit> hits;
-  std::unordered_map<int, std::vector<uint32_t>> per_leaf;  // looked up only; order comes from `worklist`
+  // looked up only; order comes from `worklist`
+  std::unordered_map<int, std::vector<uint32_t>> per_leaf;
   std::vector<int> worklist;
   std::vector<uint32_t> shooter_rays, returned_rays;  // per shooter
   std::vector<glm::dvec3> returned_flux;              // per shooter, lm
@@ -112,8 +113,8 @@ void RadiositySolver::State::collectShooters(BatchRays& b) const {
   std::vector<Shooter>& shooters = b.shooters;
   for (size_t i = 0; i < lights.size(); ++i) {
     if (light_unshot[i] > 0) {
-      shooters.push_back({ShooterKind::kLight, int(i), lights[i].flux_rgb * light_unshot[i], glm::dvec3(0.0),
-                          lights[i].flux_y * light_unshot[i]});
+      shooters.push_back({ShooterKind::kLight, int(i), lights[i].flux_rgb * light_unshot[i],
+                          glm::dvec3(0.0), lights[i].flux_y * light_unshot[i]});
     }
   }
   for (size_t i = 0; i < emitting_roots.size(); ++i) {
@@ -189,7 +190,8 @@ void RadiositySolver::State::generateRay(BatchRays& b, size_t j) const {
     };
     while (!t.node(n).isLeaf()) {
       const double w0 = weight(t.node(n).child[0]), w1 = weight(t.node(n).child[1]);
-      n = (w0 + w1 > 0 && rng.uniformDouble() * (w0 + w1) >= w0) ? t.node(n).child[1] : t.node(n).child[0];
+      n = (w0 + w1 > 0 && rng.uniformDouble() * (w0 + w1) >= w0) ? t.node(n).child[1]
+                                                                 : t.node(n).child[0];
     }
     const TreeNode& leaf = t.node(n);
     if (sh.kind == ShooterKind::kEnergy) origin_leaf = n;
@@ -254,7 +256,8 @@ void RadiositySolver::State::findInsideOrigins(BatchRays& b) const {
   b.inside.assign(rays, 0);
   std::vector<uint32_t> suspects;
   for (size_t j = 0; j < rays; ++j) {
-    if (b.payload[j].origin_leaf >= 0 && b.hits[j].hit() && t.elementRoot(b.hits[j].triangle, b.hits[j].front) < 0) {
+    if (b.payload[j].origin_leaf >= 0 && b.hits[j].hit() &&
+        t.elementRoot(b.hits[j].triangle, b.hits[j].front) < 0) {
       suspects.push_back(uint32_t(j));
     }
   }
@@ -309,7 +312,8 @@ BinnedHits RadiositySolver::State::binHits(const BatchRays& b) {
     bh.v = h.v;
     const size_t tri = h.triangle;
     const glm::dvec3 c0 = dvec(geometry->corner(tri, 0));
-    bh.position = c0 + double(h.u) * (dvec(geometry->corner(tri, 1)) - c0) + double(h.v) * (dvec(geometry->corner(tri, 2)) - c0);
+    bh.position = c0 + double(h.u) * (dvec(geometry->corner(tri, 1)) - c0) +
+                  double(h.v) * (dvec(geometry->corner(tri, 2)) - c0);
     bh.flux = b.payload[j].flux;
     const int leaf = b.hit_leaf[j];
     auto [it, inserted] = out.per_leaf.try_emplace(leaf);
@@ -417,7 +421,8 @@ void RadiositySolver::State::depositHits(SubtreeHits& subtrees) {
     const TreeNode& node = tree->node(n);
     const AccumulatedHits& a = accumulated[n];
     if (!node.isLeaf()) {
-      const double larger_m2 = std::max(tree->node(node.child[0]).area_m2, tree->node(node.child[1]).area_m2);
+      const double larger_m2 =
+          std::max(tree->node(node.child[0]).area_m2, tree->node(node.child[1]).area_m2);
       if (double(a.count) * larger_m2 >= double(settings.min_hits_per_element) * node.area_m2) {
         for (int c : {node.child[1], node.child[0]}) {
           if (accumulated.count(c)) stack.push_back(c);
@@ -458,7 +463,8 @@ void RadiositySolver::State::returnInsideFlux(const BatchRays& b, const BinnedHi
     }
     const glm::dvec3& reflectance_area = tree->node(n).reflectance_area;
     glm::dvec3 level(0.0);
-    for (int c = 0; c < 3; ++c) level[c] = reflectance_area[c] > 0 ? binned.returned_flux[i][c] / reflectance_area[c] : 0.0;
+    for (int c = 0; c < 3; ++c)
+      level[c] = reflectance_area[c] > 0 ? binned.returned_flux[i][c] / reflectance_area[c] : 0.0;
     e_unshot[size_t(n)] += level;
     pending.insert(n);
   }

@@ -23,7 +23,8 @@ glm::dvec2 barycentric2d(const float (&t)[3][2], double px, double py, int i0, i
 
 }  // namespace
 
-const std::vector<glm::dvec3>& RadiositySolver::State::currentLevels(std::vector<glm::dvec3>& scratch) const {
+const std::vector<glm::dvec3>& RadiositySolver::State::currentLevels(
+    std::vector<glm::dvec3>& scratch) const {
   if (weight_sum <= 0) return e_pass;
   scratch.resize(e_sum.size());
   for (size_t n = 0; n < e_sum.size(); ++n) scratch[n] = e_sum[n] / weight_sum;
@@ -70,7 +71,7 @@ std::vector<glm::dvec3> RadiositySolver::State::currentMeans() const {
 }
 
 double RadiositySolver::State::referenceError(const std::vector<glm::dvec3>& means,
-                                               const std::vector<Rgb>& against) const {
+                                              const std::vector<Rgb>& against) const {
   double area = 0, difference = 0, reference_sum = 0;
   for (size_t t = 0; t < geometry->triangleCount() && t < against.size(); ++t) {
     const double a = geometry->areas_m2[t];
@@ -108,7 +109,8 @@ double RadiositySolver::State::estimateError(const std::vector<glm::dvec3>& mean
     statistical = std::sqrt(variance_sum / area) / mean;
   } else {
     // Before two passes exist: Poisson error of the mean hits per element.
-    const double hits_per_element = double(stats.hits) / double(std::max<size_t>(1, stats.elements));
+    const double hits_per_element =
+        double(stats.hits) / double(std::max<size_t>(1, stats.elements));
     statistical = 1.0 / std::sqrt(1.0 + hits_per_element);
   }
   // The ambient share is an approximation, not a measurement: count all of it.
@@ -127,7 +129,8 @@ void RadiositySolver::State::recordPoint(double t_s) {
   if (!reference.empty()) point.ref_rel_error = referenceError(means, reference);
   series.push_back(point);
   last_point_s = t_s;
-  last_point_cost_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  last_point_cost_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::vector<Rgb> RadiositySolver::triangleIrradiance(bool front) const {
@@ -183,7 +186,8 @@ void RadiositySolver::prepareQueries() const {
   }
 }
 
-Rgb RadiositySolver::irradianceAt(uint32_t triangle, bool front, double u, double v, InterpolationMode mode) const {
+Rgb RadiositySolver::irradianceAt(uint32_t triangle, bool front, double u, double v,
+                                  InterpolationMode mode) const {
   const State& s = *state_;
   const ElementTree& tree = *s.tree;
   const int root = tree.elementRoot(triangle, front);
@@ -205,7 +209,8 @@ Rgb RadiositySolver::irradianceAt(uint32_t triangle, bool front, double u, doubl
     }
     return area > 0 ? sum / area : s.leaf_value[size_t(leaf)];
   };
-  const glm::dvec3 corner[3] = {vertexValue(node.vertex[0]), vertexValue(node.vertex[1]), vertexValue(node.vertex[2])};
+  const glm::dvec3 corner[3] = {vertexValue(node.vertex[0]), vertexValue(node.vertex[1]),
+                                vertexValue(node.vertex[2])};
   if (mode == InterpolationMode::kVertex) {
     const glm::dvec2 b = barycentric2d(node.bary, u, v, 0, 1, 2);
     return rgb((1.0 - b.x - b.y) * corner[0] + b.x * corner[1] + b.y * corner[2]);
@@ -222,24 +227,30 @@ Rgb RadiositySolver::irradianceAt(uint32_t triangle, bool front, double u, doubl
   double best_score = kNoLowerBound;
   glm::dvec3 best(0.0);
   for (int k = 0; k < 3; ++k) {
-    const float sub[3][2] = {{fan[3][0], fan[3][1]}, {fan[k][0], fan[k][1]}, {fan[(k + 1) % 3][0], fan[(k + 1) % 3][1]}};
+    const float sub[3][2] = {
+        {fan[3][0], fan[3][1]}, {fan[k][0], fan[k][1]}, {fan[(k + 1) % 3][0], fan[(k + 1) % 3][1]}};
     const glm::dvec2 b = barycentric2d(sub, u, v, 0, 1, 2);
     const double score = std::min({1.0 - b.x - b.y, b.x, b.y});
     if (score > best_score) {
       best_score = score;
-      best = (1.0 - b.x - b.y) * s.leaf_value[size_t(leaf)] + b.x * corner[k] + b.y * corner[(k + 1) % 3];
+      best = (1.0 - b.x - b.y) * s.leaf_value[size_t(leaf)] + b.x * corner[k] +
+             b.y * corner[(k + 1) % 3];
     }
   }
   return rgb(best);
 }
 
-void RadiositySolver::setReference(std::vector<Rgb> front_irradiance) { state_->reference = std::move(front_irradiance); }
+void RadiositySolver::setReference(std::vector<Rgb> front_irradiance) {
+  state_->reference = std::move(front_irradiance);
+}
 
 double RadiositySolver::relativeErrorAgainst(const std::vector<Rgb>& reference) const {
   return state_->referenceError(state_->currentMeans(), reference);
 }
 
-double RadiositySolver::estimatedRelativeError() const { return state_->estimateError(state_->currentMeans()); }
+double RadiositySolver::estimatedRelativeError() const {
+  return state_->estimateError(state_->currentMeans());
+}
 const std::vector<ErrorPoint>& RadiositySolver::errorSeries() const { return state_->series; }
 const ElementTree& RadiositySolver::tree() const { return *state_->tree; }
 

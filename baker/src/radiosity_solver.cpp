@@ -28,7 +28,7 @@ using Clock = std::chrono::steady_clock;
 // Emission of original triangle `t` over a sub-triangle, from the material's
 // emissive texture (for splitting textured emitters).
 EmissionOver makeEmissionOver(const Scene& scene, const BakeGeometry& geometry) {
-  return [&scene, &geometry](uint32_t t, const float (&bary)[3][2]) -> glm::dvec3 {
+  return [&scene, &geometry](uint32_t t, const float(&bary)[3][2]) -> glm::dvec3 {
     const Instance& instance = scene.instances[geometry.instance[t]];
     const Mesh& mesh = scene.meshes[size_t(instance.mesh)];
     const uint32_t mt = geometry.mesh_triangle[t];
@@ -40,11 +40,14 @@ EmissionOver makeEmissionOver(const Scene& scene, const BakeGeometry& geometry) 
     Vec2 corner_uv[3];
     for (int k = 0; k < 3; ++k) {
       // Sub-triangle corner in the original triangle's UVs.
-      const Vec2 a = uvs[mesh.indices[mt * 3]], b = uvs[mesh.indices[mt * 3 + 1]], c = uvs[mesh.indices[mt * 3 + 2]];
+      const Vec2 a = uvs[mesh.indices[mt * 3]], b = uvs[mesh.indices[mt * 3 + 1]],
+                 c = uvs[mesh.indices[mt * 3 + 2]];
       const float u = bary[k][0], v = bary[k][1];
-      corner_uv[k] = transformUv(ref, {a.x + u * (b.x - a.x) + v * (c.x - a.x), a.y + u * (b.y - a.y) + v * (c.y - a.y)});
+      corner_uv[k] = transformUv(
+          ref, {a.x + u * (b.x - a.x) + v * (c.x - a.x), a.y + u * (b.y - a.y) + v * (c.y - a.y)});
     }
-    const Rgb mean = meanOverTriangle(scene.textures[size_t(ref.texture)], corner_uv[0], corner_uv[1], corner_uv[2], true);
+    const Rgb mean = meanOverTriangle(scene.textures[size_t(ref.texture)], corner_uv[0],
+                                      corner_uv[1], corner_uv[2], true);
     return {factor.r * mean.r, factor.g * mean.g, factor.b * mean.b};
   };
 }
@@ -69,29 +72,33 @@ std::string triangleLabel(const Scene& scene, const BakeGeometry& geometry, size
 
 // Settings in range, and every triangle's albedo in [0, 1] and emission
 // finite and >= 0; errors name the element as the file does.
-Status checkSolverInputs(const Scene& scene, const BakeGeometry& geometry, const RadiositySettings& settings) {
+Status checkSolverInputs(const Scene& scene, const BakeGeometry& geometry,
+                         const RadiositySettings& settings) {
   if (!(settings.subdiv > 0) || !(settings.min_perimeter_m >= 0) || settings.first_pass_rays == 0 ||
-      !(settings.pass_growth >= 1.0) || settings.max_batch_rays == 0 || !(settings.pass_end_rays >= 1.0) ||
-      !(settings.emitter_split_ratio > 1.0) || settings.min_hits_per_element == 0 || settings.threads < 0) {
-    return Status(StatusCode::kInvalidInput, "radiosity settings: out of range (subdiv > 0, min_perimeter_m >= 0, "
-                                             "first_pass_rays > 0, pass_growth >= 1, max_batch_rays > 0, "
-                                             "pass_end_rays >= 1, emitter_split_ratio > 1, "
-                                             "min_hits_per_element > 0, threads >= 0)");
+      !(settings.pass_growth >= 1.0) || settings.max_batch_rays == 0 ||
+      !(settings.pass_end_rays >= 1.0) || !(settings.emitter_split_ratio > 1.0) ||
+      settings.min_hits_per_element == 0 || settings.threads < 0) {
+    return Status(StatusCode::kInvalidInput,
+                  "radiosity settings: out of range (subdiv > 0, min_perimeter_m >= 0, "
+                  "first_pass_rays > 0, pass_growth >= 1, max_batch_rays > 0, "
+                  "pass_end_rays >= 1, emitter_split_ratio > 1, "
+                  "min_hits_per_element > 0, threads >= 0)");
   }
   for (size_t t = 0; t < geometry.triangleCount(); ++t) {
     const Rgb& a = geometry.albedo[t];
     const Rgb& e = geometry.emission[t];
     const bool albedo_ok = a.r >= 0 && a.r <= 1 && a.g >= 0 && a.g <= 1 && a.b >= 0 && a.b <= 1;
-    const bool emission_ok = std::isfinite(e.r) && std::isfinite(e.g) && std::isfinite(e.b) && e.r >= 0 &&
-                             e.g >= 0 && e.b >= 0;
+    const bool emission_ok = std::isfinite(e.r) && std::isfinite(e.g) && std::isfinite(e.b) &&
+                             e.r >= 0 && e.g >= 0 && e.b >= 0;
     if (albedo_ok && emission_ok) continue;
     char values[160];
     if (!emission_ok) {
-      std::snprintf(values, sizeof values, "emitted luminance (%g, %g, %g) cd/m2 must be finite and >= 0",
-                    double(e.r), double(e.g), double(e.b));
+      std::snprintf(values, sizeof values,
+                    "emitted luminance (%g, %g, %g) cd/m2 must be finite and >= 0", double(e.r),
+                    double(e.g), double(e.b));
     } else {
-      std::snprintf(values, sizeof values, "albedo (%g, %g, %g) must be in [0, 1]", double(a.r), double(a.g),
-                    double(a.b));
+      std::snprintf(values, sizeof values, "albedo (%g, %g, %g) must be in [0, 1]", double(a.r),
+                    double(a.g), double(a.b));
     }
     return Status(StatusCode::kInvalidInput, triangleLabel(scene, geometry, t) + ": " + values);
   }
@@ -103,9 +110,9 @@ Status checkSolverInputs(const Scene& scene, const BakeGeometry& geometry, const
 RadiositySolver::RadiositySolver() : state_(std::make_unique<State>()) {}
 RadiositySolver::~RadiositySolver() = default;
 
-Expected<std::unique_ptr<RadiositySolver>> RadiositySolver::create(const Scene& scene, const BakeGeometry& geometry,
-                                                                   const RayCaster& caster,
-                                                                   const RadiositySettings& settings) {
+Expected<std::unique_ptr<RadiositySolver>> RadiositySolver::create(
+    const Scene& scene, const BakeGeometry& geometry, const RayCaster& caster,
+    const RadiositySettings& settings) {
   if (Status s = checkSolverInputs(scene, geometry, settings); !s.ok()) return s;
   std::unique_ptr<RadiositySolver> solver(new RadiositySolver());
   State& s = *solver->state_;
@@ -116,10 +123,12 @@ Expected<std::unique_ptr<RadiositySolver>> RadiositySolver::create(const Scene& 
   s.threads = resolveThreads(settings.threads);
   TreeSettings tree_settings;
   const double diagonal = glm::length(dvec(geometry.bounds.max) - dvec(geometry.bounds.min));
-  tree_settings.min_perimeter_m = settings.min_perimeter_m > 0 ? settings.min_perimeter_m : 0.02 * diagonal;
+  tree_settings.min_perimeter_m =
+      settings.min_perimeter_m > 0 ? settings.min_perimeter_m : 0.02 * diagonal;
   s.settings.min_perimeter_m = tree_settings.min_perimeter_m;
   tree_settings.emitter_split_ratio = settings.emitter_split_ratio;
-  s.tree = std::make_unique<ElementTree>(geometry, tree_settings, makeEmissionOver(scene, geometry));
+  s.tree =
+      std::make_unique<ElementTree>(geometry, tree_settings, makeEmissionOver(scene, geometry));
   Expected<std::vector<LightSource>> lights = makeLightSources(scene, geometry);
   if (!lights.ok()) return lights.status();
   s.lights = std::move(lights).value();
@@ -139,7 +148,8 @@ Expected<std::unique_ptr<RadiositySolver>> RadiositySolver::create(const Scene& 
   s.element_s1.assign(geometry.triangleCount() * 2, 0.0);
   s.element_s2.assign(geometry.triangleCount() * 2, 0.0);
   s.stats.elements = 0;
-  for (size_t t = 0; t < geometry.triangleCount(); ++t) s.stats.elements += geometry.double_sided[t] ? 2 : 1;
+  for (size_t t = 0; t < geometry.triangleCount(); ++t)
+    s.stats.elements += geometry.double_sided[t] ? 2 : 1;
   s.growNodeArrays();
   return solver;
 }
@@ -182,7 +192,8 @@ glm::dvec3 RadiositySolver::State::currentAmbient() const {
   // (sun and sky leaving through windows) from being over-compensated.
   glm::dvec3 unshot(0.0);
   for (size_t i = 0; i < lights.size(); ++i) unshot += lights[i].flux_rgb * light_unshot[i];
-  for (size_t i = 0; i < emitting_roots.size(); ++i) unshot += tree->node(emitting_roots[i]).emitted_flux * emission_unshot[i];
+  for (size_t i = 0; i < emitting_roots.size(); ++i)
+    unshot += tree->node(emitting_roots[i]).emitted_flux * emission_unshot[i];
   for (int n : pending) unshot += tree->node(n).reflectance_area * e_unshot[size_t(n)];
   const double captured = surface_rays > 0 ? double(surface_hits) / double(surface_rays) : 1.0;
   glm::dvec3 ambient(0.0);
@@ -224,22 +235,31 @@ Status RadiositySolver::improve(const StopRule& stop) {
     const double call_s = std::chrono::duration<double>(Clock::now() - call_start).count();
     s.stats.seconds = elapsed_before + call_s;
     const double unshot = s.unshotY();
-    SolverProgress progress{s.stats.seconds, s.stats.passes_completed, s.stats.rays, s.last_estimate,
-                            s.shot_pass_y + unshot > 0 ? s.shot_pass_y / (s.shot_pass_y + unshot) : 1.0};
+    SolverProgress progress{
+        s.stats.seconds, s.stats.passes_completed, s.stats.rays, s.last_estimate,
+        s.shot_pass_y + unshot > 0 ? s.shot_pass_y / (s.shot_pass_y + unshot) : 1.0};
     // Points between pass ends at most every 0.25 s, and rarer when each
     // costs more (O(nodes): about 20x its own cost apart).
-    if (s.stats.seconds - s.last_point_s >= std::max(0.25, 20.0 * s.last_point_cost_s)) s.recordPoint(s.stats.seconds);
-    if (stop.cancel && stop.cancel->load()) return Status(StatusCode::kCancelled, "radiosity: cancelled");
-    if (stop.progress && !stop.progress(progress)) return Status(StatusCode::kCancelled, "radiosity: cancelled");
+    if (s.stats.seconds - s.last_point_s >= std::max(0.25, 20.0 * s.last_point_cost_s))
+      s.recordPoint(s.stats.seconds);
+    if (stop.cancel && stop.cancel->load())
+      return Status(StatusCode::kCancelled, "radiosity: cancelled");
+    if (stop.progress && !stop.progress(progress))
+      return Status(StatusCode::kCancelled, "radiosity: cancelled");
     if (s.emitted_y <= 0) break;  // nothing emits: the answer is black, exactly
-    if (call_s >= stop.max_seconds || s.stats.passes_completed >= stop.max_passes || s.stats.rays >= stop.max_rays) break;
+    if (call_s >= stop.max_seconds || s.stats.passes_completed >= stop.max_passes ||
+        s.stats.rays >= stop.max_rays)
+      break;
     if (s.stats.passes_completed >= 2 && s.last_estimate <= stop.target_est_rel_error) break;
     if (progress.shot_fraction >= stop.target_shot_fraction) break;
     const uint32_t passes = s.stats.passes_completed;
     s.runBatch();
-    if (s.stats.passes_completed != passes) s.recordPoint(elapsed_before + std::chrono::duration<double>(Clock::now() - call_start).count());
+    if (s.stats.passes_completed != passes)
+      s.recordPoint(elapsed_before +
+                    std::chrono::duration<double>(Clock::now() - call_start).count());
   }
-  s.stats.seconds = elapsed_before + std::chrono::duration<double>(Clock::now() - call_start).count();
+  s.stats.seconds =
+      elapsed_before + std::chrono::duration<double>(Clock::now() - call_start).count();
   s.recordPoint(s.stats.seconds);
   return Status();
 }

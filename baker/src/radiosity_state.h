@@ -42,8 +42,8 @@ struct RadiositySolver::State {
   bool started = false;
   uint32_t pass = 0;
   uint32_t batch = 0;
-  double pass_rays = 0;  ///< nominal rays of this pass for the emitted flux (its weight)
-  double ray_flux_y = 0;  ///< luminous flux per ray, lm
+  double pass_rays = 0;    ///< nominal rays of this pass for the emitted flux (its weight)
+  double ray_flux_y = 0;   ///< luminous flux per ray, lm
   double shot_pass_y = 0;  ///< luminous flux shot so far in this pass
   std::vector<double> light_unshot;     ///< fraction of each light's flux not yet shot
   std::vector<double> emission_unshot;  ///< fraction of each emitting root's flux not yet shot
@@ -54,23 +54,25 @@ struct RadiositySolver::State {
   std::vector<double> element_s1, element_s2;  ///< per element (triangle side): sum w*x, sum w*x^2
 
   // Scene constants.
-  double emitted_y = 0;        ///< luminous flux of all sources, lm
-  double total_area_m2 = 0;    ///< all element sides
-  glm::dvec3 mean_albedo{0.0}; ///< area-weighted over element sides
-  uint64_t surface_rays = 0;   ///< rays leaving surfaces (for the captured fraction)
+  double emitted_y = 0;         ///< luminous flux of all sources, lm
+  double total_area_m2 = 0;     ///< all element sides
+  glm::dvec3 mean_albedo{0.0};  ///< area-weighted over element sides
+  uint64_t surface_rays = 0;    ///< rays leaving surfaces (for the captured fraction)
   uint64_t surface_hits = 0;
 
   SolverStats stats;
   std::vector<ErrorPoint> series;
   double last_estimate = 1.0;
   double last_point_s = -1.0;
-  double last_point_cost_s = 0.0;  ///< an error point costs O(nodes): keep them under ~5% of the time
+  /// an error point costs O(nodes): keep them under ~5% of the time
+  double last_point_cost_s = 0.0;
   std::vector<Rgb> reference;
   uint64_t version = 0;  ///< bumped whenever the solution or tree changes
 
   // Caches for interpolation, valid for `cache_version`.
   mutable uint64_t cache_version = ~0ull;
-  mutable std::vector<glm::dvec3> leaf_value;  ///< per node (leaves filled): irradiance incl. ambient
+  /// per node (leaves filled): irradiance incl. ambient
+  mutable std::vector<glm::dvec3> leaf_value;
   mutable std::vector<std::vector<int>> vertex_leaves;
 
   void growNodeArrays();
@@ -95,14 +97,16 @@ struct RadiositySolver::State {
   /// Irradiance per node at the node's own level for the current answer.
   const std::vector<glm::dvec3>& currentLevels(std::vector<glm::dvec3>& scratch) const;
   /// Mean irradiance per element (triangle side) for `levels` + `ambient`.
-  std::vector<glm::dvec3> elementMeans(const std::vector<glm::dvec3>& levels, const glm::dvec3& ambient) const;
+  std::vector<glm::dvec3> elementMeans(const std::vector<glm::dvec3>& levels,
+                                       const glm::dvec3& ambient) const;
   /// Ambient irradiance of the current answer (averaged over passes once any completed).
   glm::dvec3 answerAmbient() const;
   /// elementMeans of the current answer.
   std::vector<glm::dvec3> currentMeans() const;
   double estimateError(const std::vector<glm::dvec3>& means) const;
   /// Area-weighted RMS relative error of front `means` against per-triangle `against`.
-  double referenceError(const std::vector<glm::dvec3>& means, const std::vector<Rgb>& against) const;
+  double referenceError(const std::vector<glm::dvec3>& means,
+                        const std::vector<Rgb>& against) const;
   void recordPoint(double t_s);
   double unshotY() const;
 };

@@ -24,7 +24,8 @@ constexpr uint64_t hashIds(uint64_t a, uint64_t b, uint64_t c = 0, uint64_t d = 
 /// PCG32 (XSH-RR) seeded from a 64-bit key; one per work item.
 class Rng {
  public:
-  explicit Rng(uint64_t key) : state_(mix64(key)), increment_((mix64(key ^ 0xda3e39cb94b95bdbull) << 1) | 1u) {
+  explicit Rng(uint64_t key)
+      : state_(mix64(key)), increment_((mix64(key ^ 0xda3e39cb94b95bdbull) << 1) | 1u) {
     next();
   }
   uint32_t next() {

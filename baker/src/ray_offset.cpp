@@ -51,7 +51,8 @@ Vec3 offsetRayOrigin(const Vec3& p, const Vec3& n, float magnitude_m) {
       !std::isfinite(n.y) || !std::isfinite(n.z) || !std::isfinite(magnitude_m)) {
     return p;
   }
-  const float magnitude = std::max({std::fabs(magnitude_m), std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+  const float magnitude =
+      std::max({std::fabs(magnitude_m), std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
   // A point at the origin of a triangle with all corners there has no
   // magnitude; the smallest normal float keeps the offset defined.
   const int exponent = std::ilogb(std::max(magnitude, 1.17549435e-38f));

@@ -25,7 +25,9 @@ inline bool usableSegment(const Ray& ray, float* t_near, float* t_far) {
 /// Whether a ray along `direction` arrives on the front of a triangle with
 /// geometric normal `normal`.
 inline bool arrivesOnFront(const Vec3& direction, const Vec3& normal) {
-  return double(direction.x) * normal.x + double(direction.y) * normal.y + double(direction.z) * normal.z < 0.0;
+  return double(direction.x) * normal.x + double(direction.y) * normal.y +
+             double(direction.z) * normal.z <
+         0.0;
 }
 
 }  // namespace svit::baker

@@ -18,8 +18,8 @@ namespace svit::baker {
 namespace {
 
 Status badSetting(const std::string& name, double value, const char* expected) {
-  return Status(StatusCode::kInvalidInput,
-                "runtime sections: " + name + " = " + std::to_string(value) + ": expected " + expected);
+  return Status(StatusCode::kInvalidInput, "runtime sections: " + name + " = " +
+                                               std::to_string(value) + ": expected " + expected);
 }
 
 Status cancelled() { return Status(StatusCode::kCancelled, "runtime sections: cancelled"); }
@@ -36,8 +36,9 @@ bool levelNeedsRuntimeSections(const Scene& scene) {
   return false;
 }
 
-Status buildRuntimeSections(const Scene& scene, const BakeGeometry& geometry, const RayCaster& caster,
-                            const RadiositySolver& solver, const RuntimeSectionSettings& settings, BakeData& data,
+Status buildRuntimeSections(const Scene& scene, const BakeGeometry& geometry,
+                            const RayCaster& caster, const RadiositySolver& solver,
+                            const RuntimeSectionSettings& settings, BakeData& data,
                             const std::atomic<bool>* cancel) {
   const RuntimeSectionSettings& s = settings;
   if (!std::isfinite(s.patch_max_area_m2) || s.patch_max_area_m2 < 0) {
@@ -46,13 +47,15 @@ Status buildRuntimeSections(const Scene& scene, const BakeGeometry& geometry, co
   if (!(s.patch_max_normal_rad > 0 && s.patch_max_normal_rad <= kPi)) {
     return badSetting("patch_max_normal_rad", s.patch_max_normal_rad, "in (0, pi]");
   }
-  if (!(s.proxy_ratio > 0 && s.proxy_ratio <= 1)) return badSetting("proxy_ratio", s.proxy_ratio, "in (0, 1]");
+  if (!(s.proxy_ratio > 0 && s.proxy_ratio <= 1))
+    return badSetting("proxy_ratio", s.proxy_ratio, "in (0, 1]");
   if (!std::isfinite(s.probe_spacing_m) || s.probe_spacing_m < 0) {
     return badSetting("probe_spacing_m", s.probe_spacing_m, "finite and >= 0 (0: default)");
   }
   if (s.form_factor_rays == 0) return badSetting("form_factor_rays", 0, ">= 1");
   if (&solver.tree().geometry() != &geometry) {
-    return Status(StatusCode::kInvalidInput, "runtime sections: the solver was built over other geometry");
+    return Status(StatusCode::kInvalidInput,
+                  "runtime sections: the solver was built over other geometry");
   }
   const int threads = s.threads;
   if (cancel && cancel->load()) return cancelled();
@@ -70,12 +73,13 @@ Status buildRuntimeSections(const Scene& scene, const BakeGeometry& geometry, co
 
   PatchSet patches = buildPatches(geometry, solver, max_area_m2, s.patch_max_normal_rad);
   if (cancel && cancel->load()) return cancelled();
-  Expected<std::vector<BakeEmitter>> emitters =
-      buildEmitterFormFactors(scene, geometry, caster, patches, s.form_factor_rays, s.seed, threads, cancel);
+  Expected<std::vector<BakeEmitter>> emitters = buildEmitterFormFactors(
+      scene, geometry, caster, patches, s.form_factor_rays, s.seed, threads, cancel);
   if (!emitters.ok()) return emitters.status();
   Expected<BakeProxyMesh> proxy = buildProxy(geometry, patches, s.proxy_ratio, threads, cancel);
   if (!proxy.ok()) return proxy.status();
-  Expected<BakeProbeGrid> probes = buildProbeGrid(scene, geometry, caster, solver, spacing_m, s.seed, threads, cancel);
+  Expected<BakeProbeGrid> probes =
+      buildProbeGrid(scene, geometry, caster, solver, spacing_m, s.seed, threads, cancel);
   if (!probes.ok()) return probes.status();
 
   data.has_runtime_sections = true;

@@ -36,8 +36,8 @@ struct PatchSet {
 /// Patches are numbered in depth-first order (child 0 first), clusters in
 /// pre-order. Radiosity is the solver's per-side mean, area-weighted.
 /// `solver` must have been built over `geometry`. Serial; deterministic.
-PatchSet buildPatches(const BakeGeometry& geometry, const RadiositySolver& solver, double max_area_m2,
-                      double max_normal_rad);
+PatchSet buildPatches(const BakeGeometry& geometry, const RadiositySolver& solver,
+                      double max_area_m2, double max_normal_rad);
 
 /// Baseline form factors of every static emitter: static lights in scene
 /// order (kLight, index = Scene::lights index), the sun, the sky, then every
@@ -48,10 +48,12 @@ PatchSet buildPatches(const BakeGeometry& geometry, const RadiositySolver& solve
 /// a patch. Rays lost to the void or to the black back of single-sided
 /// surfaces count for no patch, so factors sum to <= 1. Bit-identical for
 /// any `threads`. Errors: a light's flux is not finite; kCancelled.
-Expected<std::vector<BakeEmitter>> buildEmitterFormFactors(const Scene& scene, const BakeGeometry& geometry,
-                                                          const RayCaster& caster, const PatchSet& patches,
-                                                          uint32_t rays, uint64_t seed, int threads,
-                                                          const std::atomic<bool>* cancel);
+Expected<std::vector<BakeEmitter>> buildEmitterFormFactors(const Scene& scene,
+                                                           const BakeGeometry& geometry,
+                                                           const RayCaster& caster,
+                                                           const PatchSet& patches, uint32_t rays,
+                                                           uint64_t seed, int threads,
+                                                           const std::atomic<bool>* cancel);
 
 /// Simplifies every static object (instance) on its own to about `ratio`
 /// of its faces (objects of <= 4 faces stay as they are) and maps each proxy
@@ -60,8 +62,8 @@ Expected<std::vector<BakeEmitter>> buildEmitterFormFactors(const Scene& scene, c
 /// bounding-sphere cut: O(proxy faces x object faces). Simplification is
 /// serial; the mapping runs on `threads` workers, bit-identical for any count.
 /// Errors: kCancelled.
-Expected<BakeProxyMesh> buildProxy(const BakeGeometry& geometry, const PatchSet& patches, double ratio, int threads,
-                                   const std::atomic<bool>* cancel);
+Expected<BakeProxyMesh> buildProxy(const BakeGeometry& geometry, const PatchSet& patches,
+                                   double ratio, int threads, const std::atomic<bool>* cancel);
 
 /// Probes per grid axis at most.
 inline constexpr uint32_t kMaxProbesPerAxis = 64;
@@ -85,8 +87,9 @@ inline constexpr uint32_t kProbeEmitterSamples = 64;
 /// geometry) gets the mean of its valid neighbours (3x3x3 block), or zero.
 /// Calls solver.prepareQueries(). Bit-identical for any `threads`.
 /// Errors: kCancelled.
-Expected<BakeProbeGrid> buildProbeGrid(const Scene& scene, const BakeGeometry& geometry, const RayCaster& caster,
-                                       const RadiositySolver& solver, double spacing_m, uint64_t seed, int threads,
+Expected<BakeProbeGrid> buildProbeGrid(const Scene& scene, const BakeGeometry& geometry,
+                                       const RayCaster& caster, const RadiositySolver& solver,
+                                       double spacing_m, uint64_t seed, int threads,
                                        const std::atomic<bool>* cancel);
 
 }  // namespace svit::baker

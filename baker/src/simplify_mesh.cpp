@@ -14,8 +14,8 @@
 
 namespace svit::baker {
 
-SimplifiedMesh simplifyMesh(const std::vector<glm::dvec3>& positions, const std::vector<uint32_t>& indices,
-                            size_t target_faces) {
+SimplifiedMesh simplifyMesh(const std::vector<glm::dvec3>& positions,
+                            const std::vector<uint32_t>& indices, size_t target_faces) {
   static std::mutex mutex;
   const std::lock_guard<std::mutex> lock(mutex);
   Simplify::vertices.clear();
@@ -41,7 +41,8 @@ SimplifiedMesh simplifyMesh(const std::vector<glm::dvec3>& positions, const std:
   Simplify::simplify_mesh(int(target_faces), 7.0, false, false);
   SimplifiedMesh out;
   out.positions.reserve(Simplify::vertices.size());
-  for (const Simplify::Vertex& v : Simplify::vertices) out.positions.emplace_back(v.p.x, v.p.y, v.p.z);
+  for (const Simplify::Vertex& v : Simplify::vertices)
+    out.positions.emplace_back(v.p.x, v.p.y, v.p.z);
   out.indices.reserve(Simplify::triangles.size() * 3);
   for (const Simplify::Triangle& tri : Simplify::triangles) {
     for (int k = 0; k < 3; ++k) out.indices.push_back(uint32_t(tri.v[k]));

@@ -24,7 +24,7 @@ struct SimplifiedMesh {
 /// normalise the mesh to a unit size first. Unreferenced vertices are
 /// dropped. Deterministic. Thread-safe: serialised by an internal mutex (the
 /// library keeps global state).
-SimplifiedMesh simplifyMesh(const std::vector<glm::dvec3>& positions, const std::vector<uint32_t>& indices,
-                            size_t target_faces);
+SimplifiedMesh simplifyMesh(const std::vector<glm::dvec3>& positions,
+                            const std::vector<uint32_t>& indices, size_t target_faces);
 
 }  // namespace svit::baker

@@ -39,15 +39,16 @@ struct Emitter {
 double spotFactor(const PointLight& light, const glm::dvec3& to_receiver) {
   if (!light.spot) return 1.0;
   const double c = glm::dot(light.axis, to_receiver);
-  const double t = std::clamp((c - light.cos_outer) / std::max(1e-9, light.cos_inner - light.cos_outer), 0.0, 1.0);
+  const double t = std::clamp(
+      (c - light.cos_outer) / std::max(1e-9, light.cos_inner - light.cos_outer), 0.0, 1.0);
   return t * t;
 }
 
 // What one ray of a texel contributes once its hit is known.
 struct Contribution {
   enum class Kind : uint8_t { kShadow, kGather } kind;
-  glm::dvec3 weight;   // shadow: added when unoccluded; gather: unused
-  glm::dvec3 toward;   // gather: direction (for the sky)
+  glm::dvec3 weight;  // shadow: added when unoccluded; gather: unused
+  glm::dvec3 toward;  // gather: direction (for the sky)
 };
 
 // The static lights as the texel loop samples them.
@@ -86,7 +87,8 @@ void collectAnalyticLights(const Scene& scene, TexelLights& lights) {
 void collectEmitters(const BakeGeometry& geometry, TexelLights& lights) {
   for (size_t t = 0; t < geometry.triangleCount(); ++t) {
     const glm::dvec3 l = dvec(geometry.emission[t]);
-    const double flux = luminanceOf(l) * geometry.areas_m2[t] * (geometry.double_sided[t] ? 2.0 : 1.0);
+    const double flux =
+        luminanceOf(l) * geometry.areas_m2[t] * (geometry.double_sided[t] ? 2.0 : 1.0);
     if (flux > 0) {
       lights.emitters.push_back({uint32_t(t), l, geometry.double_sided[t] != 0});
       lights.emitter_cdf.push_back(lights.emitter_total += flux);
@@ -99,7 +101,8 @@ glm::dvec3 skyRadiance(const Sky& sky, const glm::dvec3& toward_sky) {
   const double mu = toward_sky.y;
   if (sky.model == SkyModel::kUniform) return mu > 0 ? dvec(sky.zenith_luminance) : glm::dvec3(0.0);
   if (mu <= 0) return dvec(sky.ground_luminance);
-  return dvec(sky.horizon_luminance) + (dvec(sky.zenith_luminance) - dvec(sky.horizon_luminance)) * mu;
+  return dvec(sky.horizon_luminance) +
+         (dvec(sky.zenith_luminance) - dvec(sky.horizon_luminance)) * mu;
 }
 
 // What the texel stages read: the scene, the lights, the settings.
@@ -114,8 +117,8 @@ struct LightingContext {
 
 // One texel's rays, each with its contribution; scratch reused per texel.
 struct TexelRays {
-  Vec3 origin{};       // offset off the surface
-  glm::dvec3 o{0.0};   // origin in double
+  Vec3 origin{};              // offset off the surface
+  glm::dvec3 o{0.0};          // origin in double
   glm::dvec3 p{0.0}, n{0.0};  // texel position and normal
   std::vector<Ray> rays;
   std::vector<Contribution> contributions;
@@ -174,7 +177,8 @@ void addPointLightRays(const LightingContext& c, Rng& rng, TexelRays& t) {
   const uint32_t k = c.settings.max_point_lights;
   for (uint32_t s = 0; s < k; ++s) {
     const double pick = (double(s) + rng.uniformDouble()) / double(k) * total;  // stratified
-    const size_t i = std::min(points.size() - 1, size_t(std::lower_bound(cdf.begin(), cdf.end(), pick) - cdf.begin()));
+    const size_t i = std::min(points.size() - 1,
+                              size_t(std::lower_bound(cdf.begin(), cdf.end(), pick) - cdf.begin()));
     const double probability = luminanceOf(e[i]) / total;
     if (probability > 0) t.shadowTo(points[i].position, e[i] / (probability * double(k)));
   }
@@ -194,7 +198,8 @@ void addDirectionalRays(const LightingContext& c, Rng& rng, TexelRays& t) {
     const double scale = 2.0 * kPi * (1.0 - light.cos_radius) / (kPi * sin2);
     const uint32_t count = c.settings.sun_samples;
     for (uint32_t s = 0; s < count; ++s) {
-      const double cos_theta = 1.0 - (double(s) + rng.uniformDouble()) / double(count) * (1.0 - light.cos_radius);
+      const double cos_theta =
+          1.0 - (double(s) + rng.uniformDouble()) / double(count) * (1.0 - light.cos_radius);
       const glm::dvec3 d = directionAt(toward, cos_theta, rng.uniformDouble());
       const double cos_r = glm::dot(t.n, d);
       if (cos_r > 0) t.shadowAlong(d, light.illuminance * (scale * cos_r / double(count)));
@@ -218,8 +223,10 @@ void addEmitterRays(const LightingContext& c, uint32_t texel_triangle, Rng& rng,
   const double shift = rng.uniformDouble();
   for (uint32_t s = 0; s < count; ++s) {
     const double pick = (double(s) + rng.uniformDouble()) / double(count) * emitter_total;
-    const size_t i = std::min(lights.emitters.size() - 1,
-                              size_t(std::lower_bound(emitter_cdf.begin(), emitter_cdf.end(), pick) - emitter_cdf.begin()));
+    const size_t i =
+        std::min(lights.emitters.size() - 1,
+                 size_t(std::lower_bound(emitter_cdf.begin(), emitter_cdf.end(), pick) -
+                        emitter_cdf.begin()));
     const Emitter& emitter = lights.emitters[i];
     if (emitter.triangle == texel_triangle) continue;
     const double low = i > 0 ? emitter_cdf[i - 1] : 0.0;
@@ -243,8 +250,10 @@ void addEmitterRays(const LightingContext& c, uint32_t texel_triangle, Rng& rng,
     }
     if (cos_r <= 0 || cos_e <= 0) continue;
     const double area = geometry.areas_m2[emitter.triangle];
-    const glm::dvec3 e = emitter.luminance * (cos_r * cos_e / d2 * area / (probability * double(count)));
-    const Vec3 target = offsetRayOrigin(vec3(q), vec3(ne), cornerMagnitude(geometry, emitter.triangle));
+    const glm::dvec3 e =
+        emitter.luminance * (cos_r * cos_e / d2 * area / (probability * double(count)));
+    const Vec3 target =
+        offsetRayOrigin(vec3(q), vec3(ne), cornerMagnitude(geometry, emitter.triangle));
     t.shadowTo(dvec(target), e);
   }
 }
@@ -254,8 +263,10 @@ void addGatherRays(const LightingContext& c, Rng& rng, TexelRays& t) {
   const uint32_t gather = c.settings.gather_rays;
   const uint32_t side = std::max(1u, uint32_t(std::sqrt(double(gather))));
   for (uint32_t g = 0; g < gather; ++g) {
-    const double u1 = g < side * side ? (double(g % side) + rng.uniformDouble()) / side : rng.uniformDouble();
-    const double u2 = g < side * side ? (double(g / side) + rng.uniformDouble()) / side : rng.uniformDouble();
+    const double u1 =
+        g < side * side ? (double(g % side) + rng.uniformDouble()) / side : rng.uniformDouble();
+    const double u2 =
+        g < side * side ? (double(g / side) + rng.uniformDouble()) / side : rng.uniformDouble();
     const glm::dvec3 d = cosineHemisphere(t.n, u1, u2);
     Ray ray;
     ray.origin = t.origin;
@@ -280,13 +291,15 @@ TexelIrradiance sumContributions(const LightingContext& c, TexelRays& t) {
       continue;
     }
     if (!h.hit()) {
-      gathered += kPi * skyRadiance(c.scene.sky, contribution.toward);  // E = pi * mean(L) for cosine-weighted rays
+      // E = pi * mean(L) for cosine-weighted rays
+      gathered += kPi * skyRadiance(c.scene.sky, contribution.toward);
       continue;
     }
     if (!h.front && !geometry.double_sided[h.triangle]) continue;  // black back face
     const Rgb e = c.solver.irradianceAt(h.triangle, h.front, h.u, h.v, InterpolationMode::kVertex);
     const Rgb& albedo = geometry.albedo[h.triangle];
-    gathered += glm::dvec3(albedo.r * e.r, albedo.g * e.g, albedo.b * e.b);  // B = rho * E; pi * B/pi
+    // B = rho * E; pi * B/pi
+    gathered += glm::dvec3(albedo.r * e.r, albedo.g * e.g, albedo.b * e.b);
   }
   const uint32_t gather = c.settings.gather_rays;
   TexelIrradiance out;
@@ -296,11 +309,13 @@ TexelIrradiance sumContributions(const LightingContext& c, TexelRays& t) {
 }
 
 // Texel j, from its own random stream: direct light, then the gather.
-TexelIrradiance lightTexel(const LightingContext& c, const TexelSample& sample, size_t j, TexelRays& t) {
+TexelIrradiance lightTexel(const LightingContext& c, const TexelSample& sample, size_t j,
+                           TexelRays& t) {
   Rng rng(hashIds(c.settings.seed, 0x7e3e1, j));
   t.p = dvec(sample.position);
   t.n = dvec(sample.normal);
-  t.origin = offsetRayOrigin(sample.position, sample.normal, cornerMagnitude(c.geometry, sample.triangle));
+  t.origin =
+      offsetRayOrigin(sample.position, sample.normal, cornerMagnitude(c.geometry, sample.triangle));
   t.o = dvec(t.origin);
   t.rays.clear();
   t.contributions.clear();
@@ -313,11 +328,10 @@ TexelIrradiance lightTexel(const LightingContext& c, const TexelSample& sample, 
 
 }  // namespace
 
-Expected<std::vector<TexelIrradiance>> lightTexels(const Scene& scene, const BakeGeometry& geometry,
-                                                   const RayCaster& caster, const RadiositySolver& solver,
-                                                   const TexelSet& texels, const TexelLightingSettings& settings,
-                                                   const std::atomic<bool>* cancel,
-                                                   const std::function<bool(size_t, size_t)>& progress) {
+Expected<std::vector<TexelIrradiance>> lightTexels(
+    const Scene& scene, const BakeGeometry& geometry, const RayCaster& caster,
+    const RadiositySolver& solver, const TexelSet& texels, const TexelLightingSettings& settings,
+    const std::atomic<bool>* cancel, const std::function<bool(size_t, size_t)>& progress) {
   TexelLights lights;
   collectAnalyticLights(scene, lights);
   collectEmitters(geometry, lights);
@@ -330,14 +344,16 @@ Expected<std::vector<TexelIrradiance>> lightTexels(const Scene& scene, const Bak
     TexelRays scratch;
     scratch.light_cdf.resize(lights.points.size());
     scratch.light_e.resize(lights.points.size());
-    for (size_t j = begin; j < end; ++j) out[j] = lightTexel(context, texels.samples[j], j, scratch);
+    for (size_t j = begin; j < end; ++j)
+      out[j] = lightTexel(context, texels.samples[j], j, scratch);
   };
   // Blocks between which progress and cancellation are checked; the chunking
   // inside is fixed, so results do not depend on `threads`.
   const size_t block = 16384;
   for (size_t begin = 0; begin < out.size(); begin += block) {
     const size_t end = std::min(out.size(), begin + block);
-    parallelFor(end - begin, 64, threads, [&](size_t b, size_t e) { lightRange(begin + b, begin + e); });
+    parallelFor(end - begin, 64, threads,
+                [&](size_t b, size_t e) { lightRange(begin + b, begin + e); });
     if ((cancel && cancel->load()) || (progress && !progress(end, out.size()))) {
       return Status(StatusCode::kCancelled, "lightmap: cancelled");
     }

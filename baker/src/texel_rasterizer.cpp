@@ -24,7 +24,8 @@
 namespace svit::baker {
 namespace {
 
-constexpr int kBandRows = 8;  // rows per work item: small enough to balance, large enough to batch rays
+// rows per work item: small enough to balance, large enough to batch rays
+constexpr int kBandRows = 8;
 
 // Clipped areas below this (texel^2) are round-off of a triangle that only
 // touches the texel along an edge or corner: such a part is at most a texel
@@ -64,9 +65,13 @@ void clipHalfPlane(const Poly& in, Poly* out, int axis, double bound, bool keep_
     const bool a_in = inside(a), b_in = inside(b);
     if (a_in) out->p[out->n++] = a;
     if (a_in != b_in) {
-      const double s = (bound - coord(a)) / (coord(b) - coord(a));  // b_in != a_in: coord(b) != coord(a)
+      // b_in != a_in: coord(b) != coord(a)
+      const double s = (bound - coord(a)) / (coord(b) - coord(a));
       Pt q{a.x + s * (b.x - a.x), a.y + s * (b.y - a.y)};
-      if (axis == 0) q.x = bound; else q.y = bound;  // exact on the clip line
+      if (axis == 0)
+        q.x = bound;
+      else
+        q.y = bound;  // exact on the clip line
       out->p[out->n++] = q;
     }
   }
@@ -98,7 +103,8 @@ double areaCentroid(const Poly& poly, Pt origin, Pt* centroid) {
   double twice_area = 0, cx = 0, cy = 0;
   for (int i = 0; i < poly.n; ++i) {
     const double ax = poly.p[i].x - origin.x, ay = poly.p[i].y - origin.y;
-    const double bx = poly.p[(i + 1) % poly.n].x - origin.x, by = poly.p[(i + 1) % poly.n].y - origin.y;
+    const double bx = poly.p[(i + 1) % poly.n].x - origin.x,
+                 by = poly.p[(i + 1) % poly.n].y - origin.y;
     const double c = ax * by - bx * ay;
     twice_area += c;
     cx += (ax + bx) * c;
@@ -121,8 +127,8 @@ UvTriangle uvTriangle(const LightmapAtlas& atlas, size_t t) {
     const Vec2& uv = atlas.triangle_uv[t * 3 + size_t(k)];
     tri.c[k] = {double(uv.x) * atlas.page_width, double(uv.y) * atlas.page_height};
   }
-  tri.twice_signed_area =
-      (tri.c[1].x - tri.c[0].x) * (tri.c[2].y - tri.c[0].y) - (tri.c[1].y - tri.c[0].y) * (tri.c[2].x - tri.c[0].x);
+  tri.twice_signed_area = (tri.c[1].x - tri.c[0].x) * (tri.c[2].y - tri.c[0].y) -
+                          (tri.c[1].y - tri.c[0].y) * (tri.c[2].x - tri.c[0].x);
   return tri;
 }
 
@@ -167,7 +173,8 @@ Vec3 worldPoint(const BakeGeometry& geometry, size_t t, double u, double v) {
   const Vec3& b = geometry.corner(t, 1);
   const Vec3& c = geometry.corner(t, 2);
   const double w = 1.0 - u - v;
-  return {float(w * a.x + u * b.x + v * c.x), float(w * a.y + u * b.y + v * c.y), float(w * a.z + u * b.z + v * c.z)};
+  return {float(w * a.x + u * b.x + v * c.x), float(w * a.y + u * b.y + v * c.y),
+          float(w * a.z + u * b.z + v * c.z)};
 }
 
 /// Texel range [lo, hi] that a coordinate interval [a, b] overlaps in a page of `size` texels.
@@ -197,7 +204,8 @@ void probeDirections(const Vec3& n, Vec3 out[kProbes]) {
   out[8] = n;
 }
 
-void appendProbes(const Vec3& p, const Vec3& n, float magnitude_m, float length_m, std::vector<Ray>* rays) {
+void appendProbes(const Vec3& p, const Vec3& n, float magnitude_m, float length_m,
+                  std::vector<Ray>* rays) {
   Vec3 dirs[kProbes];
   probeDirections(n, dirs);
   const Vec3 origin = offsetRayOrigin(p, n, magnitude_m);
@@ -296,7 +304,8 @@ BandCoverage coverBand(const BandInput& in, size_t band, const BandRows& rows) {
 }
 
 /// One sample per covered texel, on its winning triangle, in (y, x) order.
-std::vector<TexelSample> placeSamples(const BandInput& in, const BandRows& rows, const BandCoverage& c) {
+std::vector<TexelSample> placeSamples(const BandInput& in, const BandRows& rows,
+                                      const BandCoverage& c) {
   const BakeGeometry& geometry = *in.geometry;
   const LightmapAtlas& atlas = *in.atlas;
   const int w = atlas.page_width;
@@ -335,7 +344,8 @@ std::vector<TexelSample> placeSamples(const BandInput& in, const BandRows& rows,
 /// World length of `probe_texels` texels on triangle t: sqrt(world area / UV area) per texel.
 float probeLength(const BandInput& in, uint32_t t) {
   const double uv_area = 0.5 * std::fabs(uvTriangle(*in.atlas, t).twice_signed_area);
-  return float(in.settings->leak_probe_texels * std::sqrt(double(in.geometry->areas_m2[t]) / uv_area));
+  return float(in.settings->leak_probe_texels *
+               std::sqrt(double(in.geometry->areas_m2[t]) / uv_area));
 }
 
 /// A place a leaking sample may move to.
@@ -382,11 +392,13 @@ LeakCandidates findLeakCandidates(const BandInput& in, const std::vector<TexelSa
       for (const Pt& q : {a, Pt{0.5 * (a.x + b.x), 0.5 * (a.y + b.y)}}) {
         Candidate c;
         c.pending = i;
-        const Pt uv{q.x + kCandidateInset * (centroid.x - q.x), q.y + kCandidateInset * (centroid.y - q.y)};
+        const Pt uv{q.x + kCandidateInset * (centroid.x - q.x),
+                    q.y + kCandidateInset * (centroid.y - q.y)};
         barycentric(tri, uv, &c.u, &c.v);
         clampBarycentric(&c.u, &c.v);
         c.position = worldPoint(geometry, t, c.u, c.v);
-        c.along = (double(c.position.x) - s.position.x) * d.x + (double(c.position.y) - s.position.y) * d.y +
+        c.along = (double(c.position.x) - s.position.x) * d.x +
+                  (double(c.position.y) - s.position.y) * d.y +
                   (double(c.position.z) - s.position.z) * d.z;
         candidates.push_back(c);
       }
@@ -404,7 +416,8 @@ constexpr size_t kCandidateRays = kProbes + 1;  // its probes, then the path fro
 /// (it crossed to the far side of the surface; without this a point deeper
 /// inside a solid, just out of the short probes' reach, would pass as
 /// outside), and its own probes find no back face. Returns which moved.
-std::vector<uint8_t> moveLeakingSamples(const BandInput& in, const std::vector<Candidate>& candidates,
+std::vector<uint8_t> moveLeakingSamples(const BandInput& in,
+                                        const std::vector<Candidate>& candidates,
                                         std::vector<TexelSample>& pending) {
   const BakeGeometry& geometry = *in.geometry;
   std::vector<Ray> candidate_rays;
@@ -447,7 +460,8 @@ std::vector<TexelSample> resolveLeaks(const BandInput& in, std::vector<TexelSamp
   std::vector<Ray> rays;
   rays.reserve(pending.size() * kProbes);
   for (const TexelSample& s : pending) {
-    appendProbes(s.position, s.normal, cornerMagnitude(geometry, s.triangle), probeLength(in, s.triangle), &rays);
+    appendProbes(s.position, s.normal, cornerMagnitude(geometry, s.triangle),
+                 probeLength(in, s.triangle), &rays);
   }
   std::vector<RayHit> hits(rays.size());
   in.caster->intersect(rays, hits);
@@ -474,34 +488,43 @@ std::vector<TexelSample> rasterizeBand(const BandInput& in, size_t band) {
   return resolveLeaks(in, pending);
 }
 
-Status validate(const BakeGeometry& geometry, const LightmapAtlas& atlas, const RasterSettings& settings) {
+Status validate(const BakeGeometry& geometry, const LightmapAtlas& atlas,
+                const RasterSettings& settings) {
   const size_t count = geometry.triangleCount();
-  if (geometry.positions.size() != count * 3 || geometry.normals.size() != count || geometry.double_sided.size() != count) {
-    return Status(StatusCode::kInvalidInput, "rasterize texels: bake geometry arrays disagree in length");
+  if (geometry.positions.size() != count * 3 || geometry.normals.size() != count ||
+      geometry.double_sided.size() != count) {
+    return Status(StatusCode::kInvalidInput,
+                  "rasterize texels: bake geometry arrays disagree in length");
   }
   if (atlas.page_width < 1 || atlas.page_height < 1 || atlas.page_count < 1) {
-    return Status(StatusCode::kInvalidInput, "rasterize texels: atlas has " + std::to_string(atlas.page_count) + " pages of " +
-                                                 std::to_string(atlas.page_width) + "x" + std::to_string(atlas.page_height));
+    return Status(StatusCode::kInvalidInput,
+                  "rasterize texels: atlas has " + std::to_string(atlas.page_count) + " pages of " +
+                      std::to_string(atlas.page_width) + "x" + std::to_string(atlas.page_height));
   }
   if (atlas.triangle_page.size() != count || atlas.triangle_uv.size() != count * 3) {
-    return Status(StatusCode::kInvalidInput, "rasterize texels: atlas covers " + std::to_string(atlas.triangle_page.size()) +
-                                                 " triangles, bake geometry has " + std::to_string(count));
+    return Status(StatusCode::kInvalidInput,
+                  "rasterize texels: atlas covers " + std::to_string(atlas.triangle_page.size()) +
+                      " triangles, bake geometry has " + std::to_string(count));
   }
   for (size_t t = 0; t < count; ++t) {
     if (atlas.triangle_page[t] >= uint32_t(atlas.page_count)) {
-      return Status(StatusCode::kInvalidInput, "rasterize texels: triangle " + std::to_string(t) + " is on page " +
-                                                   std::to_string(atlas.triangle_page[t]) + " of " + std::to_string(atlas.page_count));
+      return Status(StatusCode::kInvalidInput, "rasterize texels: triangle " + std::to_string(t) +
+                                                   " is on page " +
+                                                   std::to_string(atlas.triangle_page[t]) + " of " +
+                                                   std::to_string(atlas.page_count));
     }
     for (int k = 0; k < 3; ++k) {
       const Vec2& uv = atlas.triangle_uv[t * 3 + size_t(k)];
       if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) {
-        return Status(StatusCode::kInvalidInput, "rasterize texels: triangle " + std::to_string(t) + " corner " +
-                                                     std::to_string(k) + " has a non-finite UV");
+        return Status(StatusCode::kInvalidInput, "rasterize texels: triangle " + std::to_string(t) +
+                                                     " corner " + std::to_string(k) +
+                                                     " has a non-finite UV");
       }
     }
   }
   if (!(settings.leak_probe_texels >= 0.0) || !std::isfinite(settings.leak_probe_texels)) {
-    return Status(StatusCode::kInvalidInput, "rasterize texels: leak_probe_texels " + std::to_string(settings.leak_probe_texels) +
+    return Status(StatusCode::kInvalidInput, "rasterize texels: leak_probe_texels " +
+                                                 std::to_string(settings.leak_probe_texels) +
                                                  " must be finite and >= 0");
   }
   return Status::okStatus();
@@ -509,8 +532,8 @@ Status validate(const BakeGeometry& geometry, const LightmapAtlas& atlas, const 
 
 }  // namespace
 
-Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapAtlas& atlas, const RayCaster& caster,
-                                   const RasterSettings& settings) {
+Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapAtlas& atlas,
+                                   const RayCaster& caster, const RasterSettings& settings) {
   if (Status s = validate(geometry, atlas, settings); !s.ok()) return s;
   const int w = atlas.page_width, h = atlas.page_height;
   const int bands_per_page = (h + kBandRows - 1) / kBandRows;
@@ -522,8 +545,10 @@ Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapA
   auto bandRange = [&](size_t t, size_t* b0, size_t* b1) {
     const UvTriangle tri = uvTriangle(atlas, t);
     if (tri.twice_signed_area == 0.0) return false;
-    const double y0 = std::min({tri.c[0].y, tri.c[1].y, tri.c[2].y}), y1 = std::max({tri.c[0].y, tri.c[1].y, tri.c[2].y});
-    const double x0 = std::min({tri.c[0].x, tri.c[1].x, tri.c[2].x}), x1 = std::max({tri.c[0].x, tri.c[1].x, tri.c[2].x});
+    const double y0 = std::min({tri.c[0].y, tri.c[1].y, tri.c[2].y}),
+                 y1 = std::max({tri.c[0].y, tri.c[1].y, tri.c[2].y});
+    const double x0 = std::min({tri.c[0].x, tri.c[1].x, tri.c[2].x}),
+                 x1 = std::max({tri.c[0].x, tri.c[1].x, tri.c[2].x});
     if (y1 <= 0.0 || y0 >= h || x1 <= 0.0 || x0 >= w) return false;  // off the page
     int lo, hi;
     texelSpan(y0, y1, h, &lo, &hi);
@@ -548,7 +573,8 @@ Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapA
     }
   }
 
-  BandInput input{&geometry, &atlas, &caster, &settings, &band_start, &band_triangles, bands_per_page};
+  BandInput input{&geometry,   &atlas,          &caster,       &settings,
+                  &band_start, &band_triangles, bands_per_page};
   std::vector<std::vector<TexelSample>> band_samples(bands);
   parallelFor(bands, 1, resolveThreads(settings.threads), [&](size_t begin, size_t end) {
     for (size_t b = begin; b < end; ++b) band_samples[b] = rasterizeBand(input, b);
@@ -564,7 +590,8 @@ Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapA
   set.samples.reserve(total);
   for (std::vector<TexelSample>& s : band_samples) {  // band order is (page, y) order
     for (const TexelSample& sample : s) {
-      set.texel_to_sample[(size_t(sample.page) * size_t(h) + sample.y) * size_t(w) + sample.x] = int32_t(set.samples.size());
+      set.texel_to_sample[(size_t(sample.page) * size_t(h) + sample.y) * size_t(w) + sample.x] =
+          int32_t(set.samples.size());
       set.samples.push_back(sample);
     }
     std::vector<TexelSample>().swap(s);

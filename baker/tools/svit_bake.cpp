@@ -23,19 +23,20 @@ static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler stores
 void onSignal(int) { g_cancel.store(true); }
 
 void usage(FILE* out) {
-  std::fprintf(out,
-               "usage: svit-bake LEVEL -o OUT [--seed N] [--time SECONDS] [--quality Q]\n"
-               "                 [--texels-per-m T] [--threads N] [--reference REF_OUT] [--quiet]\n"
-               "  LEVEL            a .gltf, .glb or level .json\n"
-               "  -o OUT           output directory: bake.svit, lightmap-*.exr, report.json\n"
-               "  --seed N         random seed (default 1); same seed, same bytes\n"
-               "  --time SECONDS   wall-time budget for the whole bake\n"
-               "  --quality Q      in (0, 1], default 0.5: error target and lighting passes\n"
-               "  --texels-per-m T lightmap density (default: about 256k texels for the level)\n"
-               "  --threads N      worker threads (default: all cores); results do not depend on it\n"
-               "  --reference DIR  a previous bake of the same level to measure the true error against\n"
-               "  --quiet          print nothing but errors\n"
-               "Ctrl-C or SIGTERM cancels (exit 3) and leaves OUT as it was.\n");
+  std::fprintf(
+      out,
+      "usage: svit-bake LEVEL -o OUT [--seed N] [--time SECONDS] [--quality Q]\n"
+      "                 [--texels-per-m T] [--threads N] [--reference REF_OUT] [--quiet]\n"
+      "  LEVEL            a .gltf, .glb or level .json\n"
+      "  -o OUT           output directory: bake.svit, lightmap-*.exr, report.json\n"
+      "  --seed N         random seed (default 1); same seed, same bytes\n"
+      "  --time SECONDS   wall-time budget for the whole bake\n"
+      "  --quality Q      in (0, 1], default 0.5: error target and lighting passes\n"
+      "  --texels-per-m T lightmap density (default: about 256k texels for the level)\n"
+      "  --threads N      worker threads (default: all cores); results do not depend on it\n"
+      "  --reference DIR  a previous bake of the same level to measure the true error against\n"
+      "  --quiet          print nothing but errors\n"
+      "Ctrl-C or SIGTERM cancels (exit 3) and leaves OUT as it was.\n");
 }
 
 bool parseNumber(const char* text, double& out) {
@@ -67,7 +68,8 @@ int parseArguments(int argc, char** argv, svit::baker::BakeOptions& options, boo
       if (i + 1 >= argc) return badUsage("-o needs a directory");
       options.out_dir = argv[++i];
     } else if (arg == "--seed") {
-      if (!value(number) || number < 0 || number != std::floor(number)) return badUsage("--seed needs a whole number >= 0");
+      if (!value(number) || number < 0 || number != std::floor(number))
+        return badUsage("--seed needs a whole number >= 0");
       options.seed = uint64_t(number);
     } else if (arg == "--time") {
       if (!value(number)) return badUsage("--time needs a number of seconds");
@@ -79,7 +81,8 @@ int parseArguments(int argc, char** argv, svit::baker::BakeOptions& options, boo
       if (!value(number) || !(number > 0)) return badUsage("--texels-per-m needs a number > 0");
       options.texels_per_m = number;
     } else if (arg == "--threads") {
-      if (!value(number) || number != std::floor(number)) return badUsage("--threads needs a whole number");
+      if (!value(number) || number != std::floor(number))
+        return badUsage("--threads needs a whole number");
       options.threads = int(number);
     } else if (arg == "--reference") {
       if (i + 1 >= argc) return badUsage("--reference needs a bake directory");
@@ -94,7 +97,8 @@ int parseArguments(int argc, char** argv, svit::baker::BakeOptions& options, boo
       return badUsage("unexpected argument '" + arg + "'");
     }
   }
-  if (svit::Status s = svit::baker::validateBakeOptions(options); !s.ok()) return badUsage(s.message());
+  if (svit::Status s = svit::baker::validateBakeOptions(options); !s.ok())
+    return badUsage(s.message());
   return -1;
 }
 
@@ -123,7 +127,8 @@ class ProgressPrinter {
                    "##############################", 30 - filled, "", percent, p.elapsed_s, eta);
       std::fflush(stderr);
     } else if (p.stage != last_stage_ || percent / 10 != last_decile_) {
-      std::fprintf(stderr, "svit-bake: %s %d%% (%.1fs%s)\n", p.stage.c_str(), percent, p.elapsed_s, eta);
+      std::fprintf(stderr, "svit-bake: %s %d%% (%.1fs%s)\n", p.stage.c_str(), percent, p.elapsed_s,
+                   eta);
     }
     last_stage_ = p.stage;
     last_decile_ = percent / 10;
@@ -142,9 +147,11 @@ class ProgressPrinter {
 };
 
 void printSummary(const svit::baker::BakeOptions& options, const svit::baker::BakeResult& result) {
-  std::printf("baked %s into %s in %.2f s: %zu page(s), %zu texels, estimated error %.2f%%", options.level_path.c_str(),
-              options.out_dir.c_str(), result.seconds, result.pages, result.covered_texels, 100.0 * result.est_rel_error);
-  if (result.ref_rel_error == result.ref_rel_error) std::printf(", error against the reference %.2f%%", 100.0 * result.ref_rel_error);
+  std::printf("baked %s into %s in %.2f s: %zu page(s), %zu texels, estimated error %.2f%%",
+              options.level_path.c_str(), options.out_dir.c_str(), result.seconds, result.pages,
+              result.covered_texels, 100.0 * result.est_rel_error);
+  if (result.ref_rel_error == result.ref_rel_error)
+    std::printf(", error against the reference %.2f%%", 100.0 * result.ref_rel_error);
   std::printf("\n");
 }
 
@@ -153,11 +160,12 @@ void printSummary(const svit::baker::BakeOptions& options, const svit::baker::Ba
 int main(int argc, char** argv) {
   svit::baker::BakeOptions options;
   bool quiet = false;
-  if (const int exit_code = parseArguments(argc, argv, options, quiet); exit_code >= 0) return exit_code;
+  if (const int exit_code = parseArguments(argc, argv, options, quiet); exit_code >= 0)
+    return exit_code;
   installCancelHandlers();
   ProgressPrinter printer(quiet);
-  svit::Expected<svit::baker::BakeResult> result =
-      svit::baker::bakeLevel(options, [&](const svit::baker::BakeProgress& p) { return printer(p); }, &g_cancel);
+  svit::Expected<svit::baker::BakeResult> result = svit::baker::bakeLevel(
+      options, [&](const svit::baker::BakeProgress& p) { return printer(p); }, &g_cancel);
   printer.finish();
   if (!result.ok()) {
     std::fprintf(stderr, "svit-bake: %s\n", result.status().message().c_str());

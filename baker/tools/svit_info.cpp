@@ -46,7 +46,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   const svit::SceneSummary summary = svit::summarize(*scene);
-  const std::string text = json ? svit::summaryToJson(level, summary) : svit::summaryToText(level, summary);
+  const std::string text =
+      json ? svit::summaryToJson(level, summary) : svit::summaryToText(level, summary);
   std::fputs(text.c_str(), stdout);
   return 0;
 }

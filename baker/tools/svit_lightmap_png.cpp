@@ -31,14 +31,16 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (png.empty()) png = (std::filesystem::path(out_dir) / "lightmaps.png").string();
-  svit::Expected<svit::BakeData> bake = svit::readBakeFile((std::filesystem::path(out_dir) / "bake.svit").string());
+  svit::Expected<svit::BakeData> bake =
+      svit::readBakeFile((std::filesystem::path(out_dir) / "bake.svit").string());
   if (!bake.ok()) {
     std::fprintf(stderr, "svit-lightmap-png: %s\n", bake.status().message().c_str());
     return 1;
   }
   std::vector<svit::LightmapImage> pages;
   for (const svit::BakeLightmapPage& page : bake->pages) {
-    svit::Expected<svit::LightmapImage> image = svit::readLightmapExr((std::filesystem::path(out_dir) / page.file).string());
+    svit::Expected<svit::LightmapImage> image =
+        svit::readLightmapExr((std::filesystem::path(out_dir) / page.file).string());
     if (!image.ok()) {
       std::fprintf(stderr, "svit-lightmap-png: %s\n", image.status().message().c_str());
       return 1;

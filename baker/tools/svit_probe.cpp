@@ -10,11 +10,12 @@
 namespace {
 
 void usage(FILE* out) {
-  std::fprintf(out,
-               "usage: svit-probe OUT POINTS [--json]\n"
-               "  OUT     a bake directory written by svit-bake\n"
-               "  POINTS  a file of lines 'x y z nx ny nz' (metres; the normal picks the surface side)\n"
-               "  --json  print a JSON array instead of 'r g b' lines\n");
+  std::fprintf(
+      out,
+      "usage: svit-probe OUT POINTS [--json]\n"
+      "  OUT     a bake directory written by svit-bake\n"
+      "  POINTS  a file of lines 'x y z nx ny nz' (metres; the normal picks the surface side)\n"
+      "  --json  print a JSON array instead of 'r g b' lines\n");
 }
 
 }  // namespace
@@ -46,12 +47,14 @@ int main(int argc, char** argv) {
     usage(stderr);
     return 2;
   }
-  svit::Expected<std::vector<svit::baker::ProbePoint>> points = svit::baker::readProbePoints(points_path);
+  svit::Expected<std::vector<svit::baker::ProbePoint>> points =
+      svit::baker::readProbePoints(points_path);
   if (!points.ok()) {
     std::fprintf(stderr, "svit-probe: %s\n", points.status().message().c_str());
     return 1;
   }
-  svit::Expected<std::vector<svit::baker::ProbeResult>> results = svit::baker::probeBake(out_dir, *points);
+  svit::Expected<std::vector<svit::baker::ProbeResult>> results =
+      svit::baker::probeBake(out_dir, *points);
   if (!results.ok()) {
     std::fprintf(stderr, "svit-probe: %s\n", results.status().message().c_str());
     return 1;
@@ -60,9 +63,11 @@ int main(int argc, char** argv) {
   for (size_t i = 0; i < results->size(); ++i) {
     const svit::baker::ProbeResult& r = (*results)[i];
     if (json) {
-      std::printf("  {\"irradiance_lux\": [%.9g, %.9g, %.9g], \"surface_point\": [%.9g, %.9g, %.9g], \"distance_m\": %.9g}%s\n",
-                  r.irradiance.r, r.irradiance.g, r.irradiance.b, r.surface_point.x, r.surface_point.y,
-                  r.surface_point.z, r.distance_m, i + 1 < results->size() ? "," : "");
+      std::printf(
+          "  {\"irradiance_lux\": [%.9g, %.9g, %.9g], \"surface_point\": [%.9g, %.9g, %.9g], "
+          "\"distance_m\": %.9g}%s\n",
+          r.irradiance.r, r.irradiance.g, r.irradiance.b, r.surface_point.x, r.surface_point.y,
+          r.surface_point.z, r.distance_m, i + 1 < results->size() ? "," : "");
     } else {
       std::printf("%.9g %.9g %.9g\n", r.irradiance.r, r.irradiance.g, r.irradiance.b);
     }

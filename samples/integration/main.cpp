@@ -81,27 +81,33 @@ svit::Status findMovedObject(svit::Runtime& runtime, MovedObject& object) {
 }
 
 // The game loop: move, update the lighting, render; prints each frame's times.
-svit::Status runFrames(svit::Runtime& runtime, svit::SceneRenderer& renderer, const MovedObject& object,
-                       const svit::Camera& camera, int frames, double& runtime_ms, double& shading_ms) {
+svit::Status runFrames(svit::Runtime& runtime, svit::SceneRenderer& renderer,
+                       const MovedObject& object, const svit::Camera& camera, int frames,
+                       double& runtime_ms, double& shading_ms) {
   for (int frame = 0; frame < frames; ++frame) {
     if (object.present) {
       // Slide the object 20 cm along x and back over the run.
-      const float offset_m = 0.2f * std::sin(std::numbers::pi_v<float> * float(frame) / float(frames));
+      const float offset_m =
+          0.2f * std::sin(std::numbers::pi_v<float> * float(frame) / float(frames));
       svit::Mat4 moved = object.rest;
       moved.m[12] += offset_m;  // column 3, row 0: translation x
       if (svit::Status s = runtime.setObjectTransform(object.id, moved); !s.ok()) return s;
     }
     const svit::FrameStats lighting = runtime.update(/*budget_ms=*/0);
-    if (!lighting.error.empty()) return svit::Status(svit::StatusCode::kInternal, "update: " + lighting.error);
-    svit::Expected<svit::RenderStats> shading = renderer.render(camera, svit::ShadingView::kRuntime);
+    if (!lighting.error.empty())
+      return svit::Status(svit::StatusCode::kInternal, "update: " + lighting.error);
+    svit::Expected<svit::RenderStats> shading =
+        renderer.render(camera, svit::ShadingView::kRuntime);
     if (!shading.ok()) return shading.status();
     glfwPollEvents();
     runtime_ms += lighting.total_ms;
     shading_ms += shading->shading_ms;
-    std::printf("frame %d: runtime %.2f ms (maps %.2f, reduction %.2f, bounce %.2f), %u emitters refreshed, "
-                "shading %.2f ms\n",
-                frame, lighting.total_ms, lighting.maps_ms, lighting.reduction_ms, lighting.bounce_ms,
-                lighting.emitters_refreshed, shading->shading_ms);
+    std::printf(
+        "frame %d: runtime %.2f ms (maps %.2f, reduction %.2f, bounce %.2f), %u emitters "
+        "refreshed, "
+        "shading %.2f ms\n",
+        frame, lighting.total_ms, lighting.maps_ms, lighting.reduction_ms, lighting.bounce_ms,
+        lighting.emitters_refreshed, shading->shading_ms);
   }
   return svit::Status();
 }
@@ -111,7 +117,8 @@ svit::Status runFrames(svit::Runtime& runtime, svit::SceneRenderer& renderer, co
 int runGame(const svit::Scene& scene, const svit::BakeData& bake, const std::string& bake_dir,
             const std::string& png_path, int frames) {
   svit::RuntimeSettings runtime_settings;
-  runtime_settings.delta_textures = false;  // SceneRenderer interpolates the patch delta buffer instead
+  // SceneRenderer interpolates the patch delta buffer instead
+  runtime_settings.delta_textures = false;
   svit::Expected<std::unique_ptr<svit::Runtime>> runtime =
       svit::Runtime::create(scene, bake, bake_dir, runtime_settings);
   if (!runtime.ok()) return fail(runtime.status().message());
@@ -124,13 +131,14 @@ int runGame(const svit::Scene& scene, const svit::BakeData& bake, const std::str
   MovedObject object;
   if (svit::Status s = findMovedObject(**runtime, object); !s.ok()) return fail(s.message());
   double runtime_ms = 0, shading_ms = 0;
-  if (svit::Status s = runFrames(**runtime, **renderer, object, startCamera(scene), frames, runtime_ms, shading_ms);
+  if (svit::Status s = runFrames(**runtime, **renderer, object, startCamera(scene), frames,
+                                 runtime_ms, shading_ms);
       !s.ok()) {
     return fail(s.message());
   }
   if (svit::Status s = (*renderer)->writePng(png_path); !s.ok()) return fail(s.message());
-  std::printf("%d frames: mean runtime %.2f ms, mean shading %.2f ms; wrote %s\n", frames, runtime_ms / frames,
-              shading_ms / frames, png_path.c_str());
+  std::printf("%d frames: mean runtime %.2f ms, mean shading %.2f ms; wrote %s\n", frames,
+              runtime_ms / frames, shading_ms / frames, png_path.c_str());
   return 0;
 }  // renderer and runtime go before the context
 

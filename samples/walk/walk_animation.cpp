@@ -65,7 +65,8 @@ Trs samplePathKeys(std::span<const PathKey> keys, float t_s, bool loop) {
   Trs out;
   out.translation = fromGlm(glm::mix(toGlm(a.translation), toGlm(b.translation), s.u));
   out.scale = fromGlm(glm::mix(toGlm(a.scale), toGlm(b.scale), s.u));
-  out.rotation = fromGlm(slerpShortest(glm::normalize(toGlm(a.rotation)), glm::normalize(toGlm(b.rotation)), s.u));
+  out.rotation = fromGlm(
+      slerpShortest(glm::normalize(toGlm(a.rotation)), glm::normalize(toGlm(b.rotation)), s.u));
   return out;
 }
 
@@ -76,7 +77,9 @@ void applyTrack(const AnimationTrack& track, float t_s, Trs& trs) {
   const size_t stride = size_t(n) * (cubic ? 3 : 1);
   // Component c of key k: the value, or for cubic splines the in-tangent
   // (part 0), value (1) or out-tangent (2).
-  auto at = [&](size_t k, int part, int c) { return track.values[k * stride + size_t(part * n + c)]; };
+  auto at = [&](size_t k, int part, int c) {
+    return track.values[k * stride + size_t(part * n + c)];
+  };
   const int value_part = cubic ? 1 : 0;
   const KeySpan s = findSpan(track.times_s.size(), t_s, [&](size_t k) { return track.times_s[k]; });
   float v[4] = {0, 0, 0, 1};
@@ -84,7 +87,8 @@ void applyTrack(const AnimationTrack& track, float t_s, Trs& trs) {
     for (int c = 0; c < n && c < 4; ++c) v[c] = at(s.k0, value_part, c);
   } else if (cubic) {
     const float u = s.u, u2 = u * u, u3 = u2 * u;
-    const float h00 = 2 * u3 - 3 * u2 + 1, h10 = u3 - 2 * u2 + u, h01 = -2 * u3 + 3 * u2, h11 = u3 - u2;
+    const float h00 = 2 * u3 - 3 * u2 + 1, h10 = u3 - 2 * u2 + u, h01 = -2 * u3 + 3 * u2,
+                h11 = u3 - u2;
     for (int c = 0; c < n && c < 4; ++c) {
       v[c] = h00 * at(s.k0, 1, c) + h10 * s.dt_s * at(s.k0, 2, c) + h01 * at(s.k1, 1, c) +
              h11 * s.dt_s * at(s.k1, 0, c);
@@ -98,20 +102,15 @@ void applyTrack(const AnimationTrack& track, float t_s, Trs& trs) {
     for (int c = 0; c < n && c < 4; ++c) v[c] = (1 - s.u) * at(s.k0, 0, c) + s.u * at(s.k1, 0, c);
   }
   switch (track.path) {
-    case AnimationPath::kTranslation:
-      trs.translation = {v[0], v[1], v[2]};
-      break;
-    case AnimationPath::kScale:
-      trs.scale = {v[0], v[1], v[2]};
-      break;
+    case AnimationPath::kTranslation: trs.translation = {v[0], v[1], v[2]}; break;
+    case AnimationPath::kScale: trs.scale = {v[0], v[1], v[2]}; break;
     case AnimationPath::kRotation: {
       const glm::quat q(v[3], v[0], v[1], v[2]);
       const float length = glm::length(q);
       trs.rotation = length > 0 ? fromGlm(q / length) : Quat{};
       break;
     }
-    case AnimationPath::kWeights:
-      break;
+    case AnimationPath::kWeights: break;
   }
 }
 

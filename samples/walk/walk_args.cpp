@@ -51,34 +51,35 @@ std::string badValue(const std::string& arg, const char* value, const std::strin
 }  // namespace
 
 void printUsage(FILE* out) {
-  std::fprintf(out,
-               "usage: svit-walk LEVEL --bake OUT [--headless] [--script S.json] [--frames N]\n"
-               "                 [--frames-out DIR] [--stats FILE] [--probe POINTS --probe-out FILE]\n"
-               "                 [--width W --height H] [--view baked|runtime|delta] [--budget-ms B]\n"
-               "                 [--samples-per-frame N] [--fps F]\n"
-               "                 [--overlay] [--exposure E] [--frames-format png|exr]\n"
-               "  LEVEL            a .gltf/.glb or level .json\n"
-               "  --bake OUT       the bake directory (OUT/bake.svit) written by svit-bake for LEVEL\n"
-               "  --headless       no window: render N frames of simulated time (frame / fps)\n"
-               "  --script S.json  camera keys and per-frame events (samples/walk/README.md)\n"
-               "  --frames N       frames to render headless (default: the script's, else 90)\n"
-               "  --frames-out DIR write DIR/frame-0000.png ... (headless)\n"
-               "  --frames-format png|exr  png (default): display colour; exr: DIR/frame-0000.exr ...\n"
-               "                   with the linear radiance (cd/m2, before exposure)\n"
-               "  --stats FILE     per-frame timings by stage as JSON\n"
-               "  --probe POINTS   lines 'x y z nx ny nz'; with --probe-out FILE, write the runtime's\n"
-               "                   irradiance 'r g b' (lux) per point after the last frame\n"
-               "  --width W --height H  frame size in pixels (default 640 x 360)\n"
-               "  --view V         baked, runtime (default) or delta\n"
-               "  --budget-ms B    runtime update budget per frame, ms (0 = no time limit; default\n"
-               "                   0 headless, 8 in a window)\n"
-               "  --samples-per-frame N  point samples (index maps) per frame, 0 = no limit (default\n"
-               "                   32 headless unless --budget-ms is given: reproducible frames)\n"
-               "  --fps F          simulated frames per second (default: the script's, else 30)\n"
-               "  --overlay        headless: draw the statistics overlay on the frames (a window\n"
-               "                   shows it from the start; F1 toggles it)\n"
-               "  --exposure E     fixed exposure (finite, > 0) instead of auto exposure\n"
-               "exit: 0 ok, 1 bad input (level, bake, script, points), 2 bad usage\n");
+  std::fprintf(
+      out,
+      "usage: svit-walk LEVEL --bake OUT [--headless] [--script S.json] [--frames N]\n"
+      "                 [--frames-out DIR] [--stats FILE] [--probe POINTS --probe-out FILE]\n"
+      "                 [--width W --height H] [--view baked|runtime|delta] [--budget-ms B]\n"
+      "                 [--samples-per-frame N] [--fps F]\n"
+      "                 [--overlay] [--exposure E] [--frames-format png|exr]\n"
+      "  LEVEL            a .gltf/.glb or level .json\n"
+      "  --bake OUT       the bake directory (OUT/bake.svit) written by svit-bake for LEVEL\n"
+      "  --headless       no window: render N frames of simulated time (frame / fps)\n"
+      "  --script S.json  camera keys and per-frame events (samples/walk/README.md)\n"
+      "  --frames N       frames to render headless (default: the script's, else 90)\n"
+      "  --frames-out DIR write DIR/frame-0000.png ... (headless)\n"
+      "  --frames-format png|exr  png (default): display colour; exr: DIR/frame-0000.exr ...\n"
+      "                   with the linear radiance (cd/m2, before exposure)\n"
+      "  --stats FILE     per-frame timings by stage as JSON\n"
+      "  --probe POINTS   lines 'x y z nx ny nz'; with --probe-out FILE, write the runtime's\n"
+      "                   irradiance 'r g b' (lux) per point after the last frame\n"
+      "  --width W --height H  frame size in pixels (default 640 x 360)\n"
+      "  --view V         baked, runtime (default) or delta\n"
+      "  --budget-ms B    runtime update budget per frame, ms (0 = no time limit; default\n"
+      "                   0 headless, 8 in a window)\n"
+      "  --samples-per-frame N  point samples (index maps) per frame, 0 = no limit (default\n"
+      "                   32 headless unless --budget-ms is given: reproducible frames)\n"
+      "  --fps F          simulated frames per second (default: the script's, else 30)\n"
+      "  --overlay        headless: draw the statistics overlay on the frames (a window\n"
+      "                   shows it from the start; F1 toggles it)\n"
+      "  --exposure E     fixed exposure (finite, > 0) instead of auto exposure\n"
+      "exit: 0 ok, 1 bad input (level, bake, script, points), 2 bad usage\n");
 }
 
 ParsedArgs parseWalkArgs(int argc, const char* const* argv) {
@@ -116,26 +117,31 @@ ParsedArgs parseWalkArgs(int argc, const char* const* argv) {
       target = v;
     } else if (arg == "--frames") {
       int n = 0;
-      if (!value(v) || !parseInt(v, 1, 1000000, n)) return fail("--frames needs an integer in [1, 1000000]");
+      if (!value(v) || !parseInt(v, 1, 1000000, n))
+        return fail("--frames needs an integer in [1, 1000000]");
       o.frames = n;
     } else if (arg == "--width" || arg == "--height") {
       int n = 0;
-      if (!value(v) || !parseInt(v, 16, 8192, n)) return fail(arg + " needs an integer in [16, 8192]");
+      if (!value(v) || !parseInt(v, 16, 8192, n))
+        return fail(arg + " needs an integer in [16, 8192]");
       (arg == "--width" ? o.width : o.height) = n;
     } else if (arg == "--view") {
       if (!value(v) || !parseView(v)) return fail("--view needs baked, runtime or delta");
       o.view = parseView(v);
     } else if (arg == "--budget-ms") {
       double b = 0;
-      if (!value(v) || !parseDouble(v, 0, 1e6, b)) return fail("--budget-ms needs a number in [0, 1e6]");
+      if (!value(v) || !parseDouble(v, 0, 1e6, b))
+        return fail("--budget-ms needs a number in [0, 1e6]");
       o.budget_ms = b;
     } else if (arg == "--samples-per-frame") {
       int n = 0;
-      if (!value(v) || !parseInt(v, 0, 1000000, n)) return fail(badValue(arg, v, "an integer in [0, 1000000]"));
+      if (!value(v) || !parseInt(v, 0, 1000000, n))
+        return fail(badValue(arg, v, "an integer in [0, 1000000]"));
       o.samples_per_frame = n;
     } else if (arg == "--fps") {
       double f = 0;
-      if (!value(v) || !parseDouble(v, 1e-3, 1000, f)) return fail("--fps needs a number in (0, 1000]");
+      if (!value(v) || !parseDouble(v, 1e-3, 1000, f))
+        return fail("--fps needs a number in (0, 1000]");
       o.fps = float(f);
     } else if (arg == "--exposure") {
       float e = 0;
@@ -155,7 +161,8 @@ ParsedArgs parseWalkArgs(int argc, const char* const* argv) {
   if (o.level.empty()) return fail("no LEVEL given");
   if (o.bake_dir.empty()) return fail("--bake OUT is required");
   if (o.probe.empty() != o.probe_out.empty()) return fail("--probe and --probe-out go together");
-  if (!o.headless && (o.frames || !o.frames_out.empty())) return fail("--frames and --frames-out need --headless");
+  if (!o.headless && (o.frames || !o.frames_out.empty()))
+    return fail("--frames and --frames-out need --headless");
   return parsed;
 }
 

@@ -16,26 +16,28 @@ enum class FramesFormat {
 };
 
 struct WalkOptions {
-  std::string level;       ///< LEVEL: .gltf/.glb or level .json
-  std::string bake_dir;    ///< --bake OUT: the directory holding bake.svit
+  std::string level;     ///< LEVEL: .gltf/.glb or level .json
+  std::string bake_dir;  ///< --bake OUT: the directory holding bake.svit
   bool headless = false;
-  std::string script;      ///< --script S.json, empty: none
+  std::string script;         ///< --script S.json, empty: none
   std::optional<int> frames;  ///< --frames N (headless), else the script's or 90
-  std::string frames_out;  ///< --frames-out DIR (headless), empty: no frames written
+  std::string frames_out;     ///< --frames-out DIR (headless), empty: no frames written
   FramesFormat frames_format = FramesFormat::kPng;  ///< --frames-format png|exr
-  std::string stats;       ///< --stats FILE, empty: none
-  std::string probe;       ///< --probe POINTS
-  std::string probe_out;   ///< --probe-out FILE
+  std::string stats;                                ///< --stats FILE, empty: none
+  std::string probe;                                ///< --probe POINTS
+  std::string probe_out;                            ///< --probe-out FILE
   int width = 640, height = 360;
   std::optional<ShadingView> view;  ///< --view, default runtime
-  std::optional<double> budget_ms;  ///< --budget-ms; default 0 (no time limit) headless, 8 in a window
+  /// --budget-ms; default 0 (no time limit) headless, 8 in a window
+  std::optional<double> budget_ms;
   /// --samples-per-frame N (RuntimeSettings::max_samples_per_frame, 0 = no
   /// limit); default kHeadlessSamplesPerFrame headless unless --budget-ms is
   /// given, else 0.
   std::optional<int> samples_per_frame;
-  std::optional<float> fps;         ///< --fps; default the script's, else 30
-  bool overlay = false;             ///< --overlay: statistics drawn on the headless PNG frames
-  std::optional<float> exposure;    ///< --exposure E: fixed (finite, > 0), auto exposure off; default auto
+  std::optional<float> fps;  ///< --fps; default the script's, else 30
+  bool overlay = false;      ///< --overlay: statistics drawn on the headless PNG frames
+  /// --exposure E: fixed (finite, > 0), auto exposure off; default auto
+  std::optional<float> exposure;
 };
 
 /// The headless default: a deterministic budget in point samples, so every

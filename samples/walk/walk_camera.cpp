@@ -46,7 +46,8 @@ Camera levelOverview(const Scene& scene) {
   return c;
 }
 
-Camera cameraAt(const Scene& scene, const Camera& overview, std::span<const CameraKey> script_keys, float t_s) {
+Camera cameraAt(const Scene& scene, const Camera& overview, std::span<const CameraKey> script_keys,
+                float t_s) {
   if (!script_keys.empty()) {
     return fromKey(sampleCameraKeys(script_keys, t_s, false), overview.near_m, overview.far_m);
   }

@@ -17,7 +17,8 @@ Camera levelOverview(const Scene& scene);
 
 /// The scripted camera at global time `t_s`: `script_keys` when non-empty
 /// (never looping), else the level's first camera path, else `overview`.
-Camera cameraAt(const Scene& scene, const Camera& overview, std::span<const CameraKey> script_keys, float t_s);
+Camera cameraAt(const Scene& scene, const Camera& overview, std::span<const CameraKey> script_keys,
+                float t_s);
 
 /// A first-person camera: position, yaw about +Y and pitch, in radians.
 struct FlyCamera {

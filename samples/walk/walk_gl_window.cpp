@@ -13,7 +13,8 @@ void onGlfwError(int code, const char* description) {
 
 }  // namespace
 
-Expected<std::unique_ptr<GlWindow>> GlWindow::create(int width, int height, bool visible, const std::string& title) {
+Expected<std::unique_ptr<GlWindow>> GlWindow::create(int width, int height, bool visible,
+                                                     const std::string& title) {
   glfwSetErrorCallback(onGlfwError);
   if (glfwInit() != GLFW_TRUE) {
     return Status(StatusCode::kUnsupported, "cannot initialise GLFW (" + g_glfw_error +
@@ -27,7 +28,8 @@ Expected<std::unique_ptr<GlWindow>> GlWindow::create(int width, int height, bool
   GLFWwindow* window = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
   if (window == nullptr) {
     glfwTerminate();
-    return Status(StatusCode::kUnsupported, "cannot create an OpenGL 4.5 core context (" + g_glfw_error + ")");
+    return Status(StatusCode::kUnsupported,
+                  "cannot create an OpenGL 4.5 core context (" + g_glfw_error + ")");
   }
   glfwMakeContextCurrent(window);
   glfwSwapInterval(visible ? 1 : 0);

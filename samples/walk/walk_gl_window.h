@@ -16,7 +16,8 @@ class GlWindow {
  public:
   /// Initialises GLFW, opens a `width` x `height` window with a current GL
   /// 4.5 core context. Errors: no display, no GL 4.5 core (GLFW's message).
-  static Expected<std::unique_ptr<GlWindow>> create(int width, int height, bool visible, const std::string& title);
+  static Expected<std::unique_ptr<GlWindow>> create(int width, int height, bool visible,
+                                                    const std::string& title);
   ~GlWindow();
   GlWindow(const GlWindow&) = delete;
   GlWindow& operator=(const GlWindow&) = delete;

@@ -33,18 +33,21 @@ Status runHeadless(WalkSession& session) {
     const Camera camera = cameraAt(session.scene, session.overview, session.script.camera, t_s);
     const float aspect = float(session.renderer->width()) / float(session.renderer->height());
     Expected<FrameStats> lighting = stepLighting(session, t_s, camera, aspect);
-    if (!lighting.ok()) return Status(lighting.status().code(), where + lighting.status().message());
+    if (!lighting.ok())
+      return Status(lighting.status().code(), where + lighting.status().message());
     Expected<RenderStats> render = session.renderer->render(camera, session.view);
     if (!render.ok()) return Status(render.status().code(), where + render.status().message());
     const double frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     const FrameRecord record{frame, double(t_s), *lighting, *render, frame_ms, session.view};
     if (session.overlay) {  // --overlay: drawn after the frame's timing ends, so not counted
-      const Status s = session.overlay->draw(statsRows(record, ""), session.renderer->offscreenFramebuffer(),
-                                             session.renderer->width(), session.renderer->height());
+      const Status s =
+          session.overlay->draw(statsRows(record, ""), session.renderer->offscreenFramebuffer(),
+                                session.renderer->width(), session.renderer->height());
       if (!s.ok()) return Status(s.code(), where + s.message());
     }
     if (!session.options.frames_out.empty()) {
-      if (Status s = writeFrame(session, frame); !s.ok()) return Status(s.code(), where + s.message());
+      if (Status s = writeFrame(session, frame); !s.ok())
+        return Status(s.code(), where + s.message());
     }
     session.stats.add(record);
   }

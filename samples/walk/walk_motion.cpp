@@ -67,7 +67,8 @@ void LevelMotion::advance(float t_s) {
       const float clip_t = clipTime(t_s, animation.duration_s, path.loop);
       for (const AnimationTrack& track : animation.tracks) {
         bool under = false;
-        for (int n = track.node; n >= 0 && !under; n = scene_.nodes[size_t(n)].parent) under = n == path.node;
+        for (int n = track.node; n >= 0 && !under; n = scene_.nodes[size_t(n)].parent)
+          under = n == path.node;
         if (!under || moved_[size_t(track.node)]) continue;
         applyTrack(track, clip_t, locals_[size_t(track.node)]);
         use_trs_[size_t(track.node)] = true;
@@ -85,7 +86,8 @@ void LevelMotion::advance(float t_s) {
     const bool parent_changed = node.parent >= 0 && changed[size_t(node.parent)];
     if (!use_trs_[size_t(n)] && !parent_changed) continue;
     const Mat4 local = use_trs_[size_t(n)] ? composeTrs(locals_[size_t(n)]) : node.parent_from_node;
-    world_[size_t(n)] = node.parent >= 0 ? fromGlm(toGlm(world_[size_t(node.parent)]) * toGlm(local)) : local;
+    world_[size_t(n)] =
+        node.parent >= 0 ? fromGlm(toGlm(world_[size_t(node.parent)]) * toGlm(local)) : local;
     changed[size_t(n)] = true;
   }
 }

@@ -44,12 +44,12 @@ class LevelMotion {
  private:
   const Scene& scene_;
   std::vector<Trs> locals_;
-  std::vector<bool> use_trs_;     // false: the file's matrix (parent_from_node)
-  std::vector<bool> moved_;       // detached from its path by moveNode()
+  std::vector<bool> use_trs_;  // false: the file's matrix (parent_from_node)
+  std::vector<bool> moved_;    // detached from its path by moveNode()
   std::vector<Mat4> world_;
-  std::vector<int> order_;        // parents before children
+  std::vector<int> order_;  // parents before children
   std::vector<int> object_nodes_;
-  std::vector<Mat4> applied_;     // per object node: what the runtime has
+  std::vector<Mat4> applied_;              // per object node: what the runtime has
   std::vector<Mat4> applied_light_world_;  // per scene light: its node's world when last placed
 };
 

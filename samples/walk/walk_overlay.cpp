@@ -25,7 +25,7 @@ namespace {
 
 // stb_easy_font: a line is 12 font units apart, letters about 7 units tall.
 constexpr int kLineUnits = 12;
-constexpr int kMarginUnits = 4;   // box edge to text, and screen edge to box
+constexpr int kMarginUnits = 4;  // box edge to text, and screen edge to box
 constexpr int kColumnGapUnits = 12;
 // stb_easy_font_print writes 4 vertices x 16 bytes per quad; its header
 // expects ~270 bytes per character on average. Twice that, per row.
@@ -110,7 +110,8 @@ OverlayLayout layOut(const std::vector<OverlayRow>& rows, int width, int scale) 
       lines.push_back(row);
       continue;
     }
-    for (std::string& line : wrap(row.label, std::max(columns_width, std::min(frame_units, 2 * columns_width)))) {
+    for (std::string& line :
+         wrap(row.label, std::max(columns_width, std::min(frame_units, 2 * columns_width)))) {
       lines.push_back({std::move(line), ""});
     }
   }
@@ -148,7 +149,8 @@ OverlayVertices buildVertices(const OverlayLayout& layout, float s, std::vector<
     auto print = [&](const std::string& text, float x) {
       std::string copy = text;
       scratch.assign(copy.size() * kBytesPerChar + 64, 0);
-      const int quads = stb_easy_font_print(x, y, copy.data(), nullptr, scratch.data(), int(scratch.size()));
+      const int quads =
+          stb_easy_font_print(x, y, copy.data(), nullptr, scratch.data(), int(scratch.size()));
       // Per vertex: x, y, z (float) and RGBA8: 16 bytes; 4 vertices a quad.
       for (int q = 0; q < quads; ++q) {
         const float* v0 = reinterpret_cast<const float*>(scratch.data() + size_t(q) * 64);
@@ -157,15 +159,17 @@ OverlayVertices buildVertices(const OverlayLayout& layout, float s, std::vector<
       }
     };
     print(lines[i].label, 0.0f);
-    if (!lines[i].value.empty()) print(lines[i].value, float(layout.columns_width - textWidth(lines[i].value)));
+    if (!lines[i].value.empty())
+      print(lines[i].value, float(layout.columns_width - textWidth(lines[i].value)));
   }
   return {box_vertices, vertices.size() / 2 - box_vertices};
 }
 
 // Draws the box and then the text into `framebuffer`, keeping the caller's
 // state: framebuffer, viewport, program, vertex array and the enables.
-void drawKeepingState(const OverlayVertices& counts, const std::vector<float>& vertices, GLuint program, GLuint vao,
-                      GLuint buffer, uint32_t framebuffer, int width, int height) {
+void drawKeepingState(const OverlayVertices& counts, const std::vector<float>& vertices,
+                      GLuint program, GLuint vao, GLuint buffer, uint32_t framebuffer, int width,
+                      int height) {
   GLint previous_framebuffer = 0, previous_program = 0, previous_vao = 0, viewport[4] = {};
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_framebuffer);
   glGetIntegerv(GL_CURRENT_PROGRAM, &previous_program);
@@ -179,8 +183,10 @@ void drawKeepingState(const OverlayVertices& counts, const std::vector<float>& v
   glDisable(GL_CULL_FACE);
   glDisable(GL_SCISSOR_TEST);
   glEnable(GL_BLEND);
-  glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // keep the target's alpha
-  glNamedBufferData(buffer, GLsizeiptr(vertices.size() * sizeof(float)), vertices.data(), GL_STREAM_DRAW);
+  // keep the target's alpha
+  glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+  glNamedBufferData(buffer, GLsizeiptr(vertices.size() * sizeof(float)), vertices.data(),
+                    GL_STREAM_DRAW);
   glUseProgram(program);
   glBindVertexArray(vao);
   glUniform2f(0, float(width), float(height));
@@ -213,7 +219,8 @@ std::vector<OverlayRow> statsRows(const FrameRecord& r, const std::string& messa
       {"shading", format(ms, r.render.shading_ms)},
       {"emitters refreshed", format("%.0f", r.runtime.emitters_refreshed)},
       {"emitters pending", format("%.0f", r.runtime.emitters_pending)},
-      {"maps rendered", format("%.0f", r.runtime.samples_rendered) + format(" (%.0f faces)", r.runtime.faces_rendered)},
+      {"maps rendered", format("%.0f", r.runtime.samples_rendered) +
+                            format(" (%.0f faces)", r.runtime.faces_rendered)},
   };
   if (!message.empty()) rows.push_back({message, ""});
   return rows;
@@ -222,8 +229,10 @@ std::vector<OverlayRow> statsRows(const FrameRecord& r, const std::string& messa
 Expected<std::unique_ptr<StatsOverlay>> StatsOverlay::create() {
   std::unique_ptr<StatsOverlay> overlay(new StatsOverlay());
   std::string log;
-  const std::string_view vert = shadingSource("walk_overlay.vert"), frag = shadingSource("walk_overlay.frag");
-  if (vert.empty() || frag.empty()) return Status(StatusCode::kInternal, "walk_overlay.vert/.frag not embedded");
+  const std::string_view vert = shadingSource("walk_overlay.vert"),
+                         frag = shadingSource("walk_overlay.frag");
+  if (vert.empty() || frag.empty())
+    return Status(StatusCode::kInternal, "walk_overlay.vert/.frag not embedded");
   gl::GlShader vs = compile(GL_VERTEX_SHADER, vert, log);
   if (!log.empty()) return Status(StatusCode::kInternal, "walk_overlay.vert: " + log);
   gl::GlShader fs = compile(GL_FRAGMENT_SHADER, frag, log);
@@ -250,20 +259,24 @@ Expected<std::unique_ptr<StatsOverlay>> StatsOverlay::create() {
   glVertexArrayAttribBinding(vao, 0, 0);
   glVertexArrayVertexBuffer(vao, 0, overlay->buffer_.id(), 0, 2 * sizeof(float));
   const GLenum error = glGetError();
-  if (error != GL_NO_ERROR) return Status(StatusCode::kInternal, "walk overlay: GL error " + std::to_string(error));
+  if (error != GL_NO_ERROR)
+    return Status(StatusCode::kInternal, "walk overlay: GL error " + std::to_string(error));
   return overlay;
 }
 
 StatsOverlay::~StatsOverlay() = default;
 
-Status StatsOverlay::draw(const std::vector<OverlayRow>& rows, uint32_t framebuffer, int width, int height, int scale) {
+Status StatsOverlay::draw(const std::vector<OverlayRow>& rows, uint32_t framebuffer, int width,
+                          int height, int scale) {
   if (rows.empty() || width < 1 || height < 1) return Status();
   if (scale < 1) scale = 1 + height / 540;
   const OverlayLayout layout = layOut(rows, width, scale);
   const OverlayVertices counts = buildVertices(layout, float(scale), vertices_, scratch_);
-  drawKeepingState(counts, vertices_, program_.id(), vao_.id(), buffer_.id(), framebuffer, width, height);
+  drawKeepingState(counts, vertices_, program_.id(), vao_.id(), buffer_.id(), framebuffer, width,
+                   height);
   const GLenum error = glGetError();
-  if (error != GL_NO_ERROR) return Status(StatusCode::kInternal, "walk overlay: GL error " + std::to_string(error));
+  if (error != GL_NO_ERROR)
+    return Status(StatusCode::kInternal, "walk overlay: GL error " + std::to_string(error));
   return Status();
 }
 

@@ -43,7 +43,8 @@ class StatsOverlay {
   /// (>= 1; 0 picks one from the height: 1 up to 539 rows, 2 up to 1079, ...).
   /// Leaves depth test, blending, culling, scissor, viewport, program, vertex
   /// array and framebuffer binding as it found them. Errors: a GL error.
-  Status draw(const std::vector<OverlayRow>& rows, uint32_t framebuffer, int width, int height, int scale = 0);
+  Status draw(const std::vector<OverlayRow>& rows, uint32_t framebuffer, int width, int height,
+              int scale = 0);
 
  private:
   StatsOverlay() = default;

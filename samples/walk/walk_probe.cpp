@@ -19,7 +19,8 @@ Status writeIrradiance(const std::string& path, const std::vector<Rgb>& values) 
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
-  if (ec) return Status(StatusCode::kIoError, path + ": cannot rename from " + tmp + ": " + ec.message());
+  if (ec)
+    return Status(StatusCode::kIoError, path + ": cannot rename from " + tmp + ": " + ec.message());
   return Status();
 }
 

@@ -25,7 +25,8 @@ struct ScriptReader {
     return Status(StatusCode::kInvalidInput, path + ": " + field + ": " + problem);
   }
 
-  Status checkKeys(const Json& j, const std::string& field, const std::set<std::string>& allowed) const {
+  Status checkKeys(const Json& j, const std::string& field,
+                   const std::set<std::string>& allowed) const {
     if (!j.is_object()) return error(field, "must be a JSON object");
     for (const auto& item : j.items()) {
       if (allowed.count(item.key())) continue;
@@ -53,13 +54,15 @@ struct ScriptReader {
   Status integer(const Json& j, const std::string& field, int& out) const {
     if (!j.is_number_integer()) return error(field, "must be an integer");
     const long long v = j.get<long long>();
-    if (v < 0 || v > 100000000) return error(field, std::to_string(v) + " is out of range [0, 1e8]");
+    if (v < 0 || v > 100000000)
+      return error(field, std::to_string(v) + " is out of range [0, 1e8]");
     out = int(v);
     return Status();
   }
 
   Status floats(const Json& j, const std::string& field, size_t count, float* out) const {
-    if (!j.is_array() || j.size() != count) return error(field, "must be an array of " + std::to_string(count) + " numbers");
+    if (!j.is_array() || j.size() != count)
+      return error(field, "must be an array of " + std::to_string(count) + " numbers");
     for (size_t i = 0; i < count; ++i) {
       if (Status s = number(j[i], field + "[" + std::to_string(i) + "]", out[i]); !s.ok()) return s;
     }
@@ -77,19 +80,23 @@ struct ScriptReader {
     if (!j.is_array() || j.empty()) return error("camera", "must be a non-empty array of keys");
     for (size_t k = 0; k < j.size(); ++k) {
       const std::string field = "camera[" + std::to_string(k) + "]";
-      if (Status s = checkKeys(j[k], field, {"t_s", "position", "look_at", "yfov_rad"}); !s.ok()) return s;
+      if (Status s = checkKeys(j[k], field, {"t_s", "position", "look_at", "yfov_rad"}); !s.ok())
+        return s;
       CameraKey key;
       if (!script.camera.empty()) key.yfov_rad = script.camera.back().yfov_rad;
       for (const char* required : {"t_s", "position", "look_at"}) {
         if (!j[k].contains(required)) return error(field + "." + required, "is required");
       }
       if (Status s = nonNegative(j[k]["t_s"], field + ".t_s", key.t_s); !s.ok()) return s;
-      if (!script.camera.empty() && !(key.t_s > script.camera.back().t_s)) return error(field + ".t_s", "must increase");
+      if (!script.camera.empty() && !(key.t_s > script.camera.back().t_s))
+        return error(field + ".t_s", "must increase");
       if (Status s = vec3(j[k]["position"], field + ".position", key.position); !s.ok()) return s;
       if (Status s = vec3(j[k]["look_at"], field + ".look_at", key.look_at); !s.ok()) return s;
       if (j[k].contains("yfov_rad")) {
-        if (Status s = number(j[k]["yfov_rad"], field + ".yfov_rad", key.yfov_rad); !s.ok()) return s;
-        if (!(key.yfov_rad > 0.01f && key.yfov_rad < 3.1f)) return error(field + ".yfov_rad", "must be in (0.01, 3.1)");
+        if (Status s = number(j[k]["yfov_rad"], field + ".yfov_rad", key.yfov_rad); !s.ok())
+          return s;
+        if (!(key.yfov_rad > 0.01f && key.yfov_rad < 3.1f))
+          return error(field + ".yfov_rad", "must be in (0.01, 3.1)");
       }
       script.camera.push_back(key);
     }
@@ -97,13 +104,16 @@ struct ScriptReader {
   }
 
   Status move(const Json& j, const std::string& field, WalkEvent& event) const {
-    if (Status s = checkKeys(j, field, {"node", "translation", "rotation", "scale"}); !s.ok()) return s;
-    if (!j.contains("node") || !j["node"].is_string()) return error(field + ".node", "must be a node name");
+    if (Status s = checkKeys(j, field, {"node", "translation", "rotation", "scale"}); !s.ok())
+      return s;
+    if (!j.contains("node") || !j["node"].is_string())
+      return error(field + ".node", "must be a node name");
     const std::string name = j["node"].get<std::string>();
     event.node = scene.findNode(name);
     if (event.node < 0) return error(field + ".node", "no node '" + name + "'");
     if (!scene.nodes[size_t(event.node)].dynamic) {
-      return error(field + ".node", "node '" + name + "' is static (baked); only dynamic nodes move");
+      return error(field + ".node",
+                   "node '" + name + "' is static (baked); only dynamic nodes move");
     }
     if (j.contains("translation")) {
       Vec3 t;
@@ -114,7 +124,8 @@ struct ScriptReader {
       float q[4];
       if (Status s = floats(j["rotation"], field + ".rotation", 4, q); !s.ok()) return s;
       const float length = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-      if (!(length > 1e-6f)) return error(field + ".rotation", "quaternion (x, y, z, w) has zero length");
+      if (!(length > 1e-6f))
+        return error(field + ".rotation", "quaternion (x, y, z, w) has zero length");
       event.rotation = Quat{q[0] / length, q[1] / length, q[2] / length, q[3] / length};
     }
     if (j.contains("scale")) {
@@ -127,7 +138,8 @@ struct ScriptReader {
 
   Status light(const Json& j, const std::string& field, WalkEvent& event) const {
     if (Status s = checkKeys(j, field, {"name", "enabled", "dimmer"}); !s.ok()) return s;
-    if (!j.contains("name") || !j["name"].is_string()) return error(field + ".name", "must be a light name");
+    if (!j.contains("name") || !j["name"].is_string())
+      return error(field + ".name", "must be a light name");
     const std::string name = j["name"].get<std::string>();
     for (size_t l = 0; l < scene.lights.size() && event.light < 0; ++l) {
       if (scene.lights[l].name == name) event.light = int(l);
@@ -136,10 +148,12 @@ struct ScriptReader {
     if (!scene.lights[size_t(event.light)].dynamic) {
       bool baked_emitter = false;
       for (const BakeEmitter& e : bake.emitters) {
-        baked_emitter = baked_emitter || (e.kind == BakeEmitter::Kind::kLight && e.index == uint32_t(event.light));
+        baked_emitter = baked_emitter ||
+                        (e.kind == BakeEmitter::Kind::kLight && e.index == uint32_t(event.light));
       }
       if (!baked_emitter) {
-        return error(field + ".name", "light '" + name + "' is baked and the bake has no emitter for it");
+        return error(field + ".name",
+                     "light '" + name + "' is baked and the bake has no emitter for it");
       }
     }
     if (j.contains("enabled")) {
@@ -161,8 +175,8 @@ struct ScriptReader {
     int index = 0;
     if (Status s = integer(j["index"], field + ".index", index); !s.ok()) return s;
     if (size_t(index) >= bake.emitters.size()) {
-      return error(field + ".index", std::to_string(index) + " >= emitter count " + std::to_string(bake.emitters.size()) +
-                                         " of the bake");
+      return error(field + ".index", std::to_string(index) + " >= emitter count " +
+                                         std::to_string(bake.emitters.size()) + " of the bake");
     }
     event.emitter = uint32_t(index);
     if (!j.contains("scale")) return error(field + ".scale", "is required");
@@ -173,14 +187,18 @@ struct ScriptReader {
     if (!j.is_array()) return error("events", "must be an array");
     for (size_t e = 0; e < j.size(); ++e) {
       const std::string field = "events[" + std::to_string(e) + "]";
-      if (Status s = checkKeys(j[e], field, {"frame", "move", "light", "baked_emitter", "view"}); !s.ok()) return s;
+      if (Status s = checkKeys(j[e], field, {"frame", "move", "light", "baked_emitter", "view"});
+          !s.ok())
+        return s;
       WalkEvent event;
       event.field = field;
       if (!j[e].contains("frame")) return error(field + ".frame", "is required");
       if (Status s = integer(j[e]["frame"], field + ".frame", event.frame); !s.ok()) return s;
       int kinds = 0;
-      for (const char* kind : {"move", "light", "baked_emitter", "view"}) kinds += j[e].contains(kind) ? 1 : 0;
-      if (kinds != 1) return error(field, "needs exactly one of 'move', 'light', 'baked_emitter', 'view'");
+      for (const char* kind : {"move", "light", "baked_emitter", "view"})
+        kinds += j[e].contains(kind) ? 1 : 0;
+      if (kinds != 1)
+        return error(field, "needs exactly one of 'move', 'light', 'baked_emitter', 'view'");
       Status s;
       if (j[e].contains("move")) {
         event.kind = WalkEvent::Kind::kMove;
@@ -194,9 +212,12 @@ struct ScriptReader {
       } else {
         event.kind = WalkEvent::Kind::kView;
         const Json& v = j[e]["view"];
-        const std::optional<ShadingView> view = v.is_string() ? parseView(v.get<std::string>()) : std::nullopt;
-        if (!view) s = error(field + ".view", "must be \"baked\", \"runtime\" or \"delta\"");
-        else event.view = *view;
+        const std::optional<ShadingView> view =
+            v.is_string() ? parseView(v.get<std::string>()) : std::nullopt;
+        if (!view)
+          s = error(field + ".view", "must be \"baked\", \"runtime\" or \"delta\"");
+        else
+          event.view = *view;
       }
       if (!s.ok()) return s;
       script.events.push_back(std::move(event));
@@ -247,7 +268,8 @@ const char* viewName(ShadingView view) {
   return "?";
 }
 
-Expected<WalkScript> readWalkScript(const std::string& path, const Scene& scene, const BakeData& bake) {
+Expected<WalkScript> readWalkScript(const std::string& path, const Scene& scene,
+                                    const BakeData& bake) {
   std::ifstream file(path);
   if (!file) return Status(StatusCode::kNotFound, path + ": cannot open");
   Json j;
@@ -262,8 +284,9 @@ Expected<WalkScript> readWalkScript(const std::string& path, const Scene& scene,
 Status checkEventFrames(const WalkScript& script, const std::string& path, int frames) {
   for (const WalkEvent& event : script.events) {
     if (event.frame >= frames) {
-      return Status(StatusCode::kInvalidInput, path + ": " + event.field + ".frame: " + std::to_string(event.frame) +
-                                                   " is past the last frame " + std::to_string(frames - 1));
+      return Status(StatusCode::kInvalidInput,
+                    path + ": " + event.field + ".frame: " + std::to_string(event.frame) +
+                        " is past the last frame " + std::to_string(frames - 1));
     }
   }
   return Status();

@@ -39,19 +39,21 @@ struct WalkEvent {
 };
 
 struct WalkScript {
-  std::optional<float> fps;          ///< frames per second, > 0
-  std::optional<int> frames;         ///< frame count, >= 1
-  std::vector<CameraKey> camera;     ///< empty: the level's camera path
-  std::vector<WalkEvent> events;     ///< in file order
+  std::optional<float> fps;       ///< frames per second, > 0
+  std::optional<int> frames;      ///< frame count, >= 1
+  std::vector<CameraKey> camera;  ///< empty: the level's camera path
+  std::vector<WalkEvent> events;  ///< in file order
 };
 
 /// Reads and validates `path` against `scene` and `bake`. Errors name the
 /// file and field: `s.json: events[3].light.name: no light 'lamp9'`;
 /// unknown fields, wrong types, non-finite numbers, unknown nodes (or
 /// nodes that are not dynamic), unknown lights, emitter indices out of range.
-Expected<WalkScript> readWalkScript(const std::string& path, const Scene& scene, const BakeData& bake);
+Expected<WalkScript> readWalkScript(const std::string& path, const Scene& scene,
+                                    const BakeData& bake);
 
-/// Checks every event's frame lies in [0, frames): `s.json: events[2].frame: 120 is past the last frame 89`.
+/// Checks every event's frame lies in [0, frames): `s.json: events[2].frame: 120 is past the last
+/// frame 89`.
 Status checkEventFrames(const WalkScript& script, const std::string& path, int frames);
 
 /// "baked", "runtime" or "delta" -> the view; nullopt for anything else.

@@ -11,7 +11,8 @@ namespace {
 
 // The runtime scale of a baked light's bake emitter (kLight, same index).
 Status scaleBakedLight(WalkSession& session, int light) {
-  const float scale = session.baked_light_enabled[size_t(light)] ? session.baked_light_dimmer[size_t(light)] : 0.0f;
+  const float scale =
+      session.baked_light_enabled[size_t(light)] ? session.baked_light_dimmer[size_t(light)] : 0.0f;
   for (uint32_t e = 0; e < session.bake.emitters.size(); ++e) {
     const BakeEmitter& emitter = session.bake.emitters[e];
     if (emitter.kind != BakeEmitter::Kind::kLight || emitter.index != uint32_t(light)) continue;
@@ -60,8 +61,8 @@ Expected<std::unique_ptr<WalkSession>> openSession(const WalkOptions& options) {
   s.overview = levelOverview(s.scene);
   s.motion = std::make_unique<LevelMotion>(s.scene);
 
-  Expected<std::unique_ptr<GlWindow>> window =
-      GlWindow::create(options.width, options.height, !options.headless, "svit-walk " + options.level);
+  Expected<std::unique_ptr<GlWindow>> window = GlWindow::create(
+      options.width, options.height, !options.headless, "svit-walk " + options.level);
   if (!window.ok()) return window.status();
   s.window = std::move(window).value();
   Expected<GlContextInfo> gl = checkGlContext();
@@ -71,7 +72,8 @@ Expected<std::unique_ptr<WalkSession>> openSession(const WalkOptions& options) {
   runtime_settings.delta_textures = false;  // SceneRenderer looks the deltas up per pixel
   runtime_settings.max_samples_per_frame = options.samples_per_frame.value_or(
       options.headless && !options.budget_ms ? kHeadlessSamplesPerFrame : 0);
-  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(s.scene, s.bake, options.bake_dir, runtime_settings);
+  Expected<std::unique_ptr<Runtime>> runtime =
+      Runtime::create(s.scene, s.bake, options.bake_dir, runtime_settings);
   if (!runtime.ok()) return runtime.status();
   s.runtime = std::move(runtime).value();
   SceneRendererSettings settings;
@@ -93,7 +95,8 @@ Expected<std::unique_ptr<WalkSession>> openSession(const WalkOptions& options) {
   if (!options.frames_out.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(options.frames_out, ec);
-    if (ec) return Status(StatusCode::kIoError, options.frames_out + ": cannot create: " + ec.message());
+    if (ec)
+      return Status(StatusCode::kIoError, options.frames_out + ": cannot create: " + ec.message());
   }
   return session;
 }
@@ -118,21 +121,21 @@ Status applyEvent(WalkSession& session, const WalkEvent& event) {
         return named(scaleBakedLight(session, event.light));
       }
       if (event.enabled) {
-        if (Status s = session.runtime->setLightEnabled(id, *event.enabled); !s.ok()) return named(s);
+        if (Status s = session.runtime->setLightEnabled(id, *event.enabled); !s.ok())
+          return named(s);
       }
       if (event.dimmer) return named(session.runtime->setLightDimmer(id, *event.dimmer));
       return Status();
     }
     case WalkEvent::Kind::kBakedEmitter:
       return named(scaleBakeEmitter(session, event.emitter, event.scale_factor));
-    case WalkEvent::Kind::kView:
-      session.view = event.view;
-      return Status();
+    case WalkEvent::Kind::kView: session.view = event.view; return Status();
   }
   return Status();
 }
 
-Expected<FrameStats> stepLighting(WalkSession& session, float t_s, const Camera& camera, float aspect) {
+Expected<FrameStats> stepLighting(WalkSession& session, float t_s, const Camera& camera,
+                                  float aspect) {
   session.motion->advance(t_s);
   if (Status s = session.motion->applyTo(*session.runtime); !s.ok()) return s;
   // The view the runtime ranks emitters for (importance caching).
@@ -153,12 +156,14 @@ Status writeOutputs(const WalkSession& session) {
   if (!session.options.probe_out.empty()) {
     std::vector<Rgb> values;
     values.reserve(session.probe_points.size());
-    for (const ProbePoint& p : session.probe_points) values.push_back(session.runtime->irradianceAt(p.position, p.normal));
+    for (const ProbePoint& p : session.probe_points)
+      values.push_back(session.runtime->irradianceAt(p.position, p.normal));
     if (Status s = writeIrradiance(session.options.probe_out, values); !s.ok()) return s;
   }
   if (!session.options.stats.empty()) {
-    return session.stats.writeJson(session.options.stats, session.options.level, session.gl_renderer,
-                                   session.runtime->resources(), session.renderer->resources());
+    return session.stats.writeJson(session.options.stats, session.options.level,
+                                   session.gl_renderer, session.runtime->resources(),
+                                   session.renderer->resources());
   }
   return Status();
 }

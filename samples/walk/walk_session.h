@@ -29,11 +29,11 @@ struct WalkSession {
   WalkScript script;
   std::vector<ProbePoint> probe_points;
   float fps = 30;
-  int frames = 90;         ///< headless frame count
+  int frames = 90;  ///< headless frame count
   double budget_ms = 0;
   ShadingView view = ShadingView::kRuntime;
-  Camera overview;         ///< levelOverview(scene)
-  std::string gl_renderer; ///< GL_RENDERER
+  Camera overview;          ///< levelOverview(scene)
+  std::string gl_renderer;  ///< GL_RENDERER
   // Declared in the order they are made: destroyed renderer first, window last.
   std::unique_ptr<GlWindow> window;
   std::unique_ptr<Runtime> runtime;
@@ -65,7 +65,8 @@ Status scaleBakeEmitter(WalkSession& session, uint32_t emitter, float scale);
 /// One frame's work after events: places nodes at `t_s`, tells the runtime
 /// and the view it ranks emitters for (`camera` at `aspect`), updates it
 /// within the budget. Errors: the runtime's (FrameStats::error).
-Expected<FrameStats> stepLighting(WalkSession& session, float t_s, const Camera& camera, float aspect);
+Expected<FrameStats> stepLighting(WalkSession& session, float t_s, const Camera& camera,
+                                  float aspect);
 
 /// After the run: the runtime's irradiance at the probe points (--probe-out)
 /// and the stats JSON (--stats). Errors name the file.

@@ -30,7 +30,9 @@ constexpr Stage kStages[] = {
 
 // JSON has no NaN or infinity; a non-finite timing would be a bug upstream,
 // written as null so the file stays valid and the reader sees it.
-nlohmann::json finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+nlohmann::json finite(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
 
 }  // namespace
 
@@ -42,9 +44,15 @@ FrameRecord WalkStats::meanSince(size_t first) const {
   double sums[10] = {};
   for (size_t i = first; i < frames_.size(); ++i) {
     const FrameRecord& r = frames_[i];
-    const double values[10] = {r.runtime.maps_ms, r.runtime.reduction_ms, r.runtime.bounce_ms,
-                               r.runtime.upload_ms, r.runtime.total_ms, r.render.shading_ms, r.frame_ms,
-                               double(r.runtime.emitters_refreshed), double(r.runtime.samples_rendered),
+    const double values[10] = {r.runtime.maps_ms,
+                               r.runtime.reduction_ms,
+                               r.runtime.bounce_ms,
+                               r.runtime.upload_ms,
+                               r.runtime.total_ms,
+                               r.render.shading_ms,
+                               r.frame_ms,
+                               double(r.runtime.emitters_refreshed),
+                               double(r.runtime.samples_rendered),
                                double(r.runtime.faces_rendered)};
     for (int k = 0; k < 10; ++k) sums[k] += values[k];
   }
@@ -61,7 +69,8 @@ FrameRecord WalkStats::meanSince(size_t first) const {
   return mean;
 }
 
-Status WalkStats::writeJson(const std::string& path, const std::string& level, const std::string& renderer,
+Status WalkStats::writeJson(const std::string& path, const std::string& level,
+                            const std::string& renderer,
                             const std::vector<ResourceUse>& runtime_resources,
                             const std::vector<ResourceUse>& renderer_resources) const {
   nlohmann::json frames = nlohmann::json::array();
@@ -110,12 +119,17 @@ Status WalkStats::writeJson(const std::string& path, const std::string& level, c
   auto resources = [](const std::vector<ResourceUse>& uses) {
     nlohmann::json out = nlohmann::json::array();
     for (const ResourceUse& u : uses) {
-      out.push_back({{"name", u.name}, {"allocated", u.allocated}, {"gl_objects", u.gl_objects},
-                     {"gpu_bytes", u.gpu_bytes}, {"cpu_bytes", u.cpu_bytes}, {"reason", u.reason}});
+      out.push_back({{"name", u.name},
+                     {"allocated", u.allocated},
+                     {"gl_objects", u.gl_objects},
+                     {"gpu_bytes", u.gpu_bytes},
+                     {"cpu_bytes", u.cpu_bytes},
+                     {"reason", u.reason}});
     }
     return out;
   };
-  root["resources"] = {{"runtime", resources(runtime_resources)}, {"renderer", resources(renderer_resources)}};
+  root["resources"] = {{"runtime", resources(runtime_resources)},
+                       {"renderer", resources(renderer_resources)}};
 
   const std::string tmp = path + ".tmp";
   {
@@ -125,7 +139,8 @@ Status WalkStats::writeJson(const std::string& path, const std::string& level, c
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
-  if (ec) return Status(StatusCode::kIoError, path + ": cannot rename from " + tmp + ": " + ec.message());
+  if (ec)
+    return Status(StatusCode::kIoError, path + ": cannot rename from " + tmp + ": " + ec.message());
   return Status();
 }
 
@@ -137,7 +152,8 @@ void WalkStats::printTable(FILE* out) const {
       sum += stage.of(r);
       peak = std::max(peak, stage.of(r));
     }
-    std::fprintf(out, "%-13s %10.2f %10.2f\n", stage.name, frames_.empty() ? 0.0 : sum / double(frames_.size()), peak);
+    std::fprintf(out, "%-13s %10.2f %10.2f\n", stage.name,
+                 frames_.empty() ? 0.0 : sum / double(frames_.size()), peak);
   }
   uint64_t emitters = 0, samples = 0, faces = 0, shadow_maps = 0, idle = 0;
   for (const FrameRecord& r : frames_) {
@@ -147,11 +163,12 @@ void WalkStats::printTable(FILE* out) const {
     shadow_maps += r.render.shadow_maps_rendered;
     idle += r.runtime.idle ? 1 : 0;
   }
-  std::fprintf(out,
-               "%zu frames: %llu emitters refreshed, %llu samples (%llu map faces), %llu light shadow maps, "
-               "%llu idle frames\n",
-               frames_.size(), (unsigned long long)emitters, (unsigned long long)samples, (unsigned long long)faces,
-               (unsigned long long)shadow_maps, (unsigned long long)idle);
+  std::fprintf(
+      out,
+      "%zu frames: %llu emitters refreshed, %llu samples (%llu map faces), %llu light shadow maps, "
+      "%llu idle frames\n",
+      frames_.size(), (unsigned long long)emitters, (unsigned long long)samples,
+      (unsigned long long)faces, (unsigned long long)shadow_maps, (unsigned long long)idle);
 }
 
 }  // namespace svit::walk

@@ -21,11 +21,11 @@ struct Controls {
   int picked_node = -1;
   int screenshots = 0;
   float baked_lamp_scale = 1;
-  bool lamp_pending = false;      // K pressed: apply the new baked lamp scale
-  std::string message;            // last action, shown in the title and the overlay
-  bool overlay_visible = true;    // F1
+  bool lamp_pending = false;             // K pressed: apply the new baked lamp scale
+  std::string message;                   // last action, shown in the title and the overlay
+  bool overlay_visible = true;           // F1
   std::vector<OverlayRow> overlay_rows;  // refreshed with the title
-  Status error;                   // a runtime call that failed in the callback
+  Status error;                          // a runtime call that failed in the callback
 };
 
 // The instance a patch's first element lies on, or -1.
@@ -49,7 +49,8 @@ std::vector<uint32_t> bakedLamp(const BakeData& bake) {
     std::vector<uint32_t> lamp = {e};
     for (uint32_t o = e + 1; o < bake.emitters.size(); ++o) {
       const BakeEmitter& other = bake.emitters[o];
-      if (other.kind == BakeEmitter::Kind::kPatch && instance >= 0 && patchInstance(bake, other.index) == instance) {
+      if (other.kind == BakeEmitter::Kind::kPatch && instance >= 0 &&
+          patchInstance(bake, other.index) == instance) {
         lamp.push_back(o);
       }
     }
@@ -83,7 +84,8 @@ void check(Controls& c, const Status& status) {
 // P: the dynamic object nearest the camera becomes the one the arrows move.
 void pickNearestObject(Controls& c) {
   c.picked_node = nearestObjectNode(*c.session, c.camera.position);
-  c.message = c.picked_node >= 0 ? "picked " + nodeName(c.session->scene, c.picked_node) : "no dynamic object";
+  c.message = c.picked_node >= 0 ? "picked " + nodeName(c.session->scene, c.picked_node)
+                                 : "no dynamic object";
 }
 
 // L: switches the first runtime light off or on.
@@ -105,7 +107,8 @@ void dimRuntimeLight(Controls& c, int key) {
   if (lights.empty()) {
     c.message = "no runtime light";
   } else if (Expected<RuntimeLightInfo> info = s.runtime->lightInfo(lights[0]); info.ok()) {
-    const float dimmer = std::clamp(info->dimmer * (key == GLFW_KEY_LEFT_BRACKET ? 0.8f : 1.25f), 0.01f, 4.0f);
+    const float dimmer =
+        std::clamp(info->dimmer * (key == GLFW_KEY_LEFT_BRACKET ? 0.8f : 1.25f), 0.01f, 4.0f);
     check(c, s.runtime->setLightDimmer(lights[0], dimmer));
     char text[64];
     std::snprintf(text, sizeof text, " dimmer %.2f", dimmer);
@@ -121,12 +124,14 @@ void cycleBakedLamp(Controls& c) {
     c.message = "no baked lamp";
     return;
   }
-  c.baked_lamp_scale = c.baked_lamp_scale > 0.9f ? 0.5f : c.baked_lamp_scale > 0.4f ? 0.25f
-                       : c.baked_lamp_scale > 0.2f ? 0.0f : 1.0f;
+  c.baked_lamp_scale = c.baked_lamp_scale > 0.9f   ? 0.5f
+                       : c.baked_lamp_scale > 0.4f ? 0.25f
+                       : c.baked_lamp_scale > 0.2f ? 0.0f
+                                                   : 1.0f;
   for (uint32_t e : lamp) check(c, scaleBakeEmitter(s, e, c.baked_lamp_scale));
   char text[96];
-  std::snprintf(text, sizeof text, "baked lamp (emitter %u, %zu in all) x %.2f", lamp[0], lamp.size(),
-                c.baked_lamp_scale);
+  std::snprintf(text, sizeof text, "baked lamp (emitter %u, %zu in all) x %.2f", lamp[0],
+                lamp.size(), c.baked_lamp_scale);
   c.message = text;
 }
 
@@ -147,8 +152,8 @@ void saveScreenshot(Controls& c) {
     return;
   }
   if (c.overlay_visible && s.overlay) {
-    check(c, s.overlay->draw(c.overlay_rows, s.renderer->offscreenFramebuffer(), s.renderer->width(),
-                             s.renderer->height()));
+    check(c, s.overlay->draw(c.overlay_rows, s.renderer->offscreenFramebuffer(),
+                             s.renderer->width(), s.renderer->height()));
   }
   char name[48];
   std::snprintf(name, sizeof name, "svit-walk-%03d.png", c.screenshots++);
@@ -188,7 +193,8 @@ void moveByKeys(GLFWwindow* window, Controls& c, float dt_s) {
   c.camera.position = fromGlm(p);
   if (c.picked_node < 0) return;
   // The picked object moves in the camera's horizontal frame, in world space.
-  const glm::vec3 flat_forward = glm::normalize(glm::vec3(forward.x, 0, forward.z) + glm::vec3(1e-6f, 0, 0));
+  const glm::vec3 flat_forward =
+      glm::normalize(glm::vec3(forward.x, 0, forward.z) + glm::vec3(1e-6f, 0, 0));
   glm::vec3 delta(0);
   if (down(GLFW_KEY_UP)) delta += step * 0.5f * flat_forward;
   if (down(GLFW_KEY_DOWN)) delta -= step * 0.5f * flat_forward;
@@ -199,7 +205,8 @@ void moveByKeys(GLFWwindow* window, Controls& c, float dt_s) {
   if (delta == glm::vec3(0)) return;
   // A world-space step in the parent's space (the node's TRS is local).
   const int parent = c.session->scene.nodes[size_t(c.picked_node)].parent;
-  if (parent >= 0) delta = glm::inverse(glm::mat3(toGlm(c.session->motion->worldFromNode(parent)))) * delta;
+  if (parent >= 0)
+    delta = glm::inverse(glm::mat3(toGlm(c.session->motion->worldFromNode(parent)))) * delta;
   Trs trs = c.session->motion->localTrs(c.picked_node);
   trs.translation = fromGlm(toGlm(trs.translation) + delta);
   c.session->motion->moveNode(c.picked_node, trs);
@@ -208,11 +215,13 @@ void moveByKeys(GLFWwindow* window, Controls& c, float dt_s) {
 std::string statsLine(const WalkSession& s, const Controls& c, const FrameRecord& r) {
   char text[320];
   std::snprintf(text, sizeof text,
-                "svit-walk [%s] frame %.1f ms | runtime %.1f (maps %.1f, reduce %.1f, bounce %.1f, upload %.1f) "
+                "svit-walk [%s] frame %.1f ms | runtime %.1f (maps %.1f, reduce %.1f, bounce %.1f, "
+                "upload %.1f) "
                 "shade %.1f | %u emitters refreshed, %u pending, %u maps | %s",
-                viewName(s.view), r.frame_ms, r.runtime.total_ms, r.runtime.maps_ms, r.runtime.reduction_ms,
-                r.runtime.bounce_ms, r.runtime.upload_ms, r.render.shading_ms, r.runtime.emitters_refreshed,
-                r.runtime.emitters_pending, r.runtime.samples_rendered, c.message.c_str());
+                viewName(s.view), r.frame_ms, r.runtime.total_ms, r.runtime.maps_ms,
+                r.runtime.reduction_ms, r.runtime.bounce_ms, r.runtime.upload_ms,
+                r.render.shading_ms, r.runtime.emitters_refreshed, r.runtime.emitters_pending,
+                r.runtime.samples_rendered, c.message.c_str());
   return text;
 }
 
@@ -223,10 +232,14 @@ Status runWindow(WalkSession& session) {
   GLFWwindow* window = session.window->handle();
   Controls controls;
   controls.session = &session;
-  controls.camera = FlyCamera::lookingLike(cameraAt(session.scene, session.overview, session.script.camera, 0));
-  controls.speed_m_per_s = std::max(0.1f, glm::length(toGlm(session.overview.position) - toGlm(session.overview.look_at)) / 6);
-  controls.message = "WASD QE move, right mouse look, P pick, arrows PgUp/PgDn move it, L [ ] light, K lamp, V view, "
-                     "F1 overlay, F12 shot";
+  controls.camera =
+      FlyCamera::lookingLike(cameraAt(session.scene, session.overview, session.script.camera, 0));
+  controls.speed_m_per_s = std::max(
+      0.1f, glm::length(toGlm(session.overview.position) - toGlm(session.overview.look_at)) / 6);
+  controls.message =
+      "WASD QE move, right mouse look, P pick, arrows PgUp/PgDn move it, L [ ] light, K lamp, V "
+      "view, "
+      "F1 overlay, F12 shot";
   glfwSetWindowUserPointer(window, &controls);
   glfwSetKeyCallback(window, onKey);
 
@@ -247,14 +260,16 @@ Status runWindow(WalkSession& session) {
     glfwGetCursorPos(window, &x, &y);
     if (glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS) {
       controls.camera.yaw_rad -= float(x - last_x) * 0.004f;
-      controls.camera.pitch_rad = std::clamp(controls.camera.pitch_rad - float(y - last_y) * 0.004f, -1.5f, 1.5f);
+      controls.camera.pitch_rad =
+          std::clamp(controls.camera.pitch_rad - float(y - last_y) * 0.004f, -1.5f, 1.5f);
     }
     last_x = x, last_y = y;
     moveByKeys(window, controls, dt_s);
     int width = 0, height = 0;
     glfwGetFramebufferSize(window, &width, &height);
     if (width < 16 || height < 16) continue;  // minimised
-    if (width != session.renderer->width() || height != session.renderer->height()) session.renderer->resize(width, height);
+    if (width != session.renderer->width() || height != session.renderer->height())
+      session.renderer->resize(width, height);
 
     const Clock::time_point frame_start = Clock::now();
     for (size_t e = 0; e < session.script.events.size(); ++e) {
@@ -262,11 +277,14 @@ Status runWindow(WalkSession& session) {
       fired[e] = true;
       if (Status s = applyEvent(session, session.script.events[e]); !s.ok()) return s;
     }
-    Expected<FrameStats> lighting = stepLighting(session, t_s, controls.camera.camera(), height > 0 ? float(width) / float(height) : 1.0f);
+    Expected<FrameStats> lighting = stepLighting(session, t_s, controls.camera.camera(),
+                                                 height > 0 ? float(width) / float(height) : 1.0f);
     if (!lighting.ok()) return lighting.status();
-    Expected<RenderStats> render = session.renderer->render(controls.camera.camera(), session.view, true);
+    Expected<RenderStats> render =
+        session.renderer->render(controls.camera.camera(), session.view, true);
     if (!render.ok()) return render.status();
-    const double frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
+    const double frame_ms =
+        std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
     const FrameRecord record{frame, double(t_s), *lighting, *render, frame_ms, session.view};
     session.stats.add(record);
     // Title and overlay show the mean of the last quarter second: legible,
@@ -279,7 +297,8 @@ Status runWindow(WalkSession& session) {
       last_title = now;
     }
     if (controls.overlay_visible && session.overlay) {
-      if (Status s = session.overlay->draw(controls.overlay_rows, 0, width, height); !s.ok()) return s;
+      if (Status s = session.overlay->draw(controls.overlay_rows, 0, width, height); !s.ok())
+        return s;
     }
     glfwSwapBuffers(window);
   }

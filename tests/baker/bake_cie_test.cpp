@@ -27,8 +27,8 @@ struct Expectation {
 
 // Writes the scene as glTF into a fresh directory, bakes it, probes the
 // floor (normal up) at the expectations and checks each within `tolerance`.
-void bakeAndProbe(Scene& scene, const std::string& name, const std::vector<Expectation>& expected, double tolerance,
-                  double texels_per_m) {
+void bakeAndProbe(Scene& scene, const std::string& name, const std::vector<Expectation>& expected,
+                  double tolerance, double texels_per_m) {
   const fs::path dir = fs::temp_directory_path() / ("svit_cie_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -48,8 +48,8 @@ void bakeAndProbe(Scene& scene, const std::string& name, const std::vector<Expec
   ASSERT_TRUE(probes.ok()) << probes.status().message();
   for (size_t i = 0; i < expected.size(); ++i) {
     const double got = luminance((*probes)[i].irradiance);
-    std::printf("%s (%.2f, %.2f): %.3f lx, expected %.3f (%+.2f%%)\n", name.c_str(), expected[i].x, expected[i].z, got,
-                expected[i].lux, 100.0 * (got / expected[i].lux - 1.0));
+    std::printf("%s (%.2f, %.2f): %.3f lx, expected %.3f (%+.2f%%)\n", name.c_str(), expected[i].x,
+                expected[i].z, got, expected[i].lux, 100.0 * (got / expected[i].lux - 1.0));
     EXPECT_NEAR(got, expected[i].lux, expected[i].lux * tolerance)
         << name << " at (" << expected[i].x << ", " << expected[i].z << ")";
     EXPECT_LT((*probes)[i].distance_m, 1e-4);
@@ -66,12 +66,18 @@ TEST(Cie171, Case5_2LambertianPointSource) {
   const int black = b.material({0, 0, 0});
   const int lamp = b.material({0, 0, 0}, {2.5e6f, 2.5e6f, 2.5e6f});
   b.addQuad("floor", {-2, 0, -2}, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}, black);
-  b.addQuad("lamp", {-0.01f, 3, -0.01f}, {0.01f, 3, -0.01f}, {0.01f, 3, 0.01f}, {-0.01f, 3, 0.01f}, lamp);
+  b.addQuad("lamp", {-0.01f, 3, -0.01f}, {0.01f, 3, -0.01f}, {0.01f, 3, 0.01f}, {-0.01f, 3, 0.01f},
+            lamp);
   // Direct light only; every shadow ray sees the lamp, so the estimate is
   // the average of cos*cos/d^2 over the lamp: noise < 1e-4.
   bakeAndProbe(b.scene(), "5_2",
-               {{0, 0, 111.111}, {0.5f, 0, 105.186}, {1, 0, 90.000}, {1.5f, 0, 71.111},
-                {0.5f, 0.5f, 99.723}, {1, 1, 74.380}, {1.5f, 1.5f, 49.383}},
+               {{0, 0, 111.111},
+                {0.5f, 0, 105.186},
+                {1, 0, 90.000},
+                {1.5f, 0, 71.111},
+                {0.5f, 0.5f, 99.723},
+                {1, 1, 74.380},
+                {1.5f, 1.5f, 49.383}},
                0.01, 32);
 }
 
@@ -90,7 +96,8 @@ TEST(Cie171, Case5_2IsotropicPointLight) {
   b.scene().nodes.push_back(lamp);
   b.scene().lights[0].node = int(b.scene().nodes.size() - 1);
   std::vector<Expectation> expected;
-  for (const auto& [x, z] : std::vector<std::pair<float, float>>{{0, 0}, {0.5f, 0}, {1, 0}, {1.5f, 0}, {0.5f, 0.5f}, {1, 1}, {1.5f, 1.5f}}) {
+  for (const auto& [x, z] : std::vector<std::pair<float, float>>{
+           {0, 0}, {0.5f, 0}, {1, 0}, {1.5f, 0}, {0.5f, 0.5f}, {1, 1}, {1.5f, 1.5f}}) {
     const double d = std::sqrt(double(x) * x + double(z) * z + 9.0);
     expected.push_back({x, z, 1000.0 * 3.0 / (d * d * d)});
   }
@@ -106,10 +113,13 @@ TEST(Cie171, Case5_3AreaSourceInBlackRoom) {
   const int black = b.material({0, 0, 0});
   const int lamp = b.material({0, 0, 0}, {1000, 1000, 1000});
   b.addRoom("room", {0, 0, 0}, {4, 3, 4}, black);
-  b.addQuad("lamp", {1.5f, 2.999f, 1.5f}, {2.5f, 2.999f, 1.5f}, {2.5f, 2.999f, 2.5f}, {1.5f, 2.999f, 2.5f}, lamp);
+  b.addQuad("lamp", {1.5f, 2.999f, 1.5f}, {2.5f, 2.999f, 1.5f}, {2.5f, 2.999f, 2.5f},
+            {1.5f, 2.999f, 2.5f}, lamp);
   // 8 samples x passes over a 1 m lamp 3 m away: the integrand cos*cos/d^2
   // varies ~10% over the lamp, stratified -> well under 0.5% noise.
-  bakeAndProbe(b.scene(), "5_3", {{2, 0.25f, 61.42}, {2, 0.75f, 79.26}, {2, 1.25f, 95.67}, {2, 1.75f, 105.78}}, 0.01, 32);
+  bakeAndProbe(b.scene(), "5_3",
+               {{2, 0.25f, 61.42}, {2, 0.75f, 79.26}, {2, 1.25f, 95.67}, {2, 1.75f, 105.78}}, 0.01,
+               32);
 }
 
 }  // namespace

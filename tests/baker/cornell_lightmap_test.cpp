@@ -36,17 +36,21 @@ const CornellBake& cornell() {
     b->geometry = std::move(flattenStaticGeometry(b->scene)).value();
     b->caster = std::move(makeEmbreeCaster(b->geometry)).value();
     RadiositySettings settings;
-    b->solver = std::move(RadiositySolver::create(b->scene, b->geometry, *b->caster, settings)).value();
+    b->solver =
+        std::move(RadiositySolver::create(b->scene, b->geometry, *b->caster, settings)).value();
     StopRule stop;
     stop.max_passes = 6;
     EXPECT_TRUE(b->solver->improve(stop).ok());
     AtlasSettings atlas_settings;
     atlas_settings.texels_per_m = 24;
     b->atlas = std::move(buildLightmapAtlas(b->scene, b->geometry, atlas_settings)).value();
-    b->texels = std::move(rasterizeTexels(b->geometry, b->atlas, *b->caster, RasterSettings{})).value();
+    b->texels =
+        std::move(rasterizeTexels(b->geometry, b->atlas, *b->caster, RasterSettings{})).value();
     TexelLightingSettings lighting;
     lighting.gather_rays = 256;
-    b->lighting = std::move(lightTexels(b->scene, b->geometry, *b->caster, *b->solver, b->texels, lighting)).value();
+    b->lighting =
+        std::move(lightTexels(b->scene, b->geometry, *b->caster, *b->solver, b->texels, lighting))
+            .value();
     PageSettings page_settings;
     b->pages = buildLightmapPages(b->geometry, b->atlas, b->texels, b->lighting, page_settings);
     return b;
@@ -70,10 +74,12 @@ TEST(CornellLightmap, BilinearLookupsAtSurfacePointsReadOnlyFilledTexels) {
   const int w = b.texels.page_width, h = b.texels.page_height;
   auto footprintFilled = [&](uint32_t page, Vec2 uv) {
     const float x = uv.x * float(w) - 0.5f, y = uv.y * float(h) - 0.5f;
-    const int x0 = std::clamp(int(std::floor(x)), 0, w - 1), y0 = std::clamp(int(std::floor(y)), 0, h - 1);
+    const int x0 = std::clamp(int(std::floor(x)), 0, w - 1),
+              y0 = std::clamp(int(std::floor(y)), 0, h - 1);
     const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
     const auto& valid = b.pages.valid[page];
-    return valid[size_t(y0) * size_t(w) + size_t(x0)] && valid[size_t(y0) * size_t(w) + size_t(x1)] &&
+    return valid[size_t(y0) * size_t(w) + size_t(x0)] &&
+           valid[size_t(y0) * size_t(w) + size_t(x1)] &&
            valid[size_t(y1) * size_t(w) + size_t(x0)] && valid[size_t(y1) * size_t(w) + size_t(x1)];
   };
   size_t checked = 0, unfilled = 0;
@@ -111,10 +117,13 @@ TEST(LightmapSeams, SmoothSeamsAgree) {
   ASSERT_TRUE(solver->improve(stop).ok());
   AtlasSettings atlas_settings;
   atlas_settings.texels_per_m = 16;
-  const LightmapAtlas atlas = std::move(buildLightmapAtlas(scene, geometry, atlas_settings)).value();
-  const TexelSet texels = std::move(rasterizeTexels(geometry, atlas, *caster, RasterSettings{})).value();
+  const LightmapAtlas atlas =
+      std::move(buildLightmapAtlas(scene, geometry, atlas_settings)).value();
+  const TexelSet texels =
+      std::move(rasterizeTexels(geometry, atlas, *caster, RasterSettings{})).value();
   const std::vector<TexelIrradiance> lighting =
-      std::move(lightTexels(scene, geometry, *caster, *solver, texels, TexelLightingSettings{})).value();
+      std::move(lightTexels(scene, geometry, *caster, *solver, texels, TexelLightingSettings{}))
+          .value();
   const LightmapPages pages = buildLightmapPages(geometry, atlas, texels, lighting, PageSettings{});
   const std::vector<SeamPoint> seam = findSeamPoints(geometry, atlas);
   size_t compared = 0, disagreeing = 0;
@@ -127,8 +136,8 @@ TEST(LightmapSeams, SmoothSeamsAgree) {
     worst = std::max(worst, difference);
     if (difference > 0.01) ++disagreeing;
   }
-  std::printf("%zu seam points compared, %zu differ by more than 1%%, worst %.2f%%\n", compared, disagreeing,
-              100.0 * worst);
+  std::printf("%zu seam points compared, %zu differ by more than 1%%, worst %.2f%%\n", compared,
+              disagreeing, 100.0 * worst);
   // 12 shared edges of 1 m at 16 texels/m, 2 points per texel.
   EXPECT_GT(compared, 300u);
   // Unstitched, the two sides differ by up to ~4.5% here (measured); a
@@ -144,8 +153,10 @@ TEST(CornellLightmap, ReflectedFluxMatchesTheSolver) {
   std::vector<double> uv_area_texels(b.geometry.triangleCount());
   for (size_t t = 0; t < b.geometry.triangleCount(); ++t) {
     const Vec2* uv = &b.atlas.triangle_uv[t * 3];
-    uv_area_texels[t] = 0.5 * std::abs(double(uv[1].x - uv[0].x) * (uv[2].y - uv[0].y) -
-                                       double(uv[2].x - uv[0].x) * (uv[1].y - uv[0].y)) * w * h;
+    uv_area_texels[t] = 0.5 *
+                        std::abs(double(uv[1].x - uv[0].x) * (uv[2].y - uv[0].y) -
+                                 double(uv[2].x - uv[0].x) * (uv[1].y - uv[0].y)) *
+                        w * h;
   }
   // Coverage is shared between triangles in a texel; weight each sample by
   // its winner's area per texel (chart interiors dominate).
@@ -155,16 +166,20 @@ TEST(CornellLightmap, ReflectedFluxMatchesTheSolver) {
     const double texel_area = b.geometry.areas_m2[s.triangle] / uv_area_texels[s.triangle];
     const Rgb& albedo = b.geometry.albedo[s.triangle];
     const TexelIrradiance& e = b.lighting[i];
-    const Rgb total{e.direct.r + e.indirect.r, e.direct.g + e.indirect.g, e.direct.b + e.indirect.b};
-    lightmap += luminance({albedo.r * total.r, albedo.g * total.g, albedo.b * total.b}) * s.coverage * texel_area;
+    const Rgb total{e.direct.r + e.indirect.r, e.direct.g + e.indirect.g,
+                    e.direct.b + e.indirect.b};
+    lightmap += luminance({albedo.r * total.r, albedo.g * total.g, albedo.b * total.b}) *
+                s.coverage * texel_area;
   }
   const std::vector<Rgb> irradiance = b.solver->triangleIrradiance(true);
   double solver = 0;
   for (size_t t = 0; t < b.geometry.triangleCount(); ++t) {
     const Rgb& a = b.geometry.albedo[t];
-    solver += luminance({a.r * irradiance[t].r, a.g * irradiance[t].g, a.b * irradiance[t].b}) * b.geometry.areas_m2[t];
+    solver += luminance({a.r * irradiance[t].r, a.g * irradiance[t].g, a.b * irradiance[t].b}) *
+              b.geometry.areas_m2[t];
   }
-  std::printf("reflected flux: lightmap %.4f lm, solver %.4f lm (%+.2f%%)\n", lightmap, solver, 100.0 * (lightmap / solver - 1.0));
+  std::printf("reflected flux: lightmap %.4f lm, solver %.4f lm (%+.2f%%)\n", lightmap, solver,
+              100.0 * (lightmap / solver - 1.0));
   EXPECT_NEAR(lightmap, solver, 0.01 * solver);
 }
 

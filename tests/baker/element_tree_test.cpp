@@ -24,12 +24,12 @@
 namespace svit::baker {
 namespace {
 
-using test::SceneBuilder;
-using test::Timer;
 using test::prepare;
-using test::solvePasses;
 using test::roomWithLight;
+using test::SceneBuilder;
+using test::solvePasses;
 using test::spotLight;
+using test::Timer;
 
 // Leaves below node `n` (n itself when it is a leaf).
 std::vector<int> leavesUnder(const ElementTree& tree, int n) {
@@ -73,7 +73,9 @@ size_t orphanCount(const ElementTree& tree) {
   size_t orphans = 0;
   for (size_t i = 0; i < tree.nodes().size(); ++i) {
     const TreeNode& n = tree.nodes()[i];
-    if (n.parent >= 0 && tree.node(n.parent).child[0] != int(i) && tree.node(n.parent).child[1] != int(i)) ++orphans;
+    if (n.parent >= 0 && tree.node(n.parent).child[0] != int(i) &&
+        tree.node(n.parent).child[1] != int(i))
+      ++orphans;
   }
   return orphans;
 }
@@ -103,13 +105,14 @@ size_t countTVertices(const ElementTree& tree, const std::vector<int>& leaves) {
     for (uint32_t v : vertices) {
       if (v == a || v == b) continue;
       const glm::dvec3 x = tree.vertexPosition(v);
-      if (x.x < lo.x || x.y < lo.y || x.z < lo.z || x.x > hi.x || x.y > hi.y || x.z > hi.z) continue;
+      if (x.x < lo.x || x.y < lo.y || x.z < lo.z || x.x > hi.x || x.y > hi.y || x.z > hi.z)
+        continue;
       const double s = glm::dot(x - p, d) / length2;
       const glm::dvec3 closest = p + std::clamp(s, 0.0, 1.0) * d;
       if (glm::length(x - closest) < tolerance) {
         if (++t_vertices <= 5) {
-          ADD_FAILURE() << "vertex " << v << " (" << x.x << ", " << x.y << ", " << x.z << ") lies on leaf edge " << a
-                        << "-" << b << " at s = " << s;
+          ADD_FAILURE() << "vertex " << v << " (" << x.x << ", " << x.y << ", " << x.z
+                        << ") lies on leaf edge " << a << "-" << b << " at s = " << s;
         }
       }
     }
@@ -170,8 +173,11 @@ TEST(Subdivision, LeavesAreSmallUnderTheSpotAndLargeFarFromIt) {
   ASSERT_GT(near_count, 0u);
   ASSERT_GT(far_count, 0u);
   const double near_mean = near_area / double(near_count), far_mean = far_area / double(far_count);
-  std::printf("subdivision: %zu leaves, %llu splits; near the spot %zu leaves of %.2e m2, far %zu of %.2e m2\n",
-              tree.leafCount(), (unsigned long long)stats.subdivisions, near_count, near_mean, far_count, far_mean);
+  std::printf(
+      "subdivision: %zu leaves, %llu splits; near the spot %zu leaves of %.2e m2, far %zu of %.2e "
+      "m2\n",
+      tree.leafCount(), (unsigned long long)stats.subdivisions, near_count, near_mean, far_count,
+      far_mean);
   // The spot's 4096..16384 rays per pass land within its outer footprint
   // (1.5 tan 0.15 = 0.23 m: 0.16 m2), so leaves there split down to
   // MIN_PERIMETER (0.1 m: ~4e-4 m2); the unlit floor splits only for
@@ -240,7 +246,8 @@ TEST(EmitterSplitting, HalfWhiteHalfBlackTextureSplitsTheEmitter) {
   auto luminanceOf = [](const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; };
   const double y0 = luminanceOf(tree.node(tree.node(root).child[0]).emitted_flux);
   const double y1 = luminanceOf(tree.node(tree.node(root).child[1]).emitted_flux);
-  std::printf("emitter split: halves emit %.4f and %.4f lm, %zu leaves\n", y0, y1, tree.leafCount());
+  std::printf("emitter split: halves emit %.4f and %.4f lm, %zu leaves\n", y0, y1,
+              tree.leafCount());
   // The white texel covers u < 0.25 and fades to black by u = 0.75 (clamped
   // bilinear): the bright half emits several times the dark half.
   const double ratio = settings.emitter_split_ratio;
@@ -249,7 +256,8 @@ TEST(EmitterSplitting, HalfWhiteHalfBlackTextureSplitsTheEmitter) {
   // (u = 0), which is the front element's vertex 0.
   const uint32_t corner_a = tree.node(root).vertex[0];
   const TreeNode& child0 = tree.node(tree.node(root).child[0]);
-  const bool child0_has_a = child0.vertex[0] == corner_a || child0.vertex[1] == corner_a || child0.vertex[2] == corner_a;
+  const bool child0_has_a =
+      child0.vertex[0] == corner_a || child0.vertex[1] == corner_a || child0.vertex[2] == corner_a;
   EXPECT_GT(child0_has_a ? y0 : y1, child0_has_a ? y1 : y0);
   // Flux is conserved through the splits: the root holds its leaves' sum.
   glm::dvec3 leaf_sum(0.0);
@@ -298,13 +306,15 @@ TEST(EmitterSplitting, NeighbouringTexturedEmittersStayConforming) {
   const int mesh = b.addQuad("emitter", {0, 0, 0}, {0, 0, 2}, {2, 0, 2}, {2, 0, 0}, light);
   Scene& scene = b.scene();
   // Corners unshared: a, b, c, a, c, d. v only gives the UV triangles an area.
-  scene.meshes[size_t(mesh)].uv0 = {{0.0f, 0.0f}, {1.0f, 1.0f}, {2.0f, 0.5f}, {0.0f, 0.0f}, {1.0f, 0.5f}, {0.5f, 1.0f}};
+  scene.meshes[size_t(mesh)].uv0 = {{0.0f, 0.0f}, {1.0f, 1.0f}, {2.0f, 0.5f},
+                                    {0.0f, 0.0f}, {1.0f, 0.5f}, {0.5f, 1.0f}};
   Texture texture;
   texture.name = "step";
   texture.width = 16;
   texture.height = 1;
   texture.channels = 3;
-  for (int i = 0; i < 16; ++i) texture.texels.insert(texture.texels.end(), 3, uint8_t(i < 8 ? 255 : 0));
+  for (int i = 0; i < 16; ++i)
+    texture.texels.insert(texture.texels.end(), 3, uint8_t(i < 8 ? 255 : 0));
   texture.wrap_s = WrapMode::kClampToEdge;
   texture.wrap_t = WrapMode::kClampToEdge;
   scene.textures.push_back(texture);
@@ -334,7 +344,8 @@ TEST(Conformity, NoTVerticesAndLeafAreasSumToTheElement) {
   const int wall = builder.material({0.5f, 0.5f, 0.5f});
   const int panel = builder.material({0.6f, 0.6f, 0.6f}, {0, 0, 0}, true);
   builder.addRoom("room", {0, 0, 0}, {3.0f, 2.5f, 4.0f}, wall);
-  builder.addQuad("panel", {0.6f, 0.5f, 1.5f}, {0.6f, 0.5f, 2.5f}, {0.6f, 1.9f, 2.5f}, {0.6f, 1.9f, 1.5f}, panel);
+  builder.addQuad("panel", {0.6f, 0.5f, 1.5f}, {0.6f, 0.5f, 2.5f}, {0.6f, 1.9f, 2.5f},
+                  {0.6f, 1.9f, 1.5f}, panel);
   builder.addPointLight({0.3f, 1.2f, 2.0f}, 100.0f);
   const Scene& scene = builder.scene();
   RadiositySettings settings;
@@ -369,9 +380,11 @@ TEST(Conformity, NoTVerticesAndLeafAreasSumToTheElement) {
       const double x1 = leaf.bary[1][0] - x0, y1 = leaf.bary[1][1] - y0;
       const double x2 = leaf.bary[2][0] - x0, y2 = leaf.bary[2][1] - y0;
       const double det = x1 * y2 - x2 * y1;
-      const double b1 = ((u - x0) * y2 - x2 * (v - y0)) / det, b2 = (x1 * (v - y0) - (u - x0) * y1) / det;
+      const double b1 = ((u - x0) * y2 - x2 * (v - y0)) / det,
+                   b2 = (x1 * (v - y0) - (u - x0) * y1) / det;
       EXPECT_TRUE(b1 >= -1e-6 && b2 >= -1e-6 && b1 + b2 <= 1 + 1e-6)
-          << "element " << root << " point (" << u << ", " << v << ") outside its leaf: " << b1 << ", " << b2;
+          << "element " << root << " point (" << u << ", " << v << ") outside its leaf: " << b1
+          << ", " << b2;
     }
   }
 
@@ -399,10 +412,13 @@ TEST(Propagation, VisitsStayWithinTheSumOfDepths) {
     ASSERT_TRUE(solvePasses(*solved->solver, passes).ok());
     const SolverStats stats = solved->solver->stats();
     size_t max_depth = 0;
-    for (const TreeNode& n : solved->solver->tree().nodes()) max_depth = std::max<size_t>(max_depth, n.depth);
-    std::printf("propagation after %u passes: %llu hit leaves, %llu visits, bound %llu, max depth %zu\n", passes,
-                (unsigned long long)stats.hit_elements, (unsigned long long)stats.propagation_visits,
-                (unsigned long long)stats.propagation_bound, max_depth);
+    for (const TreeNode& n : solved->solver->tree().nodes())
+      max_depth = std::max<size_t>(max_depth, n.depth);
+    std::printf(
+        "propagation after %u passes: %llu hit leaves, %llu visits, bound %llu, max depth %zu\n",
+        passes, (unsigned long long)stats.hit_elements,
+        (unsigned long long)stats.propagation_visits, (unsigned long long)stats.propagation_bound,
+        max_depth);
     EXPECT_GT(stats.propagation_visits, 0u);
     // Every hit leaf is visited once per batch, and propagation visits each
     // node once at most (a union of root paths).

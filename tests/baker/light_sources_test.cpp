@@ -18,12 +18,12 @@
 namespace svit::baker {
 namespace {
 
-using test::SceneBuilder;
-using test::Timer;
-using test::prepare;
-using test::solvePasses;
 using test::areaMean;
+using test::prepare;
+using test::SceneBuilder;
+using test::solvePasses;
 using test::spotLight;
+using test::Timer;
 
 TEST(LightSources, PointLightAboveASmallReceiver) {
   Timer timer("LightSources.PointLightAboveASmallReceiver");
@@ -57,11 +57,14 @@ TEST(LightSources, PointLightAboveASmallReceiver) {
   // 2^22 rays, a share f = Omega / 4 pi = 1.22% hits the receiver: 51,400
   // hits, binomial relative std. error sqrt((1 - f) / hits) = 0.44%; 2% is
   // 4.5 sigma.
-  std::printf("point light: receiver mean %.2f lx, I*Omega/A %.2f lx, I/h^2 %.2f lx (%.4f%% off the exact mean)\n",
-              mean, expected, intensity / (h * h), (mean / expected - 1) * 100);
+  std::printf(
+      "point light: receiver mean %.2f lx, I*Omega/A %.2f lx, I/h^2 %.2f lx (%.4f%% off the exact "
+      "mean)\n",
+      mean, expected, intensity / (h * h), (mean / expected - 1) * 100);
   EXPECT_NEAR(mean, expected, 0.02 * expected);
   // The floor's irradiance is finite and the receiver's two halves agree.
-  EXPECT_NEAR(luminance(irradiance[2]), luminance(irradiance[3]), 0.03 * expected);  // 0.62% each: 3.4 sigma
+  // 0.62% each: 3.4 sigma
+  EXPECT_NEAR(luminance(irradiance[2]), luminance(irradiance[3]), 0.03 * expected);
 }
 
 // A 10 x 10 m black plane facing up, alone.
@@ -89,7 +92,8 @@ TEST(LightSources, UniformSkyGivesPiTimesItsLuminance) {
   // plane intercepts a share f = 100 cos / (pi R^2) of them, 0.306 averaged
   // over the hemisphere: 2^19 rays give a relative std. error
   // sqrt((1 - f) / (f N)) = 0.21%; 1% is 4.8 sigma.
-  std::printf("sky: mean %.2f lx, pi L %.2f lx (%.3f%%)\n", mean, expected, (mean / expected - 1) * 100);
+  std::printf("sky: mean %.2f lx, pi L %.2f lx (%.3f%%)\n", mean, expected,
+              (mean / expected - 1) * 100);
   EXPECT_NEAR(mean, expected, 0.01 * expected);
 }
 
@@ -113,7 +117,8 @@ TEST(LightSources, SunAtThirtyDegreesGivesESin30) {
   // f = 100 sin 30 / (pi (1.014 R)^2) = 0.30 of it: relative std. error
   // sqrt((1 - f) / (f N)) = 0.21% for 2^19 rays; 1% is 4.8 sigma. The
   // disk's angular radius changes the mean by O(0.00465^2): negligible.
-  std::printf("sun: mean %.1f lx, E sin 30 %.1f lx (%.3f%%)\n", mean, expected, (mean / expected - 1) * 100);
+  std::printf("sun: mean %.1f lx, E sin 30 %.1f lx (%.3f%%)\n", mean, expected,
+              (mean / expected - 1) * 100);
   EXPECT_NEAR(mean, expected, 0.01 * expected);
 }
 
@@ -121,7 +126,8 @@ TEST(LightSources, SpotFluxMatchesItsFalloffIntegral) {
   Timer timer("LightSources.SpotFluxMatchesItsFalloffIntegral");
   const float inner = 0.2f, outer = 0.4f, intensity = 500.0f;
   const double cos_inner = std::cos(double(inner)), cos_outer = std::cos(double(outer));
-  const double expected = intensity * 2.0 * kPi * ((1.0 - cos_inner) + (cos_inner - cos_outer) / 3.0);
+  const double expected =
+      intensity * 2.0 * kPi * ((1.0 - cos_inner) + (cos_inner - cos_outer) / 3.0);
   // The closed form is the integral of spotFalloff over the sphere: midpoint
   // rule in cos with 10^6 steps (error O(1e-12) on a piecewise quadratic).
   {
@@ -152,7 +158,8 @@ TEST(LightSources, SpotFluxMatchesItsFalloffIntegral) {
   const double floor = test::receivedFlux(irradiance, solved->geometry.areas_m2, 0, 2);
   // Every ray hits the closed room and carries Phi / N: the total is exact
   // up to float rounding of the means (1e-6); 0.5% as asked.
-  std::printf("spot: received %.3f lm, closed form %.3f lm, floor %.3f lm\n", total, expected, floor);
+  std::printf("spot: received %.3f lm, closed form %.3f lm, floor %.3f lm\n", total, expected,
+              floor);
   EXPECT_NEAR(total, expected, 0.005 * expected);
   // No ray leaves the outer cone: everything lands on the floor.
   EXPECT_NEAR(floor, total, 1e-6 * total);

@@ -21,9 +21,9 @@
 namespace svit::baker {
 namespace {
 
-using test::SceneBuilder;
 using test::addSolidBox;
 using test::flatten;
+using test::SceneBuilder;
 
 /// A room with a box and a disk in it: walls, floor and curved-free but
 /// varied charts, every chart at least ~16 texels wide at 16 texels/m.
@@ -99,8 +99,11 @@ std::vector<int64_t> ownerRaster(const LightmapAtlas& atlas, int sub = 4) {
     for (int j = j0; j <= j1; ++j) {
       for (int i = i0; i <= i1; ++i) {
         if (!strictlyInside(atlas, t, (i + 0.5) / sub, (j + 0.5) / sub)) continue;
-        int64_t& o = owner[(size_t(atlas.triangle_page[t]) * size_t(h) + size_t(j)) * size_t(w) + size_t(i)];
-        if (o >= 0 && overlaps++ < 5) ADD_FAILURE() << "triangles " << o << " and " << t << " overlap on page " << atlas.triangle_page[t];
+        int64_t& o =
+            owner[(size_t(atlas.triangle_page[t]) * size_t(h) + size_t(j)) * size_t(w) + size_t(i)];
+        if (o >= 0 && overlaps++ < 5)
+          ADD_FAILURE() << "triangles " << o << " and " << t << " overlap on page "
+                        << atlas.triangle_page[t];
         o = int64_t(t);
       }
     }
@@ -133,7 +136,8 @@ TEST(LightmapAtlas, XatlasPlacesEveryTriangleAtTheTexelDensityWithoutOverlap) {
     // rounds each chart's extents up to whole texels (texel-centre
     // alignment): with the smallest chart side 1 m x 16 texels/m that
     // stretches area by at most (17/16)^2 = 1.13, inside the 20% allowed.
-    const double expected = double(geometry.areas_m2[t]) * settings.texels_per_m * settings.texels_per_m;
+    const double expected =
+        double(geometry.areas_m2[t]) * settings.texels_per_m * settings.texels_per_m;
     EXPECT_NEAR(texelArea(*atlas, t) / expected, 1.0, 0.2) << "triangle " << t;
   }
   ownerRaster(*atlas);
@@ -162,7 +166,8 @@ TEST(LightmapAtlas, TwoInstancesOfOneMeshGetDisjointTexels) {
   for (size_t i = 0; i < owner.size(); ++i) {
     if (owner[i] < 0) continue;
     const size_t page = i / (w * h), y = (i % (w * h)) / w, x = i % w;
-    const size_t texel = (page * size_t(atlas->page_height) + y / sub) * size_t(atlas->page_width) + x / sub;
+    const size_t texel =
+        (page * size_t(atlas->page_height) + y / sub) * size_t(atlas->page_width) + x / sub;
     texels[geometry.instance[size_t(owner[i])]].insert(texel);
   }
   EXPECT_GT(texels[0].size(), 200u);  // ~16 x 16
@@ -249,7 +254,8 @@ TEST(LightmapAtlas, BadSettingsAreRejected) {
   Expected<LightmapAtlas> b = buildLightmapAtlas(scene, geometry, settings);
   ASSERT_FALSE(b.ok());
   EXPECT_EQ(b.status().code(), StatusCode::kInvalidInput);
-  EXPECT_NE(b.status().message().find("max_page_size 8"), std::string::npos) << b.status().message();
+  EXPECT_NE(b.status().message().find("max_page_size 8"), std::string::npos)
+      << b.status().message();
 }
 
 TEST(LightmapAtlas, TriangleXatlasDropsIsAnErrorNamingIt) {
@@ -268,7 +274,8 @@ TEST(LightmapAtlas, TriangleXatlasDropsIsAnErrorNamingIt) {
   Expected<LightmapAtlas> atlas = buildLightmapAtlas(b.scene(), geometry, settings);
   ASSERT_FALSE(atlas.ok());
   EXPECT_EQ(atlas.status().code(), StatusCode::kUnsupported);
-  EXPECT_NE(atlas.status().message().find("mesh 'speck') triangle 0"), std::string::npos) << atlas.status().message();
+  EXPECT_NE(atlas.status().message().find("mesh 'speck') triangle 0"), std::string::npos)
+      << atlas.status().message();
 }
 
 bool sameSample(const TexelSample& a, const TexelSample& b) {
@@ -304,7 +311,9 @@ TEST(LightmapAtlas, AtlasAndTexelsAreIdenticalForOneAndTwoThreads) {
   EXPECT_EQ(atlases[0].triangle_page, atlases[1].triangle_page);
   EXPECT_EQ(atlases[0].triangle_chart, atlases[1].triangle_chart);
   ASSERT_EQ(atlases[0].triangle_uv.size(), atlases[1].triangle_uv.size());
-  EXPECT_EQ(std::memcmp(atlases[0].triangle_uv.data(), atlases[1].triangle_uv.data(), atlases[0].triangle_uv.size() * sizeof(Vec2)), 0);
+  EXPECT_EQ(std::memcmp(atlases[0].triangle_uv.data(), atlases[1].triangle_uv.data(),
+                        atlases[0].triangle_uv.size() * sizeof(Vec2)),
+            0);
   ASSERT_EQ(sets[0].samples.size(), sets[1].samples.size());
   EXPECT_GT(sets[0].samples.size(), 10000u);
   for (size_t i = 0; i < sets[0].samples.size(); ++i) {

@@ -18,7 +18,9 @@ using baker::LightmapAtlas;
 /// Axis-aligned solid box [lo, hi]: addRoom's faces turned outwards.
 inline void addSolidBox(SceneBuilder& b, const std::string& name, Vec3 lo, Vec3 hi, int material) {
   const float x0 = lo.x, y0 = lo.y, z0 = lo.z, x1 = hi.x, y1 = hi.y, z1 = hi.z;
-  auto quad = [&](const std::string& face, Vec3 p, Vec3 q, Vec3 r, Vec3 s) { b.addQuad(name + face, p, s, r, q, material); };
+  auto quad = [&](const std::string& face, Vec3 p, Vec3 q, Vec3 r, Vec3 s) {
+    b.addQuad(name + face, p, s, r, q, material);
+  };
   quad(" bottom", {x0, y0, z0}, {x0, y0, z1}, {x1, y0, z1}, {x1, y0, z0});
   quad(" top", {x0, y1, z0}, {x1, y1, z0}, {x1, y1, z1}, {x0, y1, z1});
   quad(" -x", {x0, y0, z0}, {x0, y1, z0}, {x0, y1, z1}, {x0, y0, z1});

@@ -50,8 +50,8 @@ TEST(FormFactor, ParallelUnitSquaresAtDistanceOne) {
   SceneBuilder b;
   const int light = b.material({0, 0, 0}, {1, 1, 1});
   const int black = b.material({0, 0, 0});
-  b.addQuad("emitter", {0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, light);     // faces +y
-  b.addQuad("receiver", {0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}, black);    // faces -y
+  b.addQuad("emitter", {0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, light);   // faces +y
+  b.addQuad("receiver", {0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}, black);  // faces -y
   EXPECT_NEAR(formFactor(b, kFormFactorRays), 0.199825, 0.199825 * 0.01);
 }
 
@@ -71,7 +71,8 @@ TEST(FormFactor, DifferentialAreaToParallelDiskOffset) {
   SceneBuilder b;
   const int light = b.material({0, 0, 0}, {1, 1, 1});
   const int black = b.material({0, 0, 0});
-  b.addQuad("emitter", {-0.005f, 0, -0.005f}, {-0.005f, 0, 0.005f}, {0.005f, 0, 0.005f}, {0.005f, 0, -0.005f}, light);
+  b.addQuad("emitter", {-0.005f, 0, -0.005f}, {-0.005f, 0, 0.005f}, {0.005f, 0, 0.005f},
+            {0.005f, 0, -0.005f}, light);
   b.addDisk("disk", {0.5f, 1, 0}, 1.0f, 512, false, black);
   // F ~ 0.44: std. error sqrt(F(1-F)/N) / F = 0.11%; 4 sigma = 0.45%.
   EXPECT_NEAR(formFactor(b, kFormFactorRays), 0.437983, 0.437983 * 0.01);
@@ -91,14 +92,17 @@ void furnace(float rho, uint32_t first_pass_rays) {
   stop.max_passes = 2;
   const auto start = std::chrono::steady_clock::now();
   ASSERT_TRUE(solved->solver->improve(stop).ok());
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double expected = 3.14159265358979 / (1.0 - rho);
   const std::vector<Rgb> radiosity = solved->solver->triangleRadiosity(true);
   double worst = 0;
-  for (const Rgb& r : radiosity) worst = std::max(worst, std::abs(double(r.g) - expected) / expected);
+  for (const Rgb& r : radiosity)
+    worst = std::max(worst, std::abs(double(r.g) - expected) / expected);
   const SolverStats stats = solved->solver->stats();
-  std::printf("furnace rho=%.2f: %.3f s, %llu rays, worst triangle error %.4f%%, estimate %.4f%%\n", rho, seconds,
-              (unsigned long long)stats.rays, worst * 100, solved->solver->estimatedRelativeError() * 100);
+  std::printf("furnace rho=%.2f: %.3f s, %llu rays, worst triangle error %.4f%%, estimate %.4f%%\n",
+              rho, seconds, (unsigned long long)stats.rays, worst * 100,
+              solved->solver->estimatedRelativeError() * 100);
   // Each 0.5 m2 triangle gets >= 2e5 hits over the two passes (12
   // triangles share 3N/(1-rho) rays), a relative std. error <= 0.25%: 1% is 4 sigma.
   EXPECT_LT(worst, 0.01);
@@ -127,14 +131,16 @@ std::unique_ptr<Solved> cubeWithPointSource(float rho, uint32_t rays, uint32_t p
 
 TEST(FluxConservation, BlackCubeReceivesAllOfThePointSource) {
   auto solved = cubeWithPointSource(0.0f, 1u << 16, 1);
-  const double received = test::receivedFlux(solved->solver->triangleIrradiance(true), solved->geometry.areas_m2);
+  const double received =
+      test::receivedFlux(solved->solver->triangleIrradiance(true), solved->geometry.areas_m2);
   // Every ray hits a wall and carries 1/N of the flux: exact up to rounding.
   EXPECT_NEAR(received, 10000.0, 10000.0 * 0.005);
 }
 
 TEST(FluxConservation, IndirectIlluminanceOfAGreyCube) {
   auto solved = cubeWithPointSource(0.5f, 1u << 16, 2);
-  const double received = test::receivedFlux(solved->solver->triangleIrradiance(true), solved->geometry.areas_m2);
+  const double received =
+      test::receivedFlux(solved->solver->triangleIrradiance(true), solved->geometry.areas_m2);
   // Direct flux is exactly 10,000 lm; the rest is indirect:
   // rho*Phi/((1-rho)*96 m2) = 104.17 lx. Bounces conserve flux exactly, and
   // the ambient remainder is < pass_end_rays/N = 32/65536 of it.

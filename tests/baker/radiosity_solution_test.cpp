@@ -17,11 +17,11 @@
 namespace svit::baker {
 namespace {
 
-using test::Timer;
 using test::finiteNonNegative;
 using test::prepare;
 using test::roomWithLight;
 using test::solvePasses;
+using test::Timer;
 
 TEST(Interpolation, CentreModeAndHardCornersWithoutSubdivision) {
   Timer timer("Interpolation.CentreModeAndHardCornersWithoutSubdivision");
@@ -38,7 +38,8 @@ TEST(Interpolation, CentreModeAndHardCornersWithoutSubdivision) {
   const std::vector<float>& area = solved->geometry.areas_m2;
   // Float means against double leaf values: 1e-5 relative is ~100 float ulps.
   for (uint32_t t = 0; t < mean.size(); ++t) {
-    const Rgb centre = solver.irradianceAt(t, true, 1.0 / 3.0, 1.0 / 3.0, InterpolationMode::kElementCentre);
+    const Rgb centre =
+        solver.irradianceAt(t, true, 1.0 / 3.0, 1.0 / 3.0, InterpolationMode::kElementCentre);
     EXPECT_NEAR(centre.g, mean[t].g, 1e-5 * mean[t].g) << "triangle " << t;
     EXPECT_NEAR(centre.r, mean[t].r, 1e-5 * mean[t].r) << "triangle " << t;
   }
@@ -46,14 +47,15 @@ TEST(Interpolation, CentreModeAndHardCornersWithoutSubdivision) {
   // -z wall 8, 9 (addRoom's order). Walls meet at 90 degrees > 30, so each
   // side's vertex value averages its own two triangles only.
   auto side = [&](uint32_t t0, uint32_t t1) {
-    return (double(mean[t0].g) * area[t0] + double(mean[t1].g) * area[t1]) / (double(area[t0]) + area[t1]);
+    return (double(mean[t0].g) * area[t0] + double(mean[t1].g) * area[t1]) /
+           (double(area[t0]) + area[t1]);
   };
   const double floor_side = side(0, 1), x_side = side(4, 5), z_side = side(8, 9);
   const double floor_value = solver.irradianceAt(0, true, 0, 0, InterpolationMode::kVertex).g;
   const double x_value = solver.irradianceAt(4, true, 0, 0, InterpolationMode::kVertex).g;
   const double z_value = solver.irradianceAt(8, true, 0, 0, InterpolationMode::kVertex).g;
-  std::printf("corner: floor %.3f (own %.3f), -x %.3f (own %.3f), -z %.3f (own %.3f)\n", floor_value, floor_side,
-              x_value, x_side, z_value, z_side);
+  std::printf("corner: floor %.3f (own %.3f), -x %.3f (own %.3f), -z %.3f (own %.3f)\n",
+              floor_value, floor_side, x_value, x_side, z_value, z_side);
   EXPECT_NEAR(floor_value, floor_side, 1e-5 * floor_side);
   EXPECT_NEAR(x_value, x_side, 1e-5 * x_side);
   EXPECT_NEAR(z_value, z_side, 1e-5 * z_side);
@@ -61,7 +63,8 @@ TEST(Interpolation, CentreModeAndHardCornersWithoutSubdivision) {
   // averaging across the hard edge would have been visible.
   EXPECT_GT(std::abs(floor_value - x_value), 0.05 * floor_value);
   // The same corner seen from the other floor triangle (1: a, c, d) agrees.
-  EXPECT_NEAR(solver.irradianceAt(1, true, 0, 0, InterpolationMode::kVertex).g, floor_value, 1e-6 * floor_value);
+  EXPECT_NEAR(solver.irradianceAt(1, true, 0, 0, InterpolationMode::kVertex).g, floor_value,
+              1e-6 * floor_value);
 }
 
 TEST(Interpolation, VertexModeIsContinuousAcrossTheFloorDiagonal) {
@@ -95,8 +98,10 @@ TEST(Interpolation, VertexModeIsContinuousAcrossTheFloorDiagonal) {
         u = 1 - u;
         v = 1 - v;
       }
-      EXPECT_TRUE(finiteNonNegative(solver.irradianceAt(t, true, u, v, InterpolationMode::kVertex)));
-      EXPECT_TRUE(finiteNonNegative(solver.irradianceAt(t, true, u, v, InterpolationMode::kElementCentre)));
+      EXPECT_TRUE(
+          finiteNonNegative(solver.irradianceAt(t, true, u, v, InterpolationMode::kVertex)));
+      EXPECT_TRUE(
+          finiteNonNegative(solver.irradianceAt(t, true, u, v, InterpolationMode::kElementCentre)));
     }
   }
 }

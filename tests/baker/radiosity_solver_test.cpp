@@ -27,14 +27,14 @@
 namespace svit::baker {
 namespace {
 
-using test::SceneBuilder;
-using test::Timer;
-using test::prepare;
-using test::solvePasses;
-using test::Solved;
 using test::areaMean;
 using test::finiteNonNegative;
+using test::prepare;
 using test::roomWithLight;
+using test::SceneBuilder;
+using test::Solved;
+using test::solvePasses;
+using test::Timer;
 
 // ---------------------------------------------------------------------------
 // Determinism across thread counts.
@@ -45,7 +45,8 @@ Scene roomWithRedPanel() {
   const int grey = b.material({0.5f, 0.5f, 0.5f});
   const int red = b.material({0.8f, 0.1f, 0.1f});
   b.addRoom("room", {0, 0, 0}, {3.0f, 2.5f, 4.0f}, grey);
-  b.addQuad("panel", {2.95f, 0.5f, 1.0f}, {2.95f, 0.5f, 3.0f}, {2.95f, 2.0f, 3.0f}, {2.95f, 2.0f, 1.0f}, red);
+  b.addQuad("panel", {2.95f, 0.5f, 1.0f}, {2.95f, 0.5f, 3.0f}, {2.95f, 2.0f, 3.0f},
+            {2.95f, 2.0f, 1.0f}, red);
   b.addPointLight({1.0f, 1.8f, 1.5f}, 100.0f);
   return b.scene();
 }
@@ -78,7 +79,9 @@ TEST(Determinism, BitIdenticalForOneTwoAndFourThreads) {
   for (int threads : {2, 4}) {
     const RunResult many = runRedRoom(threads, 7);
     ASSERT_EQ(many.irradiance.size(), one.irradiance.size());
-    EXPECT_EQ(std::memcmp(many.irradiance.data(), one.irradiance.data(), one.irradiance.size() * sizeof(Rgb)), 0)
+    EXPECT_EQ(std::memcmp(many.irradiance.data(), one.irradiance.data(),
+                          one.irradiance.size() * sizeof(Rgb)),
+              0)
         << threads << " threads";
     EXPECT_EQ(many.stats.nodes, one.stats.nodes);
     EXPECT_EQ(many.stats.rays, one.stats.rays);
@@ -93,20 +96,22 @@ TEST(Determinism, AnotherSeedGivesADifferentButCloseAnswer) {
   const RunResult a = runRedRoom(2, 7, &keep);
   const RunResult b = runRedRoom(2, 8);
   ASSERT_EQ(a.irradiance.size(), b.irradiance.size());
-  EXPECT_NE(std::memcmp(a.irradiance.data(), b.irradiance.data(), a.irradiance.size() * sizeof(Rgb)), 0);
+  EXPECT_NE(
+      std::memcmp(a.irradiance.data(), b.irradiance.data(), a.irradiance.size() * sizeof(Rgb)), 0);
   // Two independent answers differ by sqrt(2) times one's error; the
   // estimate is meant as that error (1 sigma), so 4 * sqrt(2) * the larger
   // estimate bounds the RMS difference.
   const double difference = keep->solver->relativeErrorAgainst(b.irradiance);
   const double bound = 4.0 * std::sqrt(2.0) * std::max(a.estimate, b.estimate);
-  std::printf("seeds 7 and 8: RMS relative difference %.4f, estimates %.4f and %.4f\n", difference, a.estimate,
-              b.estimate);
+  std::printf("seeds 7 and 8: RMS relative difference %.4f, estimates %.4f and %.4f\n", difference,
+              a.estimate, b.estimate);
   EXPECT_GT(difference, 0.0);
   EXPECT_LT(difference, bound);
   // The area mean: the direct flux (100 cd * 4 pi, all captured in the
   // closed room) is exact whatever the seed, and the indirect is a mean over
   // ~10^5 bounces; 1% is far outside its noise.
-  const double mean_a = areaMean(a.irradiance, keep->geometry), mean_b = areaMean(b.irradiance, keep->geometry);
+  const double mean_a = areaMean(a.irradiance, keep->geometry),
+               mean_b = areaMean(b.irradiance, keep->geometry);
   EXPECT_NEAR(mean_a, mean_b, 0.01 * mean_a);
 }
 
@@ -125,12 +130,15 @@ Scene randomScene(uint64_t seed) {
     const double cx = 0.3 + 1.4 * rng.uniformDouble(), cy = 0.3 + 1.4 * rng.uniformDouble(),
                  cz = 0.3 + 1.4 * rng.uniformDouble();
     for (int k = 0; k < 3; ++k) {
-      corners.push_back({float(cx + 0.5 * (rng.uniformDouble() - 0.5)), float(cy + 0.5 * (rng.uniformDouble() - 0.5)),
+      corners.push_back({float(cx + 0.5 * (rng.uniformDouble() - 0.5)),
+                         float(cy + 0.5 * (rng.uniformDouble() - 0.5)),
                          float(cz + 0.5 * (rng.uniformDouble() - 0.5))});
     }
   }
   b.addMesh("clutter", corners, clutter);
-  b.addPointLight({float(0.2 + 1.6 * rng.uniformDouble()), 1.9f, float(0.2 + 1.6 * rng.uniformDouble())}, 50.0f);
+  b.addPointLight(
+      {float(0.2 + 1.6 * rng.uniformDouble()), 1.9f, float(0.2 + 1.6 * rng.uniformDouble())},
+      50.0f);
   return b.scene();
 }
 
@@ -163,14 +171,15 @@ TEST(Oracle, EmbreeMatchesBruteForceOnRandomScenes) {
         const double x = luminance(a[t]), y = luminance(b[t]);
         if (std::abs(x - y) > std::max(1e-3 * std::max(std::abs(x), std::abs(y)), 1e-6)) {
           if (++mismatches <= 5) {
-            ADD_FAILURE() << "seed " << seed << " triangle " << t << (front ? " front" : " back") << ": embree " << x
-                          << ", brute force " << y;
+            ADD_FAILURE() << "seed " << seed << " triangle " << t << (front ? " front" : " back")
+                          << ": embree " << x << ", brute force " << y;
           }
         }
       }
     }
-    std::printf("oracle seed %llu: %llu rays, %llu hits, %zu mismatching triangle sides\n", (unsigned long long)seed,
-                (unsigned long long)se.rays, (unsigned long long)se.hits, mismatches);
+    std::printf("oracle seed %llu: %llu rays, %llu hits, %zu mismatching triangle sides\n",
+                (unsigned long long)seed, (unsigned long long)se.rays, (unsigned long long)se.hits,
+                mismatches);
     EXPECT_EQ(mismatches, 0u) << "seed " << seed;
   }
 }
@@ -194,8 +203,10 @@ TEST(Degenerate, SliversAndNearZeroAreaTrianglesSolveToFiniteValues) {
   // -0.25): height 3.5e-7 m, about 8 float ulps at 0.25.
   b.addMesh("near zero", {p1, {0.25f + 2.5e-7f, -0.5f, -0.25f - 2.5e-7f}, p2}, thin);
   // An obtuse needle (its apex runs past the base), and one standing up from the floor.
-  b.addMesh("needle", {{-0.5f, -0.45f, 0.1f}, {0.9f, -0.45f, 0.1f + 1e-5f}, {0.5f, -0.45f, 0.1f}}, thin);
-  b.addMesh("standing", {{0.2f, -1.0f, 0.2f}, {0.2f + 1e-5f, -1.0f, 0.2f}, {0.2f, 0.0f, 0.2f}}, thin);
+  b.addMesh("needle", {{-0.5f, -0.45f, 0.1f}, {0.9f, -0.45f, 0.1f + 1e-5f}, {0.5f, -0.45f, 0.1f}},
+            thin);
+  b.addMesh("standing", {{0.2f, -1.0f, 0.2f}, {0.2f + 1e-5f, -1.0f, 0.2f}, {0.2f, 0.0f, 0.2f}},
+            thin);
   // Below import's threshold: skipped at flattening, not solved.
   b.addMesh("flat", {{-0.5f, -0.6f, 0.5f}, {0.5f, -0.6f, 0.5f}, {0.0f, -0.6f, 0.5f + 1e-9f}}, thin);
   b.addPointLight({0.0f, -0.3f, 0.0f}, 20.0f);
@@ -217,8 +228,10 @@ TEST(Degenerate, SliversAndNearZeroAreaTrianglesSolveToFiniteValues) {
     const std::vector<Rgb> irradiance = solved->solver->triangleIrradiance(front);
     const std::vector<Rgb> radiosity = solved->solver->triangleRadiosity(front);
     for (size_t t = 0; t < triangles; ++t) {
-      EXPECT_TRUE(finiteNonNegative(irradiance[t])) << "triangle " << t << " irradiance " << irradiance[t].g;
-      EXPECT_TRUE(finiteNonNegative(radiosity[t])) << "triangle " << t << " radiosity " << radiosity[t].g;
+      EXPECT_TRUE(finiteNonNegative(irradiance[t]))
+          << "triangle " << t << " irradiance " << irradiance[t].g;
+      EXPECT_TRUE(finiteNonNegative(radiosity[t]))
+          << "triangle " << t << " radiosity " << radiosity[t].g;
     }
   }
   // Interpolated values inside the slivers too (seeded points).
@@ -230,9 +243,11 @@ TEST(Degenerate, SliversAndNearZeroAreaTrianglesSolveToFiniteValues) {
         u = 1 - u;
         v = 1 - v;
       }
-      for (InterpolationMode mode : {InterpolationMode::kVertex, InterpolationMode::kElementCentre}) {
+      for (InterpolationMode mode :
+           {InterpolationMode::kVertex, InterpolationMode::kElementCentre}) {
         const Rgb value = solved->solver->irradianceAt(t, true, u, v, mode);
-        EXPECT_TRUE(finiteNonNegative(value)) << "triangle " << t << " at (" << u << ", " << v << ")";
+        EXPECT_TRUE(finiteNonNegative(value))
+            << "triangle " << t << " at (" << u << ", " << v << ")";
       }
     }
   }
@@ -256,10 +271,11 @@ TEST(Anytime, CoarseAnswerAtOnceThenResumes) {
   quick.max_seconds = 0.001;
   const auto start = std::chrono::steady_clock::now();
   ASSERT_TRUE(solved->solver->improve(quick).ok());
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const SolverStats first = solved->solver->stats();
-  std::printf("anytime: first call %.4f s, %llu rays, %u passes\n", seconds, (unsigned long long)first.rays,
-              first.passes_completed);
+  std::printf("anytime: first call %.4f s, %llu rays, %u passes\n", seconds,
+              (unsigned long long)first.rays, first.passes_completed);
   // One 4096-ray batch is a few ms; 0.5 s is slack for a loaded machine.
   EXPECT_LT(seconds, 0.5);
   EXPECT_GT(first.rays, 0u);
@@ -383,9 +399,12 @@ TEST(Stiffness, EstimateDoesNotClaimConvergenceItDoesNotHave) {
   rms = std::sqrt(rms);
   const double estimate = solved->solver->estimatedRelativeError();
   const SolverStats stats = solved->solver->stats();
-  std::printf("stiff box: %u passes, %llu rays, mean %.1f lx vs %.1f lx: true error %.4f (per-triangle RMS %.4f), "
-              "estimate %.4f\n",
-              stats.passes_completed, (unsigned long long)stats.rays, mean, expected, true_error, rms, estimate);
+  std::printf(
+      "stiff box: %u passes, %llu rays, mean %.1f lx vs %.1f lx: true error %.4f (per-triangle RMS "
+      "%.4f), "
+      "estimate %.4f\n",
+      stats.passes_completed, (unsigned long long)stats.rays, mean, expected, true_error, rms,
+      estimate);
   EXPECT_TRUE(std::isfinite(estimate));
   EXPECT_LE(estimate, 1.0);
   EXPECT_GE(estimate, 0.5 * true_error);

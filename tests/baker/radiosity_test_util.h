@@ -54,10 +54,12 @@ inline double areaMean(const std::vector<Rgb>& values, const baker::BakeGeometry
 }
 
 inline bool finiteNonNegative(const Rgb& c) {
-  return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b) && c.r >= 0 && c.g >= 0 && c.b >= 0;
+  return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b) && c.r >= 0 && c.g >= 0 &&
+         c.b >= 0;
 }
 
-inline Light spotLight(Vec3 position, Vec3 direction, float intensity_cd, float inner_rad, float outer_rad) {
+inline Light spotLight(Vec3 position, Vec3 direction, float intensity_cd, float inner_rad,
+                       float outer_rad) {
   Light light;
   light.name = "spot";
   light.type = LightType::kSpot;
@@ -71,7 +73,8 @@ inline Light spotLight(Vec3 position, Vec3 direction, float intensity_cd, float 
 
 // A closed room from the origin to `hi`, grey `albedo` walls facing in, a
 // point light of `intensity_cd` at `light`.
-inline Scene roomWithLight(float albedo, Vec3 light, float intensity_cd, Vec3 hi = {3.0f, 2.5f, 4.0f}) {
+inline Scene roomWithLight(float albedo, Vec3 light, float intensity_cd,
+                           Vec3 hi = {3.0f, 2.5f, 4.0f}) {
   SceneBuilder b;
   const int wall = b.material({albedo, albedo, albedo});
   b.addRoom("room", {0, 0, 0}, hi, wall);

@@ -44,7 +44,9 @@ class SplitMix {
 
 Vec3 add(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 Vec3 scale(const Vec3& a, float s) { return {a.x * s, a.y * s, a.z * s}; }
-double dot(const Vec3& a, const Vec3& b) { return double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z; }
+double dot(const Vec3& a, const Vec3& b) {
+  return double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z;
+}
 double length(const Vec3& a) { return std::sqrt(dot(a, a)); }
 
 /// Appends triangle (a, b, c), counter-clockwise seen from its front, with
@@ -52,14 +54,17 @@ double length(const Vec3& a) { return std::sqrt(dot(a, a)); }
 void addTriangle(BakeGeometry& geometry, const Vec3& a, const Vec3& b, const Vec3& c) {
   const double e1[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
   const double e2[3] = {double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z};
-  const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+  const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                       e1[0] * e2[1] - e1[1] * e2[0]};
   const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   ASSERT_GT(len, 0.0) << "test scene has a degenerate triangle";
   for (const Vec3& p : {a, b, c}) {
     geometry.positions.push_back(p);
-    geometry.bounds.min = {std::min(geometry.bounds.min.x, p.x), std::min(geometry.bounds.min.y, p.y),
+    geometry.bounds.min = {std::min(geometry.bounds.min.x, p.x),
+                           std::min(geometry.bounds.min.y, p.y),
                            std::min(geometry.bounds.min.z, p.z)};
-    geometry.bounds.max = {std::max(geometry.bounds.max.x, p.x), std::max(geometry.bounds.max.y, p.y),
+    geometry.bounds.max = {std::max(geometry.bounds.max.x, p.x),
+                           std::max(geometry.bounds.max.y, p.y),
                            std::max(geometry.bounds.max.z, p.z)};
   }
   geometry.normals.push_back({float(n[0] / len), float(n[1] / len), float(n[2] / len)});
@@ -93,7 +98,8 @@ BakeGeometry randomScene(uint64_t seed, int count) {
     const Vec3 centre{float(rng.uniform()), float(rng.uniform()), float(rng.uniform())};
     Vec3 corners[3];
     for (Vec3& c : corners) {
-      c = add(centre, {float(rng.uniform(-0.2, 0.2)), float(rng.uniform(-0.2, 0.2)), float(rng.uniform(-0.2, 0.2))});
+      c = add(centre, {float(rng.uniform(-0.2, 0.2)), float(rng.uniform(-0.2, 0.2)),
+                       float(rng.uniform(-0.2, 0.2))});
     }
     const double e1[3] = {double(corners[1].x) - corners[0].x, double(corners[1].y) - corners[0].y,
                           double(corners[1].z) - corners[0].z};
@@ -163,7 +169,8 @@ TEST(RayCaster, EmbreeMatchesBruteForceOnRandomScenes) {
         // Two triangles crossing (random triangles interpenetrate) can sit
         // at the same distance along a ray to within float rounding; then
         // either answer is right. Anything farther apart is a real miss.
-        EXPECT_LT(std::fabs(e.t - b.t), 1e-5 * b.t) << "embree " << e.triangle << " brute " << b.triangle;
+        EXPECT_LT(std::fabs(e.t - b.t), 1e-5 * b.t)
+            << "embree " << e.triangle << " brute " << b.triangle;
         ++near_ties;
         continue;
       }
@@ -258,8 +265,13 @@ TEST(RayCaster, SegmentLimitsAreRespected) {
   // Limits stay clear of the hits (Embree does not promise either way for
   // hits at exactly t_near or t_far, man rtcIntersect1).
   const Case cases[] = {
-      {0.0f, kInf, 0},           {0.0f, 0.5f, RayHit::kNone}, {0.0f, 1.5f, 0}, {1.5f, kInf, 2},
-      {1.5f, 1.9f, RayHit::kNone}, {2.5f, kInf, RayHit::kNone}, {0.5f, 0.4f, RayHit::kNone},
+      {0.0f, kInf, 0},
+      {0.0f, 0.5f, RayHit::kNone},
+      {0.0f, 1.5f, 0},
+      {1.5f, kInf, 2},
+      {1.5f, 1.9f, RayHit::kNone},
+      {2.5f, kInf, RayHit::kNone},
+      {0.5f, 0.4f, RayHit::kNone},
       {-3.0f, kInf, 0},  // a negative t_near counts as 0: nothing behind the origin
   };
   for (const RayCaster* caster : {embree.get(), oracle.get()}) {
@@ -371,7 +383,8 @@ TEST(RayCaster, EmbreeRejectsGeometryItWouldSilentlyDrop) {
   Expected<std::unique_ptr<RayCaster>> caster = makeEmbreeCaster(geometry);
   ASSERT_FALSE(caster.ok());
   EXPECT_EQ(caster.status().code(), StatusCode::kInvalidInput);
-  EXPECT_NE(caster.status().message().find("triangle 1 corner 1"), std::string::npos) << caster.status().message();
+  EXPECT_NE(caster.status().message().find("triangle 1 corner 1"), std::string::npos)
+      << caster.status().message();
 
   BakeGeometry short_normals;
   addQuad(short_normals, 0.0f);
@@ -379,7 +392,8 @@ TEST(RayCaster, EmbreeRejectsGeometryItWouldSilentlyDrop) {
   caster = makeEmbreeCaster(short_normals);
   ASSERT_FALSE(caster.ok());
   EXPECT_EQ(caster.status().code(), StatusCode::kInvalidInput);
-  EXPECT_NE(caster.status().message().find("normals"), std::string::npos) << caster.status().message();
+  EXPECT_NE(caster.status().message().find("normals"), std::string::npos)
+      << caster.status().message();
 }
 
 // offsetRayOrigin on a large tilted plane at increasing distances from the
@@ -402,7 +416,8 @@ TEST(RayCaster, OffsetOriginAvoidsSelfIntersection) {
   const double t1_raw[3] = {n[1], -n[0], 0.0};
   const double t1_len = std::sqrt(t1_raw[0] * t1_raw[0] + t1_raw[1] * t1_raw[1]);
   const double t1[3] = {t1_raw[0] / t1_len, t1_raw[1] / t1_len, 0.0};
-  const double t2[3] = {n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0]};
+  const double t2[3] = {n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2],
+                        n[0] * t1[1] - n[1] * t1[0]};
 
   for (double distance_m : {1e-3, 1.0, 1e4, 1e5}) {
     SCOPED_TRACE("distance " + std::to_string(distance_m) + " m");
@@ -429,8 +444,9 @@ TEST(RayCaster, OffsetOriginAvoidsSelfIntersection) {
       if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
       const float w = 1.0f - u - v;
       // Float arithmetic on purpose: the rounding a real hit point carries.
-      const Vec3 p = add(add(scale(geometry.corner(triangle, 0), w), scale(geometry.corner(triangle, 1), u)),
-                         scale(geometry.corner(triangle, 2), v));
+      const Vec3 p =
+          add(add(scale(geometry.corner(triangle, 0), w), scale(geometry.corner(triangle, 1), u)),
+              scale(geometry.corner(triangle, 2), v));
       const Vec3& normal = geometry.normals[triangle];
       // Uniform over the front hemisphere: cos(theta) uniform in (0, 1].
       const double cos_theta = 1.0 - rng.uniform();
@@ -459,8 +475,9 @@ TEST(RayCaster, OffsetOriginAvoidsSelfIntersection) {
     for (const RayHit& hit : trace(*embree, raw_rays)) raw_self_hits += hit.hit() ? 1 : 0;
     // Every ray leaves the plane, so any hit is a self-intersection.
     EXPECT_EQ(offset_self_hits, 0);
-    RecordProperty("self_hits_without_offset_at_" + std::to_string(int64_t(distance_m * 1000.0)) + "_mm",
-                   raw_self_hits);
+    RecordProperty(
+        "self_hits_without_offset_at_" + std::to_string(int64_t(distance_m * 1000.0)) + "_mm",
+        raw_self_hits);
   }
 }
 

@@ -44,7 +44,8 @@ std::unique_ptr<Solved> solve(const Scene& scene, uint32_t first_pass_rays, uint
 
 // Quad a-b-c-d (counter-clockwise seen from its front) as n x n cells of two
 // triangles each, one object.
-void addGrid(SceneBuilder& b, const std::string& name, Vec3 a, Vec3 bb, Vec3 d, int n, int material) {
+void addGrid(SceneBuilder& b, const std::string& name, Vec3 a, Vec3 bb, Vec3 d, int n,
+             int material) {
   auto at = [&](int i, int j) {
     const float s = float(i) / float(n), t = float(j) / float(n);
     return Vec3{a.x + (bb.x - a.x) * s + (d.x - a.x) * t, a.y + (bb.y - a.y) * s + (d.y - a.y) * t,
@@ -62,17 +63,20 @@ void addGrid(SceneBuilder& b, const std::string& name, Vec3 a, Vec3 bb, Vec3 d, 
 
 // Axis-aligned box [lo, hi], faces inwards (a room) or outwards (a solid),
 // each face its own object of n x n cells; the floor gets `floor_n`.
-void addBox(SceneBuilder& b, const std::string& name, Vec3 lo, Vec3 hi, bool inwards, int n, int floor_n,
-            int material) {
+void addBox(SceneBuilder& b, const std::string& name, Vec3 lo, Vec3 hi, bool inwards, int n,
+            int floor_n, int material) {
   const float x0 = lo.x, y0 = lo.y, z0 = lo.z, x1 = hi.x, y1 = hi.y, z1 = hi.z;
   struct Face {
     const char* name;
     Vec3 a, b, d;  // a-b-c-d counter-clockwise seen from inside
   };
   const Face faces[6] = {
-      {" floor", {x0, y0, z0}, {x0, y0, z1}, {x1, y0, z0}}, {" ceiling", {x0, y1, z0}, {x1, y1, z0}, {x0, y1, z1}},
-      {" -x", {x0, y0, z0}, {x0, y1, z0}, {x0, y0, z1}},    {" +x", {x1, y0, z0}, {x1, y0, z1}, {x1, y1, z0}},
-      {" -z", {x0, y0, z0}, {x1, y0, z0}, {x0, y1, z0}},    {" +z", {x0, y0, z1}, {x0, y1, z1}, {x1, y0, z1}},
+      {" floor", {x0, y0, z0}, {x0, y0, z1}, {x1, y0, z0}},
+      {" ceiling", {x0, y1, z0}, {x1, y1, z0}, {x0, y1, z1}},
+      {" -x", {x0, y0, z0}, {x0, y1, z0}, {x0, y0, z1}},
+      {" +x", {x1, y0, z0}, {x1, y0, z1}, {x1, y1, z0}},
+      {" -z", {x0, y0, z0}, {x1, y0, z0}, {x0, y1, z0}},
+      {" +z", {x0, y0, z1}, {x0, y1, z1}, {x1, y0, z1}},
   };
   for (int f = 0; f < 6; ++f) {
     const Face& face = faces[f];
@@ -94,9 +98,11 @@ Scene roomScene() {
   const int wall = b.material({0.5f, 0.5f, 0.5f});
   const int lamp = b.material({0, 0, 0}, {50, 50, 50});
   addBox(b, "room", {-1, -1, -1}, {1, 1, 1}, true, 4, 32, wall);
-  b.addQuad("lamp", {-0.1f, 0.95f, -0.1f}, {0.1f, 0.95f, -0.1f}, {0.1f, 0.95f, 0.1f}, {-0.1f, 0.95f, 0.1f}, lamp);
+  b.addQuad("lamp", {-0.1f, 0.95f, -0.1f}, {0.1f, 0.95f, -0.1f}, {0.1f, 0.95f, 0.1f},
+            {-0.1f, 0.95f, 0.1f}, lamp);
   b.addPointLight({0, 0, 0}, 100.0f);
-  b.addQuad("crate", {0.5f, -0.9f, 0.5f}, {0.5f, -0.9f, 0.7f}, {0.7f, -0.9f, 0.7f}, {0.7f, -0.9f, 0.5f}, wall);
+  b.addQuad("crate", {0.5f, -0.9f, 0.5f}, {0.5f, -0.9f, 0.7f}, {0.7f, -0.9f, 0.7f},
+            {0.7f, -0.9f, 0.5f}, wall);
   b.scene().instances.back().dynamic = true;
   return b.scene();
 }
@@ -109,7 +115,9 @@ uint32_t instanceNamed(const Scene& scene, const std::string& name) {
   return 0;
 }
 
-double dot(const Vec3& a, const Vec3& b) { return double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z; }
+double dot(const Vec3& a, const Vec3& b) {
+  return double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z;
+}
 
 Vec3 sideNormal(const BakeGeometry& g, uint32_t element) {
   const Vec3 n = g.normals[element / 2];
@@ -124,8 +132,8 @@ class RoomTest : public ::testing::Test {
     settings_ = new RuntimeSectionSettings();
     settings_->threads = 2;
     data_ = new BakeData();
-    const Status s = buildRuntimeSections(*scene_, solved_->geometry, *solved_->caster, *solved_->solver, *settings_,
-                                          *data_);
+    const Status s = buildRuntimeSections(*scene_, solved_->geometry, *solved_->caster,
+                                          *solved_->solver, *settings_, *data_);
     ASSERT_TRUE(s.ok()) << s.message();
   }
   static void TearDownTestSuite() {
@@ -151,9 +159,11 @@ TEST_F(RoomTest, PatchesCoverEveryElementExactlyOnce) {
   for (const BakePatch& p : data_->patches) {
     ASSERT_LE(size_t(p.first_element) + p.element_count, data_->patch_elements.size());
     for (uint32_t i = 1; i < p.element_count; ++i) {
-      EXPECT_LT(data_->patch_elements[p.first_element + i - 1], data_->patch_elements[p.first_element + i]);
+      EXPECT_LT(data_->patch_elements[p.first_element + i - 1],
+                data_->patch_elements[p.first_element + i]);
     }
-    for (uint32_t i = 0; i < p.element_count; ++i) ++seen[data_->patch_elements[p.first_element + i]];
+    for (uint32_t i = 0; i < p.element_count; ++i)
+      ++seen[data_->patch_elements[p.first_element + i]];
   }
   EXPECT_EQ(data_->patch_elements.size(), g.triangleCount());  // all single-sided: one element each
   for (size_t t = 0; t < g.triangleCount(); ++t) {
@@ -165,7 +175,8 @@ TEST_F(RoomTest, PatchesCoverEveryElementExactlyOnce) {
 TEST_F(RoomTest, PatchAreasSumToTheStaticAreaAndRespectTheBounds) {
   const BakeGeometry& g = solved_->geometry;
   double static_area = 0;
-  for (size_t t = 0; t < g.triangleCount(); ++t) static_area += double(g.areas_m2[t]) * (g.double_sided[t] ? 2 : 1);
+  for (size_t t = 0; t < g.triangleCount(); ++t)
+    static_area += double(g.areas_m2[t]) * (g.double_sided[t] ? 2 : 1);
   const double max_area = static_area / 256.0;  // the default
   const double cos_bound = std::cos(settings_->patch_max_normal_rad);
   double sum = 0;
@@ -185,8 +196,8 @@ TEST_F(RoomTest, PatchAreasSumToTheStaticAreaAndRespectTheBounds) {
   // float areas summed in double: relative rounding ~1e-7 per term.
   EXPECT_NEAR(sum, static_area, static_area * 1e-5);
   EXPECT_GT(multi, 0u) << "the 32 x 32 floor should group cells into patches";
-  std::printf("%zu patches (%zu of several elements) over %zu triangles\n", data_->patches.size(), multi,
-              g.triangleCount());
+  std::printf("%zu patches (%zu of several elements) over %zu triangles\n", data_->patches.size(),
+              multi, g.triangleCount());
 }
 
 TEST_F(RoomTest, ClusterTreesHaveEveryPatchAsOneLeaf) {
@@ -242,8 +253,8 @@ TEST_F(RoomTest, FactorsOfAClosedRoomSumToOne) {
       EXPECT_GT(e.factors[i], 0.0f);
       sum += e.factors[i];
     }
-    std::printf("emitter kind %u index %u: %zu patches, factors sum %.5f\n", unsigned(e.kind), e.index,
-                e.patches.size(), sum);
+    std::printf("emitter kind %u index %u: %zu patches, factors sum %.5f\n", unsigned(e.kind),
+                e.index, e.patches.size(), sum);
     EXPECT_LE(sum, 1.0 + 1e-6);
     EXPECT_NEAR(sum, 1.0, 0.03);
   }
@@ -255,16 +266,18 @@ TEST(RuntimeSections, PointLightAtTheCubeCentreSendsASixthToTheFloor) {
   // (At the default 4096 rays sigma is 3.5% of 1/6, too close to 5%.)
   const Scene scene = roomScene();
   auto solved = solve(scene, 1u << 12, 1);
-  const PatchSet patches = buildPatches(solved->geometry, *solved->solver, 24.04 / 256.0, 0.5235987755982988);
-  Expected<std::vector<BakeEmitter>> emitters =
-      buildEmitterFormFactors(scene, solved->geometry, *solved->caster, patches, 1u << 16, 7, 2, nullptr);
+  const PatchSet patches =
+      buildPatches(solved->geometry, *solved->solver, 24.04 / 256.0, 0.5235987755982988);
+  Expected<std::vector<BakeEmitter>> emitters = buildEmitterFormFactors(
+      scene, solved->geometry, *solved->caster, patches, 1u << 16, 7, 2, nullptr);
   ASSERT_TRUE(emitters.ok()) << emitters.status().message();
   const uint32_t floor = instanceNamed(scene, "room floor");
   double share = 0;
   const BakeEmitter& light = (*emitters)[0];
   for (size_t i = 0; i < light.patches.size(); ++i) {
     const BakePatch& p = patches.patches[light.patches[i]];
-    if (solved->geometry.instance[patches.patch_elements[p.first_element] / 2] == floor) share += light.factors[i];
+    if (solved->geometry.instance[patches.patch_elements[p.first_element] / 2] == floor)
+      share += light.factors[i];
   }
   std::printf("floor share %.5f (1/6 = %.5f)\n", share, 1.0 / 6.0);
   EXPECT_NEAR(share, 1.0 / 6.0, 0.05 / 6.0);
@@ -326,8 +339,8 @@ std::unique_ptr<Solved> furnace(bool with_box, Scene& scene) {
 TEST(RuntimeSections, FurnaceProbeCarriesTheRoomRadiance) {
   Scene scene;
   auto solved = furnace(false, scene);
-  Expected<BakeProbeGrid> grid =
-      buildProbeGrid(scene, solved->geometry, *solved->caster, *solved->solver, 2.0 / 3.0, 1, 2, nullptr);
+  Expected<BakeProbeGrid> grid = buildProbeGrid(scene, solved->geometry, *solved->caster,
+                                                *solved->solver, 2.0 / 3.0, 1, 2, nullptr);
   ASSERT_TRUE(grid.ok());
   ASSERT_EQ(grid->dims[0] * grid->dims[1] * grid->dims[2], 27u);
   EXPECT_NEAR(grid->origin.x, -2.0 / 3.0, 1e-6);
@@ -338,13 +351,14 @@ TEST(RuntimeSections, FurnaceProbeCarriesTheRoomRadiance) {
   // 256-ray sum is within ~1%; 5% asked. (Every wall emits: the emission
   // also comes from points on the walls, weighted against the sphere rays.)
   const double expected_dc = 2.0 * std::sqrt(4.0 * kPiD);
-  std::printf("furnace centre probe: c0 %.4f (expected %.4f), c1 %.4f %.4f %.4f\n", c[1], expected_dc, c[4], c[7],
-              c[10]);
+  std::printf("furnace centre probe: c0 %.4f (expected %.4f), c1 %.4f %.4f %.4f\n", c[1],
+              expected_dc, c[4], c[7], c[10]);
   for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(c[ch], expected_dc, 0.05 * expected_dc);
   // L1 of a constant is 0; the estimate of the integral of Y1m has, from
   // 16 x 16 jittered strata, std. error below the 8 x 8 strata's ~0.04 x DC
   // (x, y) and ~0.02 (z): 0.2 x DC is over 5 sigma.
-  for (int k = 1; k < 4; ++k) EXPECT_LT(std::abs(c[k * 3 + 1]), 0.2 * expected_dc) << "coefficient " << k;
+  for (int k = 1; k < 4; ++k)
+    EXPECT_LT(std::abs(c[k * 3 + 1]), 0.2 * expected_dc) << "coefficient " << k;
   // Irradiance the runtime reads: pi * c0 * Y00 = pi * L = 2 pi lux on any normal.
   EXPECT_NEAR(kPiD * c[1] * 0.282095, kPiD * 2.0, 0.05 * kPiD * 2.0);
 }
@@ -355,8 +369,8 @@ TEST(RuntimeSections, ProbeInsideGeometryTakesItsNeighboursMean) {
   // neighbours, each ~L sqrt(4pi) as in the furnace above.
   Scene scene;
   auto solved = furnace(true, scene);
-  Expected<BakeProbeGrid> grid =
-      buildProbeGrid(scene, solved->geometry, *solved->caster, *solved->solver, 2.0 / 3.0, 1, 2, nullptr);
+  Expected<BakeProbeGrid> grid = buildProbeGrid(scene, solved->geometry, *solved->caster,
+                                                *solved->solver, 2.0 / 3.0, 1, 2, nullptr);
   ASSERT_TRUE(grid.ok());
   double mean = 0;
   for (size_t p = 0; p < 27; ++p) {
@@ -387,12 +401,12 @@ TEST(RuntimeSections, ProbeL1PointsAtTheLight) {
   b.addQuad("-z", {-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, black);
   b.addQuad("+z", {-1, -1, 1}, {-1, 1, 1}, {1, 1, 1}, {1, -1, 1}, black);
   auto solved = solve(b.scene(), 1u << 12, 1);
-  Expected<BakeProbeGrid> grid =
-      buildProbeGrid(b.scene(), solved->geometry, *solved->caster, *solved->solver, 2.0 / 3.0, 1, 1, nullptr);
+  Expected<BakeProbeGrid> grid = buildProbeGrid(b.scene(), solved->geometry, *solved->caster,
+                                                *solved->solver, 2.0 / 3.0, 1, 1, nullptr);
   ASSERT_TRUE(grid.ok());
   const float* c = &grid->sh[13 * 12];
-  std::printf("ceiling-lit centre probe: c0 %.4f (0.5908), c1 y %.4f (0.8506) z %.4f x %.4f\n", c[1], c[4], c[7],
-              c[10]);
+  std::printf("ceiling-lit centre probe: c0 %.4f (0.5908), c1 y %.4f (0.8506) z %.4f x %.4f\n",
+              c[1], c[4], c[7], c[10]);
   EXPECT_NEAR(c[1], 0.5908, 0.04);
   EXPECT_NEAR(c[3 + 1], 0.8506, 0.08);
   EXPECT_NEAR(c[6 + 1], 0.0, 0.1);
@@ -410,15 +424,17 @@ TEST(RuntimeSections, ProbeSeesASmallLampWithoutNoise) {
   const int black = b.material({0, 0, 0});
   const int glow = b.material({0, 0, 0}, {1, 1, 1});
   addBox(b, "room", {-1, -1, -1}, {1, 1, 1}, true, 1, 1, black);
-  b.addQuad("lamp", {-0.1f, 0.99f, -0.1f}, {0.1f, 0.99f, -0.1f}, {0.1f, 0.99f, 0.1f}, {-0.1f, 0.99f, 0.1f}, glow);
+  b.addQuad("lamp", {-0.1f, 0.99f, -0.1f}, {0.1f, 0.99f, -0.1f}, {0.1f, 0.99f, 0.1f},
+            {-0.1f, 0.99f, 0.1f}, glow);
   auto solved = solve(b.scene(), 1u << 12, 1);
-  Expected<BakeProbeGrid> grid =
-      buildProbeGrid(b.scene(), solved->geometry, *solved->caster, *solved->solver, 2.0 / 3.0, 1, 1, nullptr);
+  Expected<BakeProbeGrid> grid = buildProbeGrid(b.scene(), solved->geometry, *solved->caster,
+                                                *solved->solver, 2.0 / 3.0, 1, 1, nullptr);
   ASSERT_TRUE(grid.ok());
   // Solid angle of an a x a square at distance d on its axis:
   // 4 atan(a^2 / (2 d sqrt(4 d^2 + 2 a^2))).
   const double a = 0.2, d = 0.99;
-  const double solid_angle = 4.0 * std::atan(a * a / (2.0 * d * std::sqrt(4.0 * d * d + 2.0 * a * a)));
+  const double solid_angle =
+      4.0 * std::atan(a * a / (2.0 * d * std::sqrt(4.0 * d * d + 2.0 * a * a)));
   const double c0 = 0.282095 * solid_angle;
   // Y1-1 weighs by cos(theta) >= cos(atan(0.1 sqrt(2) / 0.99)) = 0.990.
   const double c1y = 0.488603 * solid_angle * 0.995;
@@ -439,16 +455,19 @@ TEST(RuntimeSections, LevelNeedsRuntimeSectionsOnlyWithSomethingDynamic) {
 
 template <typename T>
 bool sameBytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 TEST_F(RoomTest, BitIdenticalForOneAndTwoThreads) {
   RuntimeSectionSettings one = *settings_;
   one.threads = 1;
   BakeData data;
-  ASSERT_TRUE(
-      buildRuntimeSections(*scene_, solved_->geometry, *solved_->caster, *solved_->solver, one, data).ok());
-  static_assert(sizeof(BakePatch) == 72 && sizeof(BakeClusterNode) == 44, "no padding: memcmp compares values");
+  ASSERT_TRUE(buildRuntimeSections(*scene_, solved_->geometry, *solved_->caster, *solved_->solver,
+                                   one, data)
+                  .ok());
+  static_assert(sizeof(BakePatch) == 72 && sizeof(BakeClusterNode) == 44,
+                "no padding: memcmp compares values");
   EXPECT_TRUE(sameBytes(data.patches, data_->patches));
   EXPECT_TRUE(sameBytes(data.patch_elements, data_->patch_elements));
   EXPECT_TRUE(sameBytes(data.clusters, data_->clusters));
@@ -499,8 +518,8 @@ TEST_F(RoomTest, BadSettingsAreRejectedAndLeaveTheDataAlone) {
     BakeData data;
     data.seed = 42;
     data.patch_elements = {7};
-    const Status s = buildRuntimeSections(*scene_, solved_->geometry, *solved_->caster, *solved_->solver, c.settings,
-                                          data);
+    const Status s = buildRuntimeSections(*scene_, solved_->geometry, *solved_->caster,
+                                          *solved_->solver, c.settings, data);
     EXPECT_EQ(s.code(), StatusCode::kInvalidInput) << c.name;
     EXPECT_NE(s.message().find(c.name), std::string::npos) << s.message();
     EXPECT_FALSE(data.has_runtime_sections);
@@ -513,8 +532,8 @@ TEST_F(RoomTest, CancelLeavesTheDataAlone) {
   std::atomic<bool> cancel{true};
   BakeData data;
   data.patch_elements = {7};
-  const Status s = buildRuntimeSections(*scene_, solved_->geometry, *solved_->caster, *solved_->solver, *settings_,
-                                        data, &cancel);
+  const Status s = buildRuntimeSections(*scene_, solved_->geometry, *solved_->caster,
+                                        *solved_->solver, *settings_, data, &cancel);
   EXPECT_EQ(s.code(), StatusCode::kCancelled);
   EXPECT_FALSE(data.has_runtime_sections);
   EXPECT_EQ(data.patch_elements, std::vector<uint32_t>{7});

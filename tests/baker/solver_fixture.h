@@ -19,7 +19,8 @@ struct Solved {
 
 /// Flattens `scene`, builds the caster (Embree, or the brute-force oracle)
 /// and the solver. Failures are reported as test failures; `solver` is then null.
-inline std::unique_ptr<Solved> prepareSolver(const Scene& scene, const baker::RadiositySettings& settings,
+inline std::unique_ptr<Solved> prepareSolver(const Scene& scene,
+                                             const baker::RadiositySettings& settings,
                                              bool brute_force = false) {
   auto solved = std::make_unique<Solved>();
   Expected<baker::BakeGeometry> geometry = baker::flattenStaticGeometry(scene);

@@ -76,15 +76,18 @@ class SceneBuilder {
   }
 
   /// Horizontal disk of `segments` triangles at height y, facing up or down.
-  void addDisk(const std::string& name, Vec3 centre, float radius, int segments, bool facing_up, int material) {
+  void addDisk(const std::string& name, Vec3 centre, float radius, int segments, bool facing_up,
+               int material) {
     std::vector<Vec3> corners;
     for (int i = 0; i < segments; ++i) {
       const double a0 = 2.0 * 3.14159265358979323846 * i / segments;
       // The last segment closes on angle 0 exactly (sin(2 pi) is not 0 in
       // floating point, which would leave a seam of unwelded vertices).
       const double a1 = 2.0 * 3.14159265358979323846 * ((i + 1) % segments) / segments;
-      const Vec3 p0{centre.x + radius * float(std::cos(a0)), centre.y, centre.z + radius * float(std::sin(a0))};
-      const Vec3 p1{centre.x + radius * float(std::cos(a1)), centre.y, centre.z + radius * float(std::sin(a1))};
+      const Vec3 p0{centre.x + radius * float(std::cos(a0)), centre.y,
+                    centre.z + radius * float(std::sin(a0))};
+      const Vec3 p1{centre.x + radius * float(std::cos(a1)), centre.y,
+                    centre.z + radius * float(std::sin(a1))};
       // Counter-clockwise seen from +y is (centre, p1, p0) for increasing angle in x-z.
       if (facing_up) {
         corners.insert(corners.end(), {centre, p1, p0});
@@ -112,10 +115,11 @@ class SceneBuilder {
 };
 
 /// Sum over triangles of (front irradiance x area): flux received, lm (luminance).
-inline double receivedFlux(const std::vector<Rgb>& irradiance, const std::vector<float>& areas, size_t begin = 0,
-                           size_t end = ~size_t(0)) {
+inline double receivedFlux(const std::vector<Rgb>& irradiance, const std::vector<float>& areas,
+                           size_t begin = 0, size_t end = ~size_t(0)) {
   double sum = 0;
-  for (size_t t = begin; t < irradiance.size() && t < end; ++t) sum += double(luminance(irradiance[t])) * areas[t];
+  for (size_t t = begin; t < irradiance.size() && t < end; ++t)
+    sum += double(luminance(irradiance[t])) * areas[t];
   return sum;
 }
 

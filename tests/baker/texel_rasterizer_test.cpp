@@ -21,11 +21,11 @@
 namespace svit::baker {
 namespace {
 
-using test::HandMapped;
-using test::SceneBuilder;
 using test::addSolidBox;
 using test::flatten;
+using test::HandMapped;
 using test::handMappedQuad;
+using test::SceneBuilder;
 
 TEST(TexelRasterizer, QuadCoveringFourByFourTexelsSamplesTexelCentres) {
   // Page 8x8, quad at UV [0.25, 0.75]^2 = texels 2..5 exactly (all values
@@ -140,9 +140,10 @@ TEST(TexelRasterizer, FloorTexelsUnderASolidBoxAreDroppedOrMovedOut) {
   for (const TexelSample& s : set->samples) {
     if (s.page != 0) continue;
     ++floor_samples;
-    const bool under = s.position.x > lo && s.position.x < hi && s.position.z > lo && s.position.z < hi;
-    EXPECT_FALSE(under) << "texel " << s.x << "," << s.y << " samples (" << s.position.x << ", " << s.position.z
-                        << ") under the box";
+    const bool under =
+        s.position.x > lo && s.position.x < hi && s.position.z > lo && s.position.z < hi;
+    EXPECT_FALSE(under) << "texel " << s.x << "," << s.y << " samples (" << s.position.x << ", "
+                        << s.position.z << ") under the box";
     EXPECT_EQ(s.position.y, 0.0f);
   }
   EXPECT_EQ(floor_samples, 99u);
@@ -204,9 +205,10 @@ TEST(TexelRasterizer, LeakingSamplesLeaveTheSolidRatherThanGoDeeper) {
     if (s.page != 0) continue;
     const TexelSample& before = plain->samples[size_t(plain->sampleAt(0, s.x, s.y))];
     if (std::memcmp(&s.position, &before.position, sizeof s.position) == 0) continue;
-    const bool under = s.position.x > lo && s.position.x < hi && s.position.z > lo && s.position.z < hi;
-    EXPECT_FALSE(under) << "texel " << s.x << "," << s.y << " moved to (" << s.position.x << ", " << s.position.z
-                        << "), under the box";
+    const bool under =
+        s.position.x > lo && s.position.x < hi && s.position.z > lo && s.position.z < hi;
+    EXPECT_FALSE(under) << "texel " << s.x << "," << s.y << " moved to (" << s.position.x << ", "
+                        << s.position.z << "), under the box";
   }
 }
 
@@ -218,7 +220,8 @@ TEST(TexelRasterizer, MismatchedAtlasIsRejected) {
   Expected<TexelSet> set = rasterizeTexels(h.geometry, bad, *caster, RasterSettings{});
   ASSERT_FALSE(set.ok());
   EXPECT_EQ(set.status().code(), StatusCode::kInvalidInput);
-  EXPECT_NE(set.status().message().find("triangle 1 is on page 3"), std::string::npos) << set.status().message();
+  EXPECT_NE(set.status().message().find("triangle 1 is on page 3"), std::string::npos)
+      << set.status().message();
   bad = h.atlas;
   bad.triangle_uv.pop_back();
   EXPECT_FALSE(rasterizeTexels(h.geometry, bad, *caster, RasterSettings{}).ok());

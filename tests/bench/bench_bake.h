@@ -21,12 +21,13 @@ namespace svit::test {
 // Bakes `level` into `dir` (quality-bound, seed 7 unless told: deterministic;
 // a time budget makes it machine-dependent) unless a bake with the same
 // stamp is there.
-inline BakedLevel bakeOnce(const std::string& level, const std::string& dir, double quality, uint64_t seed = 7,
-                            double time_s = 0) {
+inline BakedLevel bakeOnce(const std::string& level, const std::string& dir, double quality,
+                           uint64_t seed = 7, double time_s = 0) {
   std::ostringstream stamp;
   stamp << level << " quality " << quality << " seed " << seed << " time " << time_s;
   std::ifstream old(dir + "/stamp");
-  const std::string previous((std::istreambuf_iterator<char>(old)), std::istreambuf_iterator<char>());
+  const std::string previous((std::istreambuf_iterator<char>(old)),
+                             std::istreambuf_iterator<char>());
   if (previous != stamp.str() || !std::filesystem::exists(dir + "/bake.svit")) {
     baker::BakeOptions options;
     options.level_path = level;

@@ -19,7 +19,8 @@ double secondsToLoad(const std::string& path, bool textures, size_t& triangles) 
   options.load_textures = textures;
   const auto start = std::chrono::steady_clock::now();
   svit::Expected<svit::Scene> scene = svit::loadLevel(path, options);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!scene.ok()) {
     std::fprintf(stderr, "%s\n", scene.status().message().c_str());
     return -1;
@@ -35,7 +36,8 @@ int main(int argc, char** argv) {
   const std::string out = argc > 1 ? argv[1] : "bench_import.json";
   const std::string scenes = SVIT_SHARED_SCENES_DIR;
   const std::vector<std::pair<std::string, std::string>> levels = {
-      {"cornell_box_original", std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/CornellBox-Original.gltf"},
+      {"cornell_box_original",
+       std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/CornellBox-Original.gltf"},
       {"cornell_box_vinc3r", scenes + "/cornell_box_vinc3r/cornellBox-2.80-Eevee-gltf.gltf"},
       {"virtual_city", scenes + "/virtual_city/VC.gltf"},
       {"sponza", scenes + "/sponza/Sponza.gltf"}};
@@ -50,13 +52,15 @@ int main(int argc, char** argv) {
       best_plain = std::min(best_plain, secondsToLoad(levels[i].second, false, triangles));
       best_textured = std::min(best_textured, secondsToLoad(levels[i].second, true, triangles));
     }
-    std::printf("%-22s %10zu %12.4f %12.4f %8.2f %14.2f\n", levels[i].first.c_str(), triangles, best_plain,
-                best_textured, best_textured / best_plain, triangles / best_plain * 1e-6);
+    std::printf("%-22s %10zu %12.4f %12.4f %8.2f %14.2f\n", levels[i].first.c_str(), triangles,
+                best_plain, best_textured, best_textured / best_plain,
+                triangles / best_plain * 1e-6);
     char line[256];
     std::snprintf(line, sizeof line,
                   "  {\"level\": \"%s\", \"triangles\": %zu, \"load_s_no_textures\": %.6f, "
                   "\"load_s_textures\": %.6f}%s\n",
-                  levels[i].first.c_str(), triangles, best_plain, best_textured, i + 1 < levels.size() ? "," : "");
+                  levels[i].first.c_str(), triangles, best_plain, best_textured,
+                  i + 1 < levels.size() ? "," : "");
     json += line;
   }
   json += "]\n";

@@ -13,8 +13,10 @@
 //     lamps have refreshed;
 //  3. a lamp of the camera's room switched off: the irradiance under it the
 //     very next frame against the settled value.
-// usage: bench_importance LEVEL.json BAKE_DIR [--budget SAMPLES] [--stop-frames N] [--json OUT] [--no-reference]
-//                         [--moving all|walk] [--no-lit-set] [--no-occlusion] [--also-budgets N,N,...]
+// usage: bench_importance LEVEL.json BAKE_DIR [--budget SAMPLES] [--stop-frames N] [--json OUT]
+// [--no-reference]
+//                         [--moving all|walk] [--no-lit-set] [--no-occlusion] [--also-budgets
+//                         N,N,...]
 // (--no-reference: caching alone, for its per-stage times; no error figures;
 // --no-lit-set: RuntimeSettings::lit_set_culling off, maps culled by boxes;
 // --no-occlusion: RuntimeSettings::occlusion_culling off; --also-budgets:
@@ -51,12 +53,12 @@ using namespace svit;
 constexpr float kPitch = 4.2f;  // room + wall, make_house.py
 constexpr float kRoom = 4.0f;
 
-#define BENCH_CHECK(cond, message)                                                      \
-  do {                                                                                  \
-    if (!(cond)) {                                                                      \
-      std::fprintf(stderr, "bench_importance: %s\n", std::string(message).c_str());    \
-      std::exit(1);                                                                     \
-    }                                                                                   \
+#define BENCH_CHECK(cond, message)                                                  \
+  do {                                                                              \
+    if (!(cond)) {                                                                  \
+      std::fprintf(stderr, "bench_importance: %s\n", std::string(message).c_str()); \
+      std::exit(1);                                                                 \
+    }                                                                               \
   } while (0)
 
 int nodeIndex(const Scene& scene, const std::string& name) {
@@ -76,7 +78,8 @@ struct Room {
 std::vector<std::pair<Vec3, Vec3>> roomProbes(const Room& room) {
   std::vector<std::pair<Vec3, Vec3>> probes;
   for (float a : {1.0f, 2.0f, 3.0f}) {
-    for (float b : {1.0f, 2.0f, 3.0f}) probes.push_back({{room.x0() + a, 0.0f, room.z0() + b}, {0, 1, 0}});
+    for (float b : {1.0f, 2.0f, 3.0f})
+      probes.push_back({{room.x0() + a, 0.0f, room.z0() + b}, {0, 1, 0}});
   }
   for (float a : {0.8f, 3.2f}) {
     probes.push_back({{room.x0() + a, 1.5f, room.z0()}, {0, 0, 1}});
@@ -91,7 +94,8 @@ std::vector<std::pair<Vec3, Vec3>> roomProbes(const Room& room) {
 RuntimeView viewTowards(const Room& room, const Room& next) {
   RuntimeView view;
   view.position = {room.x0() + 2.0f, 1.6f, room.z0() + 2.0f};
-  view.look_at = {0.5f * (room.x0() + next.x0()) + 2.0f, 1.3f, 0.5f * (room.z0() + next.z0()) + 2.0f};
+  view.look_at = {0.5f * (room.x0() + next.x0()) + 2.0f, 1.3f,
+                  0.5f * (room.z0() + next.z0()) + 2.0f};
   view.yfov_rad = 1.2f;
   view.aspect = 16.0f / 9.0f;
   return view;
@@ -113,8 +117,9 @@ Mat4 yRotated(const Mat4& placed, float angle) {
 bool lit_set_culling = true;    // --no-lit-set
 bool occlusion_culling = true;  // --no-occlusion
 
-std::unique_ptr<Runtime> makeRuntime(const Scene& scene, const BakeData& bake, const std::string& dir, int rooms,
-                                     bool refresh_all, int budget) {
+std::unique_ptr<Runtime> makeRuntime(const Scene& scene, const BakeData& bake,
+                                     const std::string& dir, int rooms, bool refresh_all,
+                                     int budget) {
   RuntimeSettings settings;
   settings.lit_set_culling = lit_set_culling;
   settings.occlusion_culling = occlusion_culling;
@@ -138,8 +143,7 @@ double lum(const Rgb& c) { return luminance(c); }
 /// max_refresh_interval updates), then sets the per-frame `budget`.
 void settle(Runtime& runtime, int budget) {
   BENCH_CHECK(runtime.setSampleBudget(0).ok(), "setSampleBudget");
-  for (int f = 0; f < 100 && runtime.update(0).emitters_pending > 0; ++f) {
-  }
+  for (int f = 0; f < 100 && runtime.update(0).emitters_pending > 0; ++f) {}
   BENCH_CHECK(runtime.setSampleBudget(budget).ok(), "setSampleBudget");
 }
 
@@ -147,7 +151,9 @@ void settle(Runtime& runtime, int budget) {
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: bench_importance LEVEL.json BAKE_DIR [--budget SAMPLES] [--stop-frames N] [--json OUT]\n");
+    std::fprintf(stderr,
+                 "usage: bench_importance LEVEL.json BAKE_DIR [--budget SAMPLES] [--stop-frames N] "
+                 "[--json OUT]\n");
     return 2;
   }
   const std::string level_path = argv[1], bake_dir = argv[2];
@@ -178,7 +184,9 @@ int main(int argc, char** argv) {
         char* end = nullptr;
         const long v = std::strtol(p, &end, 10);
         if (end == p || v < 1) {
-          std::fprintf(stderr, "bench_importance: --also-budgets takes positive sample counts, as 32,24,16\n");
+          std::fprintf(
+              stderr,
+              "bench_importance: --also-budgets takes positive sample counts, as 32,24,16\n");
           return 2;
         }
         also_budgets.push_back(int(v));
@@ -189,7 +197,8 @@ int main(int argc, char** argv) {
     } else if (!std::strcmp(argv[i], "--moving") && i + 1 < argc) {
       moving = argv[++i];
       if (moving != "all" && moving != "walk") {
-        std::fprintf(stderr, "bench_importance: --moving takes all or walk, not %s\n", moving.c_str());
+        std::fprintf(stderr, "bench_importance: --moving takes all or walk, not %s\n",
+                     moving.c_str());
         return 2;
       }
     } else {
@@ -220,11 +229,12 @@ int main(int argc, char** argv) {
   BENCH_CHECK(window != nullptr, "no OpenGL 4.5 core context");
   glfwMakeContextCurrent(window);
   const std::string renderer = checkGlContext()->renderer;
-  std::printf("bench_importance: %s, %d rooms, %zu lamps, budget %d samples/frame, GL: %s\n", level_path.c_str(), rooms,
-              scene.lights.size(), budget, renderer.c_str());
+  std::printf("bench_importance: %s, %d rooms, %zu lamps, budget %d samples/frame, GL: %s\n",
+              level_path.c_str(), rooms, scene.lights.size(), budget, renderer.c_str());
 
   // ---- 1. the walk: refresh-all against caching, side by side ----
-  std::unique_ptr<Runtime> all = reference ? makeRuntime(scene, bake, bake_dir, rooms, true, budget) : nullptr;
+  std::unique_ptr<Runtime> all =
+      reference ? makeRuntime(scene, bake, bake_dir, rooms, true, budget) : nullptr;
   std::unique_ptr<Runtime> cached = makeRuntime(scene, bake, bake_dir, rooms, false, budget);
   struct OtherBudget {
     int budget;
@@ -232,7 +242,8 @@ int main(int argc, char** argv) {
     double time = 0, samples = 0, error_sum = 0;
   };
   std::vector<OtherBudget> others;
-  for (int b : also_budgets) others.push_back({b, makeRuntime(scene, bake, bake_dir, rooms, false, b)});
+  for (int b : also_budgets)
+    others.push_back({b, makeRuntime(scene, bake, bake_dir, rooms, false, b)});
   const std::vector<Room> walk = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   std::vector<std::pair<ObjectId, Mat4>> table_ids;
   for (const std::string& name : tables) {
@@ -250,19 +261,22 @@ int main(int argc, char** argv) {
   settle(*cached, budget);
   for (OtherBudget& o : others) settle(*o.runtime, o.budget);
   double time_all = 0, time_cached = 0, error_sum = 0, samples_all = 0, samples_cached = 0;
-  double stage_maps = 0, stage_reduction = 0, stage_bounce = 0, stage_upload = 0, stage_view = 0, triangles = 0;
+  double stage_maps = 0, stage_reduction = 0, stage_bounce = 0, stage_upload = 0, stage_view = 0,
+         triangles = 0;
   int frames = 0;
   nlohmann::json frame_log = nlohmann::json::array();
   for (size_t stop = 0; stop < walk.size(); ++stop) {
     const Room room = walk[stop], next = walk[(stop + 1) % walk.size()];
     BENCH_CHECK(cached->setView(viewTowards(room, next)).ok(), "setView");
-    for (OtherBudget& o : others) BENCH_CHECK(o.runtime->setView(viewTowards(room, next)).ok(), "setView");
+    for (OtherBudget& o : others)
+      BENCH_CHECK(o.runtime->setView(viewTowards(room, next)).ok(), "setView");
     for (int f = 0; f < stop_frames; ++f, ++frames) {
       const float dx = 0.3f * std::sin(0.7f * float(frames + 1));
       for (auto& [id, placed] : table_ids) {
         if (all) BENCH_CHECK(all->setObjectTransform(id, slid(placed, dx)).ok(), "move");
         BENCH_CHECK(cached->setObjectTransform(id, slid(placed, dx)).ok(), "move");
-        for (OtherBudget& o : others) BENCH_CHECK(o.runtime->setObjectTransform(id, slid(placed, dx)).ok(), "move");
+        for (OtherBudget& o : others)
+          BENCH_CHECK(o.runtime->setObjectTransform(id, slid(placed, dx)).ok(), "move");
       }
       const FrameStats a = all ? all->update(0) : FrameStats{};
       const FrameStats c = cached->update(0);
@@ -302,36 +316,53 @@ int main(int argc, char** argv) {
       error_sum += error;
       std::map<std::string, int> reasons;
       for (const EmitterRefresh& r : c.refreshes) ++reasons[refreshReasonName(r.reason)];
-      frame_log.push_back({{"frame", frames}, {"room", {room.i, room.j}}, {"all_ms", a.total_ms}, {"cached_ms", c.total_ms},
-                           {"all_samples", a.samples_rendered}, {"cached_samples", c.samples_rendered},
-                           {"cached_view_ms", c.view_ms}, {"error", error}, {"reasons", reasons}});
-      std::printf("frame %2d room %d,%d: refresh-all %8.1f ms (%5u samples), caching %7.1f ms (%4u samples, view %.1f ms), "
-                  "error %.2f%%\n",
-                  frames, room.i, room.j, a.total_ms, a.samples_rendered, c.total_ms, c.samples_rendered, c.view_ms,
-                  100 * error);
+      frame_log.push_back({{"frame", frames},
+                           {"room", {room.i, room.j}},
+                           {"all_ms", a.total_ms},
+                           {"cached_ms", c.total_ms},
+                           {"all_samples", a.samples_rendered},
+                           {"cached_samples", c.samples_rendered},
+                           {"cached_view_ms", c.view_ms},
+                           {"error", error},
+                           {"reasons", reasons}});
+      std::printf(
+          "frame %2d room %d,%d: refresh-all %8.1f ms (%5u samples), caching %7.1f ms (%4u "
+          "samples, view %.1f ms), "
+          "error %.2f%%\n",
+          frames, room.i, room.j, a.total_ms, a.samples_rendered, c.total_ms, c.samples_rendered,
+          c.view_ms, 100 * error);
       std::fflush(stdout);
     }
   }
-  const double mean_all = time_all / frames, mean_cached = time_cached / frames, mean_error = error_sum / frames;
-  const nlohmann::json stages = {{"maps_ms", stage_maps / frames}, {"reduction_ms", stage_reduction / frames},
-                                 {"bounce_ms", stage_bounce / frames}, {"upload_ms", stage_upload / frames},
-                                 {"view_ms", stage_view / frames}, {"map_triangles", triangles / frames}};
+  const double mean_all = time_all / frames, mean_cached = time_cached / frames,
+               mean_error = error_sum / frames;
+  const nlohmann::json stages = {
+      {"maps_ms", stage_maps / frames},     {"reduction_ms", stage_reduction / frames},
+      {"bounce_ms", stage_bounce / frames}, {"upload_ms", stage_upload / frames},
+      {"view_ms", stage_view / frames},     {"map_triangles", triangles / frames}};
   std::fflush(stdout);
-  std::printf("caching per frame by stage: maps %.1f ms (%.0f triangles), reduction %.1f ms, bounce %.1f ms, "
-              "upload %.1f ms, view %.1f ms\n",
-              stage_maps / frames, triangles / frames, stage_reduction / frames, stage_bounce / frames,
-              stage_upload / frames, stage_view / frames);
-  std::printf("walk: %d frames; per frame refresh-all %.1f ms (%.0f samples), caching %.1f ms (%.0f samples): "
-              "ratio %.3f; error in the camera's room vs refresh-all %.2f%% (mean)\n",
-              frames, mean_all, samples_all / frames, mean_cached, samples_cached / frames,
-              mean_all > 0 ? mean_cached / mean_all : 0.0,
-              100 * mean_error);
+  std::printf(
+      "caching per frame by stage: maps %.1f ms (%.0f triangles), reduction %.1f ms, bounce %.1f "
+      "ms, "
+      "upload %.1f ms, view %.1f ms\n",
+      stage_maps / frames, triangles / frames, stage_reduction / frames, stage_bounce / frames,
+      stage_upload / frames, stage_view / frames);
+  std::printf(
+      "walk: %d frames; per frame refresh-all %.1f ms (%.0f samples), caching %.1f ms (%.0f "
+      "samples): "
+      "ratio %.3f; error in the camera's room vs refresh-all %.2f%% (mean)\n",
+      frames, mean_all, samples_all / frames, mean_cached, samples_cached / frames,
+      mean_all > 0 ? mean_cached / mean_all : 0.0, 100 * mean_error);
   nlohmann::json other_log = nlohmann::json::array();
   for (OtherBudget& o : others) {
-    std::printf("budget %d: caching %.1f ms (%.0f samples) per frame, error in the camera's room vs refresh-all %.2f%%\n",
-                o.budget, o.time / frames, o.samples / frames, 100 * o.error_sum / frames);
-    other_log.push_back({{"budget_samples", o.budget}, {"caching_ms", o.time / frames},
-                         {"caching_samples", o.samples / frames}, {"mean_error", o.error_sum / frames}});
+    std::printf(
+        "budget %d: caching %.1f ms (%.0f samples) per frame, error in the camera's room vs "
+        "refresh-all %.2f%%\n",
+        o.budget, o.time / frames, o.samples / frames, 100 * o.error_sum / frames);
+    other_log.push_back({{"budget_samples", o.budget},
+                         {"caching_ms", o.time / frames},
+                         {"caching_samples", o.samples / frames},
+                         {"mean_error", o.error_sum / frames}});
     o.runtime.reset();
   }
   all.reset();
@@ -350,7 +381,8 @@ int main(int argc, char** argv) {
   for (uint32_t e = 0; e < states.size(); ++e) {
     if (states[e].type != EmitterType::kBakedLight) continue;
     const Light& light = scene.lights[bake.emitters[states[e].bake_emitter].index];
-    if (light.position.x < kPitch && light.position.z > kPitch && light.position.z < 2 * kPitch) next_lamps.insert(e);
+    if (light.position.x < kPitch && light.position.z > kPitch && light.position.z < 2 * kPitch)
+      next_lamps.insert(e);
   }
   BENCH_CHECK(next_lamps.size() == 2, "room (0, 1) should have two lamps");
   BENCH_CHECK(runtime->setObjectTransform(door, open).ok(), "open");
@@ -363,7 +395,8 @@ int main(int argc, char** argv) {
     }
     if (refreshed.size() == next_lamps.size()) break;
   }
-  std::printf("door: the next room's two lamps refreshed within %d frame(s) of the door opening\n", door_frames);
+  std::printf("door: the next room's two lamps refreshed within %d frame(s) of the door opening\n",
+              door_frames);
 
   // ---- 3. a lamp of the camera's room switched off ----
   uint32_t lamp_emitter = kInvalidId;
@@ -386,18 +419,34 @@ int main(int argc, char** argv) {
   const double next_frame = lum(runtime->irradianceAt(under, up));
   settle(*runtime, budget);
   const double settled = lum(runtime->irradianceAt(under, up));
-  std::printf("lamp off: floor under it %.2f lux lit, %.2f the next frame, %.2f settled (next frame off by %.2f%% of lit)\n",
-              lit, next_frame, settled, 100 * std::abs(next_frame - settled) / lit);
+  std::printf(
+      "lamp off: floor under it %.2f lux lit, %.2f the next frame, %.2f settled (next frame off by "
+      "%.2f%% of lit)\n",
+      lit, next_frame, settled, 100 * std::abs(next_frame - settled) / lit);
 
   if (!json_path.empty()) {
-    nlohmann::json out = {{"level", level_path}, {"rooms", rooms}, {"moving", moving}, {"lit_set_culling", lit_set_culling},
-                           {"occlusion_culling", occlusion_culling},
-                          {"moving_tables", table_ids.size()}, {"lamps", scene.lights.size()}, {"gl", renderer},
-                          {"budget_samples", budget}, {"frames", frames}, {"refresh_all_ms", mean_all},
-                          {"caching_ms", mean_cached}, {"caching_stages", stages}, {"cost_ratio", mean_all > 0 ? mean_cached / mean_all : 0.0},
-                          {"refresh_all_samples", samples_all / frames}, {"caching_samples", samples_cached / frames},
-                          {"mean_error", mean_error}, {"door_frames", door_frames}, {"lamp_off_lit", lit},
-                          {"lamp_off_next_frame", next_frame}, {"lamp_off_settled", settled}, {"walk", frame_log},
+    nlohmann::json out = {{"level", level_path},
+                          {"rooms", rooms},
+                          {"moving", moving},
+                          {"lit_set_culling", lit_set_culling},
+                          {"occlusion_culling", occlusion_culling},
+                          {"moving_tables", table_ids.size()},
+                          {"lamps", scene.lights.size()},
+                          {"gl", renderer},
+                          {"budget_samples", budget},
+                          {"frames", frames},
+                          {"refresh_all_ms", mean_all},
+                          {"caching_ms", mean_cached},
+                          {"caching_stages", stages},
+                          {"cost_ratio", mean_all > 0 ? mean_cached / mean_all : 0.0},
+                          {"refresh_all_samples", samples_all / frames},
+                          {"caching_samples", samples_cached / frames},
+                          {"mean_error", mean_error},
+                          {"door_frames", door_frames},
+                          {"lamp_off_lit", lit},
+                          {"lamp_off_next_frame", next_frame},
+                          {"lamp_off_settled", settled},
+                          {"walk", frame_log},
                           {"other_budgets", other_log}};
     std::ofstream(json_path) << out.dump(1) << "\n";
   }

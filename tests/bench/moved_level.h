@@ -23,12 +23,14 @@ namespace svit::test {
 /// every other dynamic node stays dynamic, or with `every_object_static`
 /// is made static where the level puts it (a reference for a picture that
 /// shows them all). Returns the level's path.
-inline std::string writeLevelWithNodeStatic(const std::string& level_path, const std::string& node, Vec3 translation,
-                                            Quat rotation, const std::string& work_dir, const std::string& name,
+inline std::string writeLevelWithNodeStatic(const std::string& level_path, const std::string& node,
+                                            Vec3 translation, Quat rotation,
+                                            const std::string& work_dir, const std::string& name,
                                             bool every_object_static = false) {
   namespace fs = std::filesystem;
   nlohmann::json level = nlohmann::json::parse(std::ifstream(level_path));
-  const fs::path gltf = (fs::path(level_path).parent_path() / level["gltf"].get<std::string>()).lexically_normal();
+  const fs::path gltf =
+      (fs::path(level_path).parent_path() / level["gltf"].get<std::string>()).lexically_normal();
   level["gltf"] = fs::absolute(gltf).string();
   fs::create_directories(work_dir);
   bool found = false;
@@ -69,14 +71,16 @@ inline std::string writeLevelWithNodeStatic(const std::string& level_path, const
   if (level.contains("dynamic")) {
     nlohmann::json kept = nlohmann::json::array();
     for (const nlohmann::json& d : level["dynamic"]) {
-      if (!every_object_static && !(d.is_string() && d.get<std::string>() == node)) kept.push_back(d);
+      if (!every_object_static && !(d.is_string() && d.get<std::string>() == node))
+        kept.push_back(d);
     }
     level["dynamic"] = kept;
   }
   if (level.contains("paths")) {
     nlohmann::json kept = nlohmann::json::array();
     for (const nlohmann::json& p : level["paths"]) {
-      if (!every_object_static && !(p["node"].is_string() && p["node"].get<std::string>() == node)) kept.push_back(p);
+      if (!every_object_static && !(p["node"].is_string() && p["node"].get<std::string>() == node))
+        kept.push_back(p);
     }
     level["paths"] = kept;
   }
@@ -89,12 +93,15 @@ inline std::string writeLevelWithNodeStatic(const std::string& level_path, const
 /// objects) over the objects' bounds widened by `margin_m`, minus points
 /// within 5 cm (across) of a triangle that touches the floor (a leg, a box's
 /// base, a ball's underside: floor texels there are covered).
-inline std::vector<Probe> floorProbes(const std::vector<std::vector<Vec3>>& objects, float margin_m, int n) {
+inline std::vector<Probe> floorProbes(const std::vector<std::vector<Vec3>>& objects, float margin_m,
+                                      int n) {
   Aabb all;
   for (const std::vector<Vec3>& positions : objects) {
     const Aabb box = boundsOf(positions);
-    all.min = {std::min(all.min.x, box.min.x), std::min(all.min.y, box.min.y), std::min(all.min.z, box.min.z)};
-    all.max = {std::max(all.max.x, box.max.x), std::max(all.max.y, box.max.y), std::max(all.max.z, box.max.z)};
+    all.min = {std::min(all.min.x, box.min.x), std::min(all.min.y, box.min.y),
+               std::min(all.min.z, box.min.z)};
+    all.max = {std::max(all.max.x, box.max.x), std::max(all.max.y, box.max.y),
+               std::max(all.max.z, box.max.z)};
   }
   std::vector<Aabb> footprints;
   for (const std::vector<Vec3>& positions : objects) {
@@ -106,10 +113,13 @@ inline std::vector<Probe> floorProbes(const std::vector<std::vector<Vec3>>& obje
   std::vector<Probe> probes;
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
-      const float x = all.min.x - margin_m + (all.max.x - all.min.x + 2 * margin_m) * (float(i) + 0.5f) / float(n);
-      const float z = all.min.z - margin_m + (all.max.z - all.min.z + 2 * margin_m) * (float(j) + 0.5f) / float(n);
+      const float x = all.min.x - margin_m +
+                      (all.max.x - all.min.x + 2 * margin_m) * (float(i) + 0.5f) / float(n);
+      const float z = all.min.z - margin_m +
+                      (all.max.z - all.min.z + 2 * margin_m) * (float(j) + 0.5f) / float(n);
       const bool covered = std::any_of(footprints.begin(), footprints.end(), [&](const Aabb& b) {
-        return x > b.min.x - 0.05f && x < b.max.x + 0.05f && z > b.min.z - 0.05f && z < b.max.z + 0.05f;
+        return x > b.min.x - 0.05f && x < b.max.x + 0.05f && z > b.min.z - 0.05f &&
+               z < b.max.z + 0.05f;
       });
       if (!covered) probes.push_back({{x, all.min.y, z}, {0, 1, 0}});
     }

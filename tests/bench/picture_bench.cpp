@@ -48,24 +48,30 @@ struct Options {
   float exposure = 1;
 };
 
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 // A level with every dynamic object static where `motion` has it now.
-std::string writePosedLevel(const Options& o, const Scene& scene, const walk::LevelMotion& motion, int frame) {
+std::string writePosedLevel(const Options& o, const Scene& scene, const walk::LevelMotion& motion,
+                            int frame) {
   std::string level = o.level;
   for (int node : motion.objectNodes()) {
     const walk::Trs& trs = motion.localTrs(node);
-    level = writeLevelWithNodeStatic(level, scene.nodes[size_t(node)].name, trs.translation, trs.rotation, o.work,
-                                     "posed-" + std::to_string(frame) + "-" + scene.nodes[size_t(node)].name);
+    level = writeLevelWithNodeStatic(
+        level, scene.nodes[size_t(node)].name, trs.translation, trs.rotation, o.work,
+        "posed-" + std::to_string(frame) + "-" + scene.nodes[size_t(node)].name);
   }
   return level;
 }
 
 // The reference picture at `frame`: the posed level baked (seed 8), its baked view.
-LinearFrame referencePicture(const Options& o, const Scene& scene, const walk::LevelMotion& motion, int frame,
-                             const Camera& camera, const SceneRendererSettings& settings) {
+LinearFrame referencePicture(const Options& o, const Scene& scene, const walk::LevelMotion& motion,
+                             int frame, const Camera& camera,
+                             const SceneRendererSettings& settings) {
   const std::string level = writePosedLevel(o, scene, motion, frame);
-  const BakedLevel ref = bakeOnce(level, o.work + "/ref-" + std::to_string(frame), o.quality, 8, o.time_s);
+  const BakedLevel ref =
+      bakeOnce(level, o.work + "/ref-" + std::to_string(frame), o.quality, 8, o.time_s);
   auto renderer = SceneRenderer::create(ref.scene, ref.bake, ref.dir, nullptr, settings);
   SVIT_SETUP_CHECK(renderer.ok(), renderer.status().message());
   SVIT_SETUP_CHECK((*renderer)->render(camera, ShadingView::kBakedOnly).ok(), "reference render");
@@ -92,19 +98,32 @@ std::set<int> parseFrames(const std::string& text) {
 bool parseArgs(int argc, char** argv, Options& o) {
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string arg = argv[i], v = argv[i + 1];
-    if (arg == "--level") o.level = v;
-    else if (arg == "--work") o.work = v;
-    else if (arg == "--json") o.json = v;
-    else if (arg == "--png-prefix") o.png_prefix = v;
-    else if (arg == "--frames") o.frames = std::atoi(v.c_str());
-    else if (arg == "--samples") o.samples = std::atoi(v.c_str());
-    else if (arg == "--width") o.width = std::atoi(v.c_str());
-    else if (arg == "--height") o.height = std::atoi(v.c_str());
-    else if (arg == "--reference-frames") o.reference_frames = parseFrames(v);
-    else if (arg == "--quality") o.quality = std::atof(v.c_str());
-    else if (arg == "--time") o.time_s = std::atof(v.c_str());
-    else if (arg == "--exposure") o.exposure = float(std::atof(v.c_str()));
-    else return false;
+    if (arg == "--level")
+      o.level = v;
+    else if (arg == "--work")
+      o.work = v;
+    else if (arg == "--json")
+      o.json = v;
+    else if (arg == "--png-prefix")
+      o.png_prefix = v;
+    else if (arg == "--frames")
+      o.frames = std::atoi(v.c_str());
+    else if (arg == "--samples")
+      o.samples = std::atoi(v.c_str());
+    else if (arg == "--width")
+      o.width = std::atoi(v.c_str());
+    else if (arg == "--height")
+      o.height = std::atoi(v.c_str());
+    else if (arg == "--reference-frames")
+      o.reference_frames = parseFrames(v);
+    else if (arg == "--quality")
+      o.quality = std::atof(v.c_str());
+    else if (arg == "--time")
+      o.time_s = std::atof(v.c_str());
+    else if (arg == "--exposure")
+      o.exposure = float(std::atof(v.c_str()));
+    else
+      return false;
   }
   return argc % 2 == 1 && !o.level.empty() && !o.work.empty() && !o.json.empty() && o.frames > 0;
 }
@@ -125,9 +144,12 @@ RuntimeView viewOf(const Camera& c, const SceneRendererSettings& s) {
 int main(int argc, char** argv) {
   Options o;
   if (!parseArgs(argc, argv, o)) {
-    std::fprintf(stderr, "usage: bench_picture --level LEVEL.json --work DIR --json OUT [--frames 90] [--samples 32] "
-                         "[--reference-frames 0,10,30] [--quality 0.1] [--time 8] [--width 320 --height 180] "
-                         "[--exposure 1] [--png-prefix P]\n");
+    std::fprintf(
+        stderr,
+        "usage: bench_picture --level LEVEL.json --work DIR --json OUT [--frames 90] [--samples "
+        "32] "
+        "[--reference-frames 0,10,30] [--quality 0.1] [--time 8] [--width 320 --height 180] "
+        "[--exposure 1] [--png-prefix P]\n");
     return 2;
   }
   const GlTestContext context;
@@ -177,9 +199,12 @@ int main(int argc, char** argv) {
     const LinearFrame shown = readLinearFrame(*renderer);
     const double frame_ms = msSince(t0);
     if (f == 0) first_frame_ms = create_ms + frame_ms;
-    nlohmann::json row = {{"frame", f},       {"t_s", t},
-                          {"update_ms", stats.total_ms}, {"shading_ms", drawn->shading_ms},
-                          {"frame_ms", frame_ms}, {"samples", stats.samples_rendered},
+    nlohmann::json row = {{"frame", f},
+                          {"t_s", t},
+                          {"update_ms", stats.total_ms},
+                          {"shading_ms", drawn->shading_ms},
+                          {"frame_ms", frame_ms},
+                          {"samples", stats.samples_rendered},
                           {"pending", stats.emitters_pending}};
     if (o.reference_frames.count(f) != 0) {
       SVIT_SETUP_CHECK(renderer->render(camera, ShadingView::kBakedOnly).ok(), "baked-only render");
@@ -189,11 +214,15 @@ int main(int argc, char** argv) {
       const PictureError baked_error = comparePictures(baked_only, reference);
       row["runtime"] = errorJson(runtime_error);
       row["baked_only"] = errorJson(baked_error);
-      std::printf("frame %3d: static %.4f (baked-only %.4f), objects %+.1f %% (baked-only %+.1f %%), %u pending\n",
-                  f, runtime_error.static_rel_rms, baked_error.static_rel_rms, 100 * runtime_error.dynamicMeanError(),
-                  100 * baked_error.dynamicMeanError(), stats.emitters_pending);
+      std::printf(
+          "frame %3d: static %.4f (baked-only %.4f), objects %+.1f %% (baked-only %+.1f %%), %u "
+          "pending\n",
+          f, runtime_error.static_rel_rms, baked_error.static_rel_rms,
+          100 * runtime_error.dynamicMeanError(), 100 * baked_error.dynamicMeanError(),
+          stats.emitters_pending);
       if (!o.png_prefix.empty()) {
-        (void)writeComparisonPng(o.png_prefix + "-" + std::to_string(f) + ".png", shown, reference, o.exposure);
+        (void)writeComparisonPng(o.png_prefix + "-" + std::to_string(f) + ".png", shown, reference,
+                                 o.exposure);
       }
     }
     frames.push_back(row);
@@ -211,7 +240,8 @@ int main(int argc, char** argv) {
                         {"mean_frame_ms", sum_ms / double(frames.size())},
                         {"frames", frames}};
   std::ofstream(o.json) << out.dump(1) << "\n";
-  std::printf("%s: ready in %.0f ms, first frame after %.0f ms, mean frame %.0f ms (%s)\n", o.level.c_str(),
-              create_ms, first_frame_ms, sum_ms / double(frames.size()), gl.c_str());
+  std::printf("%s: ready in %.0f ms, first frame after %.0f ms, mean frame %.0f ms (%s)\n",
+              o.level.c_str(), create_ms, first_frame_ms, sum_ms / double(frames.size()),
+              gl.c_str());
   return 0;
 }

@@ -26,7 +26,9 @@ using namespace svit;
 using namespace svit::baker;
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
 
 // Raw caster throughput on `count` rays leaving surfaces (area-uniform
 // points, cosine directions, offset origins), cast in the solver's chunking.
@@ -66,7 +68,8 @@ struct Result {
   SolverStats stats;
 };
 
-Result runLevel(const std::string& path, const std::string& name, double seconds, double reference_seconds) {
+Result runLevel(const std::string& path, const std::string& name, double seconds,
+                double reference_seconds) {
   Result result;
   result.name = name;
   Expected<Scene> scene = loadLevel(path);
@@ -121,19 +124,23 @@ int main(int argc, char** argv) {
     }
   }
   if (levels.empty()) {
-    levels = {{std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/CornellBox-Original.gltf", "cornell_box_original"},
-              {std::string(SVIT_SOURCE_DIR) + "/samples/levels/sponza/level.json", "sponza (sun + sky)"}};
+    levels = {
+        {std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/CornellBox-Original.gltf",
+         "cornell_box_original"},
+        {std::string(SVIT_SOURCE_DIR) + "/samples/levels/sponza/level.json", "sponza (sun + sky)"}};
   }
   std::string json = "[\n";
   for (size_t l = 0; l < levels.size(); ++l) {
     const Result r = runLevel(levels[l].first, levels[l].second, seconds, reference_seconds);
-    std::printf("\n%s: %zu triangles, %d threads\n", r.name.c_str(), r.triangles, resolveThreads(0));
+    std::printf("\n%s: %zu triangles, %d threads\n", r.name.c_str(), r.triangles,
+                resolveThreads(0));
     std::printf("  shooter %.3g rays/s, raw Embree %.3g rays/s, ratio %.2f\n", r.shooter_rays_per_s,
                 r.raw_rays_per_s, r.shooter_rays_per_s / r.raw_rays_per_s);
-    std::printf("  generate + cast + locate: %.1f%% of solver time\n", 100.0 * r.stats.cast_seconds / r.stats.seconds);
-    std::printf("  passes %u, rays %llu, nodes %zu, leaves %zu, subdivisions %llu\n", r.stats.passes_completed,
-                (unsigned long long)r.stats.rays, r.stats.nodes, r.stats.leaves,
-                (unsigned long long)r.stats.subdivisions);
+    std::printf("  generate + cast + locate: %.1f%% of solver time\n",
+                100.0 * r.stats.cast_seconds / r.stats.seconds);
+    std::printf("  passes %u, rays %llu, nodes %zu, leaves %zu, subdivisions %llu\n",
+                r.stats.passes_completed, (unsigned long long)r.stats.rays, r.stats.nodes,
+                r.stats.leaves, (unsigned long long)r.stats.subdivisions);
     std::printf("  %10s %12s %12s %14s\n", "t_s", "est_rel_err", "ref_rel_err", "rays");
     std::string series;
     double next_print = 0.0;
@@ -144,13 +151,15 @@ int main(int argc, char** argv) {
         next_print = std::max(next_print * 2.0, 0.05);
       }
       char item[160];
-      std::snprintf(item, sizeof item, "%s{\"t_s\": %.4f, \"est_rel_error\": %.6f, \"ref_rel_error\": %.6f}",
+      std::snprintf(item, sizeof item,
+                    "%s{\"t_s\": %.4f, \"est_rel_error\": %.6f, \"ref_rel_error\": %.6f}",
                     series.empty() ? "" : ", ", p.t_s, p.est_rel_error, p.ref_rel_error);
       series += item;
     }
     char head[512];
     std::snprintf(head, sizeof head,
-                  "  {\"level\": \"%s\", \"triangles\": %zu, \"shooter_rays_per_s\": %.1f, \"raw_rays_per_s\": %.1f, "
+                  "  {\"level\": \"%s\", \"triangles\": %zu, \"shooter_rays_per_s\": %.1f, "
+                  "\"raw_rays_per_s\": %.1f, "
                   "\"ratio\": %.4f, \"series\": [",
                   r.name.c_str(), r.triangles, r.shooter_rays_per_s, r.raw_rays_per_s,
                   r.shooter_rays_per_s / r.raw_rays_per_s);

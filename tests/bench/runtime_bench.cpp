@@ -39,8 +39,11 @@ using namespace svit::test;
 DynamicMesh crate(float half) {
   DynamicMesh mesh;
   mesh.name = "crate";
-  for (int i = 0; i < 8; ++i) mesh.positions.push_back({(i & 1) ? half : -half, (i & 2) ? half : -half, (i & 4) ? half : -half});
-  mesh.indices = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+  for (int i = 0; i < 8; ++i)
+    mesh.positions.push_back(
+        {(i & 1) ? half : -half, (i & 2) ? half : -half, (i & 4) ? half : -half});
+  mesh.indices = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                  2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
   mesh.albedo = {0.7f, 0.6f, 0.5f};
   return mesh;
 }
@@ -53,18 +56,21 @@ struct Stage {
 // Objects circling in a horizontal ring around `centre`; every emitter kept
 // current (sample_budget 0), or `sample_budget` point samples per frame.
 // Returns mean stats over `frames` frames after the first.
-Stage movingObjects(const BakedLevel& level, bool proxies, int objects, int frames, glm::vec3 centre, float radius,
-                    float size, int sample_budget, std::vector<Rgb>* deltas_out) {
+Stage movingObjects(const BakedLevel& level, bool proxies, int objects, int frames,
+                    glm::vec3 centre, float radius, float size, int sample_budget,
+                    std::vector<Rgb>* deltas_out) {
   RuntimeSettings settings;
   settings.use_proxies = proxies;
   settings.max_samples_per_frame = sample_budget;
-  Expected<std::unique_ptr<Runtime>> created = Runtime::create(level.scene, level.bake, level.dir, settings);
+  Expected<std::unique_ptr<Runtime>> created =
+      Runtime::create(level.scene, level.bake, level.dir, settings);
   SVIT_SETUP_CHECK(created.ok(), created.status().message());
   Runtime& runtime = **created;
   std::vector<ObjectId> ids;
   auto place = [&](int i, int frame) {
     const float a = 6.2831853f * (float(i) / float(objects)) + 0.15f * float(frame);
-    return fromGlmMat(glm::translate(glm::mat4(1), centre + glm::vec3(radius * std::cos(a), 0, radius * std::sin(a))));
+    return fromGlmMat(glm::translate(
+        glm::mat4(1), centre + glm::vec3(radius * std::cos(a), 0, radius * std::sin(a))));
   };
   for (int i = 0; i < objects; ++i) ids.push_back(*runtime.addObject(crate(size), place(i, 0)));
   runtime.update(0);  // first frame: baselines (every emitter's, unless budgeted): start-up cost
@@ -98,17 +104,25 @@ double relativeL1(const std::vector<Rgb>& a, const std::vector<Rgb>& b, size_t n
 
 int main(int argc, char** argv) {
   int frames = 10, sponza_budget = 64, sponza_frames = 4;
-  std::string json_path, sponza_level = std::string(SVIT_SOURCE_DIR) + "/samples/levels/sponza/level.json";
+  std::string json_path,
+      sponza_level = std::string(SVIT_SOURCE_DIR) + "/samples/levels/sponza/level.json";
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--frames") && i + 1 < argc) frames = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) json_path = argv[++i];
-    else if (!std::strcmp(argv[i], "--sponza") && i + 1 < argc) sponza_level = argv[++i];
-    else if (!std::strcmp(argv[i], "--no-sponza")) sponza_level.clear();
-    else if (!std::strcmp(argv[i], "--sponza-budget") && i + 1 < argc) sponza_budget = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--sponza-frames") && i + 1 < argc) sponza_frames = std::atoi(argv[++i]);
+    if (!std::strcmp(argv[i], "--frames") && i + 1 < argc)
+      frames = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--json") && i + 1 < argc)
+      json_path = argv[++i];
+    else if (!std::strcmp(argv[i], "--sponza") && i + 1 < argc)
+      sponza_level = argv[++i];
+    else if (!std::strcmp(argv[i], "--no-sponza"))
+      sponza_level.clear();
+    else if (!std::strcmp(argv[i], "--sponza-budget") && i + 1 < argc)
+      sponza_budget = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--sponza-frames") && i + 1 < argc)
+      sponza_frames = std::atoi(argv[++i]);
     else {
-      std::fprintf(stderr, "usage: bench_runtime [--frames N] [--json OUT] [--sponza LEVEL | --no-sponza] "
-                           "[--sponza-budget SAMPLES] [--sponza-frames N]\n");
+      std::fprintf(stderr,
+                   "usage: bench_runtime [--frames N] [--json OUT] [--sponza LEVEL | --no-sponza] "
+                   "[--sponza-budget SAMPLES] [--sponza-frames N]\n");
       return 2;
     }
   }
@@ -137,60 +151,83 @@ int main(int argc, char** argv) {
   std::vector<LevelCase> levels = {{"cornell", cornellLevel(), {0, 1.0f, 0.3f}, 0.4f, 0.08f},
                                    {"sponza", sponza_level, {0, 5.0f, 0}, 4.0f, 0.4f}};
   if (sponza_level.empty()) levels.pop_back();
-  std::printf("\n1-2. frame time by stage (ms, mean of %d frames, every emitter current)\n", frames);
-  std::printf("%-8s %-7s %4s | %8s %9s %7s %6s %8s | %7s %6s | %s\n", "level", "static", "objs", "maps", "reduction",
-              "bounce", "upload", "total", "samples", "faces", "delta diff vs full");
+  std::printf("\n1-2. frame time by stage (ms, mean of %d frames, every emitter current)\n",
+              frames);
+  std::printf("%-8s %-7s %4s | %8s %9s %7s %6s %8s | %7s %6s | %s\n", "level", "static", "objs",
+              "maps", "reduction", "bounce", "upload", "total", "samples", "faces",
+              "delta diff vs full");
   for (const LevelCase& lc : levels) {
     const BakedLevel& level = bakedLevel(lc.name, lc.path, lc.name == "cornell" ? 0.3 : 0.1);
     if (!level.bake.has_runtime_sections) {
-      std::printf("%-8s: the bake has no runtime sections (the level has no dynamic content): skipped\n", lc.name.c_str());
+      std::printf(
+          "%-8s: the bake has no runtime sections (the level has no dynamic content): skipped\n",
+          lc.name.c_str());
       continue;
     }
     const bool budgeted = lc.name == "sponza";
-    const int budget = budgeted ? sponza_budget : 0, level_frames = budgeted ? sponza_frames : frames;
+    const int budget = budgeted ? sponza_budget : 0,
+              level_frames = budgeted ? sponza_frames : frames;
     if (budgeted) {
-      std::printf("(sponza: %d samples per frame, mean of %d frames after the first; the delta difference of two "
-                  "unsettled runtimes is not a figure, so none)\n", budget, level_frames);
+      std::printf(
+          "(sponza: %d samples per frame, mean of %d frames after the first; the delta difference "
+          "of two "
+          "unsettled runtimes is not a figure, so none)\n",
+          budget, level_frames);
     }
     for (int objects : {1, 4, 16}) {
       std::vector<Rgb> proxy_deltas, full_deltas;
-      const Stage p = movingObjects(level, true, objects, level_frames, lc.centre, lc.radius, lc.size, budget,
-                                    &proxy_deltas);
-      const Stage f = movingObjects(level, false, objects, level_frames, lc.centre, lc.radius, lc.size, budget,
-                                    &full_deltas);
-      const double diff = budgeted ? std::nan("") : relativeL1(proxy_deltas, full_deltas, level.bake.patches.size());
+      const Stage p = movingObjects(level, true, objects, level_frames, lc.centre, lc.radius,
+                                    lc.size, budget, &proxy_deltas);
+      const Stage f = movingObjects(level, false, objects, level_frames, lc.centre, lc.radius,
+                                    lc.size, budget, &full_deltas);
+      const double diff = budgeted
+                              ? std::nan("")
+                              : relativeL1(proxy_deltas, full_deltas, level.bake.patches.size());
       for (int k = 0; k < 2; ++k) {
         const Stage& s = k == 0 ? p : f;
-        std::printf("%-8s %-7s %4d | %8.1f %9.1f %7.2f %6.2f %8.1f | %7.0f %6.0f | %s\n", lc.name.c_str(),
-                    k == 0 ? "proxies" : "full", objects, s.maps, s.reduction, s.bounce, s.upload, s.total, s.samples,
-                    s.faces,
-                    k == 0 && !budgeted ? (std::to_string(100 * diff).substr(0, 5) + "%").c_str() : "");
-        out["stages"].push_back({{"level", lc.name}, {"static", k == 0 ? "proxies" : "full"}, {"objects", objects},
-                                 {"maps_ms", s.maps}, {"reduction_ms", s.reduction}, {"bounce_ms", s.bounce},
-                                 {"upload_ms", s.upload}, {"total_ms", s.total}, {"samples", s.samples},
-                                 {"faces", s.faces}, {"sample_budget", budget},
-                                 {"proxy_vs_full_rel_l1", budgeted ? nlohmann::json() : nlohmann::json(diff)}});
+        std::printf(
+            "%-8s %-7s %4d | %8.1f %9.1f %7.2f %6.2f %8.1f | %7.0f %6.0f | %s\n", lc.name.c_str(),
+            k == 0 ? "proxies" : "full", objects, s.maps, s.reduction, s.bounce, s.upload, s.total,
+            s.samples, s.faces,
+            k == 0 && !budgeted ? (std::to_string(100 * diff).substr(0, 5) + "%").c_str() : "");
+        out["stages"].push_back(
+            {{"level", lc.name},
+             {"static", k == 0 ? "proxies" : "full"},
+             {"objects", objects},
+             {"maps_ms", s.maps},
+             {"reduction_ms", s.reduction},
+             {"bounce_ms", s.bounce},
+             {"upload_ms", s.upload},
+             {"total_ms", s.total},
+             {"samples", s.samples},
+             {"faces", s.faces},
+             {"sample_budget", budget},
+             {"proxy_vs_full_rel_l1", budgeted ? nlohmann::json() : nlohmann::json(diff)}});
       }
     }
   }
 
-  std::printf("\n3. Cornell: error against a bake with the moved box static, by per-frame budget\n");
+  std::printf(
+      "\n3. Cornell: error against a bake with the moved box static, by per-frame budget\n");
   const BakedLevel& level = bakedLevel("cornell", cornellLevel());
   const glm::mat4 moved = glm::translate(glm::mat4(1), glm::vec3(0.25f, 0, 0.1f)) *
                           glm::mat4_cast(glm::quat(0.9659258f, 0, 0.2588190f, 0));
-  const BakedLevel& reference = bakedLevel("cornell_moved", writeCornellWithBoxAt(moved, "bench"), 0.3);
+  const BakedLevel& reference =
+      bakedLevel("cornell_moved", writeCornellWithBoxAt(moved, "bench"), 0.3);
   std::printf("%9s |", "budget ms");
   for (int f = 1; f <= 8; ++f) std::printf(" frame %d", f);
   std::printf(" | ms/frame\n");
   for (double budget : {5.0, 20.0, 50.0, 200.0, 0.0}) {
-    Expected<std::unique_ptr<Runtime>> created = Runtime::create(level.scene, level.bake, level.dir);
+    Expected<std::unique_ptr<Runtime>> created =
+        Runtime::create(level.scene, level.bake, level.dir);
     Runtime& runtime = **created;
     const ObjectId box = runtime.objectForNode(level.scene.findNode("tallBox"));
     settle(runtime);  // settled at the start place
     const ObjectInfo start = *runtime.objectInfo(box);
     (void)runtime.setObjectTransform(box, fromGlmMat(moved));
     const ObjectInfo after = *runtime.objectInfo(box);
-    const std::vector<Probe> probes = cornellProbes({boundsOf(start.world_positions), boundsOf(after.world_positions)});
+    const std::vector<Probe> probes =
+        cornellProbes({boundsOf(start.world_positions), boundsOf(after.world_positions)});
     const std::vector<Rgb> expected = bakedAt(reference, probes);
     std::printf("%9s |", budget > 0 ? std::to_string(int(budget)).c_str() : "none");
     nlohmann::json row = {{"budget_ms", budget}};

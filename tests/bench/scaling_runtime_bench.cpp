@@ -35,12 +35,12 @@ namespace {
 
 using namespace svit;
 
-#define BENCH_CHECK(cond, message)                                                        \
-  do {                                                                                    \
-    if (!(cond)) {                                                                        \
+#define BENCH_CHECK(cond, message)                                                       \
+  do {                                                                                   \
+    if (!(cond)) {                                                                       \
       std::fprintf(stderr, "bench_scaling_runtime: %s\n", std::string(message).c_str()); \
-      std::exit(1);                                                                       \
-    }                                                                                     \
+      std::exit(1);                                                                      \
+    }                                                                                    \
   } while (0)
 
 struct Options {
@@ -59,8 +59,11 @@ struct Options {
 DynamicMesh crate(float half) {
   DynamicMesh mesh;
   mesh.name = "crate";
-  for (int i = 0; i < 8; ++i) mesh.positions.push_back({(i & 1) ? half : -half, (i & 2) ? half : -half, (i & 4) ? half : -half});
-  mesh.indices = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+  for (int i = 0; i < 8; ++i)
+    mesh.positions.push_back(
+        {(i & 1) ? half : -half, (i & 2) ? half : -half, (i & 4) ? half : -half});
+  mesh.indices = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                  2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
   mesh.albedo = {0.7f, 0.6f, 0.5f};
   return mesh;
 }
@@ -83,23 +86,36 @@ Options parse(int argc, char** argv) {
       BENCH_CHECK(i + 1 < argc, std::string(argv[i]) + " needs a value");
       return argv[++i];
     };
-    if (!std::strcmp(argv[i], "--proxies")) o.proxies = std::atoi(next()) != 0;
-    else if (!std::strcmp(argv[i], "--objects")) o.objects = std::atoi(next());
-    else if (!std::strcmp(argv[i], "--frames")) o.frames = std::atoi(next());
-    else if (!std::strcmp(argv[i], "--budget-samples")) o.budget_samples = std::atoi(next());
-    else if (!std::strcmp(argv[i], "--map-resolution")) o.map_resolution = std::atoi(next());
-    else if (!std::strcmp(argv[i], "--radius")) o.radius_m = float(std::atof(next()));
-    else if (!std::strcmp(argv[i], "--size")) o.size_m = float(std::atof(next()));
-    else if (!std::strcmp(argv[i], "--json")) o.json_path = next();
+    if (!std::strcmp(argv[i], "--proxies"))
+      o.proxies = std::atoi(next()) != 0;
+    else if (!std::strcmp(argv[i], "--objects"))
+      o.objects = std::atoi(next());
+    else if (!std::strcmp(argv[i], "--frames"))
+      o.frames = std::atoi(next());
+    else if (!std::strcmp(argv[i], "--budget-samples"))
+      o.budget_samples = std::atoi(next());
+    else if (!std::strcmp(argv[i], "--map-resolution"))
+      o.map_resolution = std::atoi(next());
+    else if (!std::strcmp(argv[i], "--radius"))
+      o.radius_m = float(std::atof(next()));
+    else if (!std::strcmp(argv[i], "--size"))
+      o.size_m = float(std::atof(next()));
+    else if (!std::strcmp(argv[i], "--json"))
+      o.json_path = next();
     else if (!std::strcmp(argv[i], "--centre")) {
       o.centre.x = float(std::atof(next()));
       o.centre.y = float(std::atof(next()));
       o.centre.z = float(std::atof(next()));
-    } else if (argv[i][0] != '-' && positional < 2) (positional++ == 0 ? o.level : o.bake_dir) = argv[i];
-    else BENCH_CHECK(false, std::string("unknown argument ") + argv[i]);
+    } else if (argv[i][0] != '-' && positional < 2)
+      (positional++ == 0 ? o.level : o.bake_dir) = argv[i];
+    else
+      BENCH_CHECK(false, std::string("unknown argument ") + argv[i]);
   }
-  BENCH_CHECK(positional == 2, "usage: bench_scaling_runtime LEVEL BAKE_DIR [--proxies 0|1] [--objects N] [--frames F] "
-                               "[--budget-samples S] [--map-resolution R] [--centre X Y Z] [--radius M] [--size M] [--json OUT]");
+  BENCH_CHECK(
+      positional == 2,
+      "usage: bench_scaling_runtime LEVEL BAKE_DIR [--proxies 0|1] [--objects N] [--frames F] "
+      "[--budget-samples S] [--map-resolution R] [--centre X Y Z] [--radius M] [--size M] [--json "
+      "OUT]");
   BENCH_CHECK(o.objects >= 0 && o.frames >= 1, "--objects must be >= 0 and --frames >= 1");
   return o;
 }
@@ -112,7 +128,8 @@ int main(int argc, char** argv) {
   BENCH_CHECK(scene.ok(), scene.status().message());
   Expected<BakeData> bake = readBakeFile(o.bake_dir + "/bake.svit");
   BENCH_CHECK(bake.ok(), bake.status().message());
-  BENCH_CHECK(bake->has_runtime_sections, "the bake has no runtime sections (the level has no dynamic content)");
+  BENCH_CHECK(bake->has_runtime_sections,
+              "the bake has no runtime sections (the level has no dynamic content)");
 
   BENCH_CHECK(glfwInit() == GLFW_TRUE, "no display (run under xvfb-run -a)");
   glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
@@ -143,12 +160,14 @@ int main(int argc, char** argv) {
   const FrameStats first = runtime.update(0);
   BENCH_CHECK(first.error.empty(), first.error);
   const double create_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - create_start).count();
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - create_start)
+          .count();
 
-  double maps = 0, reduction = 0, bounce = 0, upload = 0, total = 0, samples = 0, faces = 0, refreshed = 0, pending = 0,
-         fallback = 0, texels = 0;
+  double maps = 0, reduction = 0, bounce = 0, upload = 0, total = 0, samples = 0, faces = 0,
+         refreshed = 0, pending = 0, fallback = 0, texels = 0;
   for (int f = 1; f <= o.frames; ++f) {
-    for (int i = 0; i < o.objects; ++i) BENCH_CHECK(runtime.setObjectTransform(ids[size_t(i)], ringPlace(o, i, f)).ok(), "move");
+    for (int i = 0; i < o.objects; ++i)
+      BENCH_CHECK(runtime.setObjectTransform(ids[size_t(i)], ringPlace(o, i, f)).ok(), "move");
     const FrameStats s = runtime.update(0);
     BENCH_CHECK(s.error.empty(), s.error);
     maps += s.maps_ms / o.frames;
@@ -164,12 +183,15 @@ int main(int argc, char** argv) {
     texels += double(s.texels_reduced) / o.frames;
   }
   const size_t emitters = runtime.emitterStates().size();
-  std::printf("%s | %s | proxies %d objects %d | maps %.1f reduction %.1f bounce %.2f upload %.2f total %.1f ms | "
-              "samples %.0f faces %.0f refreshed %.0f (pending %.0f) of %zu emitters | fallback triangles %.0f | "
-              "create+first %.0f ms | bake emitters %zu, proxy triangles %zu\n",
-              o.level.c_str(), renderer.c_str(), int(o.proxies), o.objects, maps, reduction, bounce, upload, total,
-              samples, faces, refreshed, pending, emitters, fallback, create_ms,
-              bake->emitters.size(), bake->proxy.indices.size() / 3);
+  std::printf(
+      "%s | %s | proxies %d objects %d | maps %.1f reduction %.1f bounce %.2f upload %.2f total "
+      "%.1f ms | "
+      "samples %.0f faces %.0f refreshed %.0f (pending %.0f) of %zu emitters | fallback triangles "
+      "%.0f | "
+      "create+first %.0f ms | bake emitters %zu, proxy triangles %zu\n",
+      o.level.c_str(), renderer.c_str(), int(o.proxies), o.objects, maps, reduction, bounce, upload,
+      total, samples, faces, refreshed, pending, emitters, fallback, create_ms,
+      bake->emitters.size(), bake->proxy.indices.size() / 3);
   if (!o.json_path.empty()) {
     const nlohmann::json out = {{"level", o.level},
                                 {"renderer", renderer},

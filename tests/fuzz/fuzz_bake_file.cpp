@@ -28,14 +28,16 @@
 namespace {
 
 constexpr size_t kChecksumBytes = 8;
-constexpr size_t kSmallestBake = 16 + kChecksumBytes;  // "SVITBAKE", version, section count, checksum
+// "SVITBAKE", version, section count, checksum
+constexpr size_t kSmallestBake = 16 + kChecksumBytes;
 const std::string kName = "fuzz.svit";
 
 // good_level.json: the quad the corpus bakes were made from, with the
 // dynamic lamp that makes the baker write runtime sections.
 const svit::Scene& level() {
   static const svit::Scene scene = [] {
-    svit::Expected<svit::Scene> loaded = svit::loadLevel(std::string(SVIT_TEST_DATA_DIR) + "/good_level.json");
+    svit::Expected<svit::Scene> loaded =
+        svit::loadLevel(std::string(SVIT_TEST_DATA_DIR) + "/good_level.json");
     if (!loaded.ok()) svit::fuzz::fail("cannot load good_level.json: " + loaded.status().message());
     return std::move(loaded).value();
   }();
@@ -53,15 +55,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::vector<uint8_t> bytes(data, data + size);
   if (bytes.size() >= kSmallestBake) {
     const uint64_t sum = svit::fnv1a64(bytes.data(), bytes.size() - kChecksumBytes);
-    for (size_t i = 0; i < kChecksumBytes; ++i) bytes[bytes.size() - kChecksumBytes + i] = uint8_t(sum >> (8 * i));
+    for (size_t i = 0; i < kChecksumBytes; ++i)
+      bytes[bytes.size() - kChecksumBytes + i] = uint8_t(sum >> (8 * i));
   }
-  const svit::Expected<svit::BakeData> bake = svit::bakeio::decodeBakeFile(bytes.data(), bytes.size(), kName);
+  const svit::Expected<svit::BakeData> bake =
+      svit::bakeio::decodeBakeFile(bytes.data(), bytes.size(), kName);
   if (!bake.ok()) {
     if (bake.status().code() != svit::StatusCode::kInvalidInput) {
-      svit::fuzz::fail("bad bytes gave a status other than invalid input: " + bake.status().message());
+      svit::fuzz::fail("bad bytes gave a status other than invalid input: " +
+                       bake.status().message());
     }
     if (bake.status().message().rfind(kName + ": ", 0) != 0) {
-      svit::fuzz::fail("error message does not start with the file name: " + bake.status().message());
+      svit::fuzz::fail("error message does not start with the file name: " +
+                       bake.status().message());
     }
     return 0;
   }
@@ -79,8 +85,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   const svit::Expected<svit::BakeData> again = svit::readBakeFile(path);
   if (!again.ok()) svit::fuzz::fail("written bake cannot be read: " + again.status().message());
-  if (again->pages.size() != bake->pages.size() || again->triangle_uvs.size() != bake->triangle_uvs.size() ||
-      again->has_runtime_sections != bake->has_runtime_sections || again->patches.size() != bake->patches.size() ||
+  if (again->pages.size() != bake->pages.size() ||
+      again->triangle_uvs.size() != bake->triangle_uvs.size() ||
+      again->has_runtime_sections != bake->has_runtime_sections ||
+      again->patches.size() != bake->patches.size() ||
       again->emitters.size() != bake->emitters.size() || again->level_hash != bake->level_hash) {
     svit::fuzz::fail("bake changed in a write/read round trip");
   }

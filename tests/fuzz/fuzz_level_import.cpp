@@ -33,7 +33,8 @@ namespace {
 const svit::fuzz::ScratchDir& scratch() {
   static const svit::fuzz::ScratchDir dir;
   // A level.json names its glTF relative to itself: offer the real ones.
-  static const bool copied = std::string(SVIT_FUZZ_EXTENSION) == ".json" && (dir.copyTestData(".gltf"), true);
+  static const bool copied =
+      std::string(SVIT_FUZZ_EXTENSION) == ".json" && (dir.copyTestData(".gltf"), true);
   (void)copied;
   return dir;
 }

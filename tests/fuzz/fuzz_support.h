@@ -40,7 +40,8 @@ class ScratchDir {
     }
     removeAbandoned(base);
     std::string pattern = (base / ("svit_fuzz_" + std::to_string(::getpid()) + "_XXXXXX")).string();
-    if (::mkdtemp(pattern.data()) == nullptr) fail("cannot create a scratch directory under " + base.string());
+    if (::mkdtemp(pattern.data()) == nullptr)
+      fail("cannot create a scratch directory under " + base.string());
     dir_ = pattern;
   }
   ~ScratchDir() {
@@ -67,8 +68,10 @@ class ScratchDir {
   void copyTestData(const std::string& suffix) const {
     for (const auto& entry : std::filesystem::directory_iterator(SVIT_TEST_DATA_DIR)) {
       const std::string name = entry.path().filename().string();
-      if (name.size() >= suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
-        std::filesystem::copy_file(entry.path(), dir_ / name, std::filesystem::copy_options::overwrite_existing);
+      if (name.size() >= suffix.size() &&
+          name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+        std::filesystem::copy_file(entry.path(), dir_ / name,
+                                   std::filesystem::copy_options::overwrite_existing);
       }
     }
   }

@@ -77,12 +77,12 @@ inline std::vector<Probe> cornellProbes(const std::vector<Aabb>& keep_clear) {
   for (int i = 0; i < 7; ++i) {
     for (int j = 0; j < 7; ++j) {
       const float u = -0.85f + 1.7f * float(i) / 6, v = -0.85f + 1.7f * float(j) / 6;
-      add({u, 0.0f, v}, {0, 1, 0});                        // floor
+      add({u, 0.0f, v}, {0, 1, 0});  // floor
       if (i % 2 == 0 && j % 2 == 0) {
         const float h = 0.15f + 1.7f * float(j) / 6;
-        add({u, h, -1.02f}, {0, 0, 1});                    // back wall
-        add({-0.99f, h, v}, {1, 0, 0});                    // left (red) wall
-        add({0.98f, h, v}, {-1, 0, 0});                    // right (green) wall
+        add({u, h, -1.02f}, {0, 0, 1});  // back wall
+        add({-0.99f, h, v}, {1, 0, 0});  // left (red) wall
+        add({0.98f, h, v}, {-1, 0, 0});  // right (green) wall
       }
     }
   }
@@ -92,7 +92,8 @@ inline std::vector<Probe> cornellProbes(const std::vector<Aabb>& keep_clear) {
 /// RMS difference of luminance over the points, relative to the mean
 /// reference luminance (so a deep shadow's small absolute error does not
 /// count as a large one); `worst` gets the largest |difference| / mean.
-inline double normalizedRms(const std::vector<Rgb>& got, const std::vector<Rgb>& reference, double* worst = nullptr) {
+inline double normalizedRms(const std::vector<Rgb>& got, const std::vector<Rgb>& reference,
+                            double* worst = nullptr) {
   double sum = 0, mean = 0, largest = 0;
   for (size_t i = 0; i < got.size(); ++i) {
     const double d = double(luminance(got[i])) - luminance(reference[i]);
@@ -125,7 +126,8 @@ inline std::vector<Rgb> runtimeAt(const Runtime& runtime, const std::vector<Prob
 }
 
 // The Cornell box with its tall box static at `world_from_object`.
-inline std::string writeCornellWithBoxAt(const glm::mat4& world_from_object, const std::string& name) {
+inline std::string writeCornellWithBoxAt(const glm::mat4& world_from_object,
+                                         const std::string& name) {
   Expected<Scene> scene = loadLevel(test::cornellGltf());
   SVIT_SETUP_CHECK(scene.ok(), "");
   const int node = scene->findNode("tallBox");
@@ -135,7 +137,9 @@ inline std::string writeCornellWithBoxAt(const glm::mat4& world_from_object, con
   n.translation = {t.x, t.y, t.z};
   n.rotation = {q.x, q.y, q.z, q.w};
   n.has_trs = true;
-  const std::string dir = (std::filesystem::temp_directory_path() / ("svit_cornell_" + name + "_" + std::to_string(::getpid()))).string();
+  const std::string dir = (std::filesystem::temp_directory_path() /
+                           ("svit_cornell_" + name + "_" + std::to_string(::getpid())))
+                              .string();
   std::filesystem::create_directories(dir);
   const std::string path = dir + "/cornell.gltf";
   SVIT_SETUP_CHECK(writeGltf(*scene, path).ok(), "");

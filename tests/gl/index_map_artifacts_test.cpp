@@ -49,8 +49,9 @@ void addWall(gl::MapTriangles& t, const FrontFace& f) {
   addQuad(t, f.at(-1, -1, 2), 4.0 * f.right, 4.0 * f.up, 1, 1);
 }
 
-std::vector<float> gather(const IndexMapSettings& settings, const gl::MapTriangles& t, uint32_t receivers,
-                          std::span<const PointSample> samples, gl::GatherStats* stats = nullptr) {
+std::vector<float> gather(const IndexMapSettings& settings, const gl::MapTriangles& t,
+                          uint32_t receivers, std::span<const PointSample> samples,
+                          gl::GatherStats* stats = nullptr) {
   Expected<std::unique_ptr<gl::IndexMapRenderer>> r = gl::IndexMapRenderer::create(settings);
   EXPECT_TRUE(r.ok()) << r.status().message();
   std::vector<float> shares(receivers, 0.0f);
@@ -75,7 +76,8 @@ std::vector<double> rays(const gl::MapTriangles& t, const PointSample& s, uint32
 double solidAngle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
   const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
   const double triple = glm::dot(a, glm::cross(b, c));
-  const double denom = la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
+  const double denom =
+      la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
   return 2 * std::atan2(std::abs(triple), denom);
 }
 
@@ -102,7 +104,8 @@ TEST(IndexMapArtifacts, VanishingSmallPolygons) {
       }
       addTriangle(t, p[0], p[1], p[2], 0, 0);
       const glm::dvec3 centroid = (p[0] + p[1] + p[2]) / 3.0;
-      analytic += solidAngle(p[0], p[1], p[2]) * glm::dot(glm::normalize(centroid), f.forward) / kTestPi;
+      analytic +=
+          solidAngle(p[0], p[1], p[2]) * glm::dot(glm::normalize(centroid), f.forward) / kTestPi;
     }
   }
   IndexMapSettings naive;
@@ -114,9 +117,12 @@ TEST(IndexMapArtifacts, VanishingSmallPolygons) {
   gl::GatherStats stats;
   const std::vector<float> with = gather(fixed, t, 2, {&f.sample, 1}, &stats);
   const std::vector<double> oracle = rays(t, f.sample, 2);
-  std::printf("small polygons: field analytic %.5f rays %.5f | texels only %.5f | fallback %.5f (%u triangles); "
-              "wall: rays %.5f texels only %.5f fallback %.5f\n",
-              analytic, oracle[0], without[0], with[0], stats.fallback_triangles, oracle[1], without[1], with[1]);
+  std::printf(
+      "small polygons: field analytic %.5f rays %.5f | texels only %.5f | fallback %.5f (%u "
+      "triangles); "
+      "wall: rays %.5f texels only %.5f fallback %.5f\n",
+      analytic, oracle[0], without[0], with[0], stats.fallback_triangles, oracle[1], without[1],
+      with[1]);
   EXPECT_LT(without[0], 0.1 * analytic);
   EXPECT_NEAR(with[0] / analytic, 1.0, 0.02);
   // The rays see the same field (0.6% of the flux, ~3000 strata on its
@@ -152,7 +158,8 @@ TEST(IndexMapArtifacts, FallbackVisitsEveryTriangleItMayFindSmall) {
       // Facing the sample: cos / r^2 x area is area / dist^2.
       const double area = (is_small ? 3.8 : 4.2) * texel_sr * dist * dist;
       const double radius = std::sqrt(area / (0.75 * std::sqrt(3.0)));  // equilateral, circumradius
-      const glm::dvec3 e1 = glm::normalize(glm::cross(c, f.up)), e2 = glm::normalize(glm::cross(c, e1));
+      const glm::dvec3 e1 = glm::normalize(glm::cross(c, f.up)),
+                       e2 = glm::normalize(glm::cross(c, e1));
       glm::dvec3 p[3];
       for (int k = 0; k < 3; ++k) {
         const double a = 2 * kTestPi * (0.25 + k / 3.0);
@@ -213,8 +220,8 @@ TEST(IndexMapArtifacts, EdgeTapsAndNeighbourIds) {
     gl::GatherStats stats;
     const std::vector<float> shares = gather(settings, t, 2, {&f.sample, 1}, &stats);
     plane.push_back(shares[0]);
-    std::printf("  %-28s plane %.5f (%+.1f%%), %u triangles by vertex visibility\n", v.name, shares[0],
-                100 * (shares[0] / oracle[0] - 1), stats.fallback_triangles);
+    std::printf("  %-28s plane %.5f (%+.1f%%), %u triangles by vertex visibility\n", v.name,
+                shares[0], 100 * (shares[0] / oracle[0] - 1), stats.fallback_triangles);
   }
   EXPECT_NEAR(plane[0] / oracle[0], 1.0, 0.03);  // texels alone are unbiased for a big plane
   EXPECT_LT(plane[1] / oracle[0], 0.85);         // the plain vertex test loses visible vertices
@@ -258,9 +265,10 @@ TEST(IndexMapArtifacts, AliasingAveragedByRoll) {
   const std::vector<float> fixed_shares = gather(settings, t, 2, fixed);
   const std::vector<float> varied_shares = gather(settings, t, 2, varied);
   const std::vector<double> oracle = rays(t, f.sample, 2);
-  std::printf("aliasing strips: rays %.5f | fixed roll %.5f (%+.1f%%) | varied roll %.5f (%+.1f%%)\n", oracle[0],
-              fixed_shares[0], 100 * (fixed_shares[0] / oracle[0] - 1), varied_shares[0],
-              100 * (varied_shares[0] / oracle[0] - 1));
+  std::printf(
+      "aliasing strips: rays %.5f | fixed roll %.5f (%+.1f%%) | varied roll %.5f (%+.1f%%)\n",
+      oracle[0], fixed_shares[0], 100 * (fixed_shares[0] / oracle[0] - 1), varied_shares[0],
+      100 * (varied_shares[0] / oracle[0] - 1));
   EXPECT_GT(fixed_shares[0] / oracle[0], 1.5);
   EXPECT_NEAR(varied_shares[0] / oracle[0], 1.0, 0.04);
   // Both conserve the flux: the wall gets what the strips do not.

@@ -1,6 +1,7 @@
 // Cross-check (docs/architecture.md "Runtime: index shadow maps"): the per-receiver
 // flux an index map gives a point sample must match Embree rays shot from
-// the same sample with the same lobe, on the Cornell box and, when ../shared/scenes is there, Sponza.
+// the same sample with the same lobe, on the Cornell box and, when ../shared/scenes is there,
+// Sponza.
 //
 // Receivers: a deterministic partition of the static triangles by instance x
 // coarse spatial cell x dominant normal axis (each side its own receiver on
@@ -65,8 +66,9 @@ void partition(Level& level, int cells) {
     }
     const int dominant = 2 * axis + (n[axis] < 0 ? 1 : 0);
     level.map.front_receiver.push_back(id({g.instance[t], cell[0], cell[1], cell[2], dominant, 0}));
-    level.map.back_receiver.push_back(g.double_sided[t] ? id({g.instance[t], cell[0], cell[1], cell[2], dominant, 1})
-                                                        : gl::kNoReceiver);
+    level.map.back_receiver.push_back(
+        g.double_sided[t] ? id({g.instance[t], cell[0], cell[1], cell[2], dominant, 1})
+                          : gl::kNoReceiver);
   }
   level.receivers = uint32_t(ids.size());
 }
@@ -119,7 +121,8 @@ PointSample pointSample(Lobe lobe, glm::dvec3 p, glm::dvec3 axis) {
 
 // Renders every sample at `resolution`, shoots 2^20 rays from each, and
 // checks the receivers with >= 1% of the flux; returns the worst difference.
-double crossCheck(Level& level, std::vector<PointSample> samples, const char* name, int resolution) {
+double crossCheck(Level& level, std::vector<PointSample> samples, const char* name,
+                  int resolution) {
   gl::IndexMapSettings settings;
   settings.resolution = resolution;
   settings.max_batch_samples = 4;
@@ -138,17 +141,22 @@ double crossCheck(Level& level, std::vector<PointSample> samples, const char* na
   const Status status = renderer.gather(samples, uint32_t(samples.size()), shares, &stats);
   EXPECT_TRUE(status.ok()) << status.message();
   if (!status.ok()) return 1;
-  std::printf("%s: %zu triangles, %u receivers, %zu samples at %d^2: %u faces, render %.0f ms, reduce %.0f ms "
-              "(fallback %u), readback %.1f ms\n",
-              name, level.map.triangleCount(), level.receivers, samples.size(), resolution, stats.faces_rendered,
-              stats.render_ms, stats.reduce_ms, stats.fallback_triangles, stats.readback_ms);
+  std::printf(
+      "%s: %zu triangles, %u receivers, %zu samples at %d^2: %u faces, render %.0f ms, reduce %.0f "
+      "ms "
+      "(fallback %u), readback %.1f ms\n",
+      name, level.map.triangleCount(), level.receivers, samples.size(), resolution,
+      stats.faces_rendered, stats.render_ms, stats.reduce_ms, stats.fallback_triangles,
+      stats.readback_ms);
   const double diag = diagonal(level.geometry.bounds);
   double worst = 0;
   for (size_t i = 0; i < samples.size(); ++i) {
     const auto t0 = std::chrono::steady_clock::now();
-    const std::vector<double> rays = rayShares(*level.caster, level.map, samples[i], level.receivers, 1024,
-                                               nearPlane(samples[i], diag), 1000 + i);
-    const double ray_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const std::vector<double> rays =
+        rayShares(*level.caster, level.map, samples[i], level.receivers, 1024,
+                  nearPlane(samples[i], diag), 1000 + i);
+    const double ray_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     double sample_worst = 0, map_total = 0, ray_total = 0;
     uint32_t worst_receiver = 0, checked = 0;
     for (uint32_t r = 0; r < level.receivers; ++r) {
@@ -158,17 +166,20 @@ double crossCheck(Level& level, std::vector<PointSample> samples, const char* na
       if (rays[r] < 0.01) continue;
       ++checked;
       const double rel = std::abs(map - rays[r]) / rays[r];
-      EXPECT_LE(rel, 0.02) << name << " sample " << i << " receiver " << r << ": map " << map << " rays " << rays[r];
+      EXPECT_LE(rel, 0.02) << name << " sample " << i << " receiver " << r << ": map " << map
+                           << " rays " << rays[r];
       if (rel > sample_worst) {
         sample_worst = rel;
         worst_receiver = r;
       }
     }
-    std::printf("  sample %zu (lobe %u, layout %u): %u receivers >= 1%%, worst %.2f%% (receiver %u: map %.5f rays "
-                "%.5f); totals map %.4f rays %.4f; 2^20 rays %.0f ms\n",
-                i, unsigned(samples[i].lobe), unsigned(renderer.chooseLayout(samples[i])), checked, 100 * sample_worst,
-                worst_receiver, shares[i * level.receivers + worst_receiver], rays[worst_receiver], map_total,
-                ray_total, ray_ms);
+    std::printf(
+        "  sample %zu (lobe %u, layout %u): %u receivers >= 1%%, worst %.2f%% (receiver %u: map "
+        "%.5f rays "
+        "%.5f); totals map %.4f rays %.4f; 2^20 rays %.0f ms\n",
+        i, unsigned(samples[i].lobe), unsigned(renderer.chooseLayout(samples[i])), checked,
+        100 * sample_worst, worst_receiver, shares[i * level.receivers + worst_receiver],
+        rays[worst_receiver], map_total, ray_total, ray_ms);
     EXPECT_NEAR(map_total, ray_total, 0.01 * ray_total + 1e-4) << name << " sample " << i;
     worst = std::max(worst, sample_worst);
   }
@@ -184,10 +195,13 @@ TEST(IndexMapCrossCheck, CornellBoxAgainstEmbree) {
   const glm::dvec3 lo = dvec(level.geometry.bounds.min), hi = dvec(level.geometry.bounds.max);
   const glm::dvec3 c = 0.5 * (lo + hi), e = hi - lo;
   std::vector<PointSample> samples;
-  samples.push_back(surfaceSample(level, c + glm::dvec3(0.1, 0, 0.3) * e, {0, -1, 0}));      // floor
-  samples.push_back(surfaceSample(level, c + glm::dvec3(0, 0.1, 0.05) * e, {-1, 0.05, 0.1}));  // left wall
+  // floor
+  samples.push_back(surfaceSample(level, c + glm::dvec3(0.1, 0, 0.3) * e, {0, -1, 0}));
+  // left wall
+  samples.push_back(surfaceSample(level, c + glm::dvec3(0, 0.1, 0.05) * e, {-1, 0.05, 0.1}));
   samples.push_back(pointSample(Lobe::kIsotropic, c + glm::dvec3(0.05, 0.15, 0.1) * e, {0, 1, 0}));
-  PointSample spot = pointSample(Lobe::kSpot, c + glm::dvec3(-0.1, 0.45, 0.05) * e, {0.15, -1, 0.1});
+  PointSample spot =
+      pointSample(Lobe::kSpot, c + glm::dvec3(-0.1, 0.45, 0.05) * e, {0.15, -1, 0.1});
   spot.cos_inner = float(std::cos(25 * kTestPi / 180));
   spot.cos_outer = float(std::cos(40 * kTestPi / 180));
   samples.push_back(spot);
@@ -207,11 +221,14 @@ TEST(IndexMapCrossCheck, SponzaAgainstEmbree) {
   ASSERT_TRUE(level.caster);
   const glm::dvec3 lo = dvec(level.geometry.bounds.min), hi = dvec(level.geometry.bounds.max);
   const glm::dvec3 c = 0.5 * (lo + hi), e = hi - lo;
-  std::printf("Sponza bounds (%.1f %.1f %.1f) - (%.1f %.1f %.1f)\n", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
+  std::printf("Sponza bounds (%.1f %.1f %.1f) - (%.1f %.1f %.1f)\n", lo.x, lo.y, lo.z, hi.x, hi.y,
+              hi.z);
   std::vector<PointSample> samples;
   const glm::dvec3 atrium = glm::dvec3(c.x, lo.y + 0.25 * e.y, c.z);
   samples.push_back(pointSample(Lobe::kIsotropic, atrium, {0, 1, 0}));
-  samples.push_back(surfaceSample(level, atrium + glm::dvec3(0.1 * e.x, 0, 0.02 * e.z), {0, -1, 0}));  // floor
+  // floor
+  samples.push_back(
+      surfaceSample(level, atrium + glm::dvec3(0.1 * e.x, 0, 0.02 * e.z), {0, -1, 0}));
   // Under the arcade: 2/3 of the way from the atrium's axis to the first
   // surface across it, 2.5 m above the floor.
   const PointSample floor = samples.back();
@@ -222,7 +239,8 @@ TEST(IndexMapCrossCheck, SponzaAgainstEmbree) {
   baker::RayHit wall;
   level.caster->intersect({&across, 1}, {&wall, 1});
   ASSERT_TRUE(wall.hit());
-  samples.push_back(pointSample(Lobe::kIsotropic, low + glm::dvec3(0, 0, 0.67 * wall.t), {0, 1, 0}));
+  samples.push_back(
+      pointSample(Lobe::kIsotropic, low + glm::dvec3(0, 0, 0.67 * wall.t), {0, 1, 0}));
   PointSample sun = pointSample(Lobe::kParallel, {}, {0.25, -1, 0.15});
   const double radius = 0.5 * diagonal(level.geometry.bounds);
   sun.position = vec(c - dvec(sun.axis) * radius * 1.01);

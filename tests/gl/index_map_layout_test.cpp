@@ -71,8 +71,8 @@ TEST(IndexMapLayout, MissedSharesAndChoice) {
   const double face_form_factor = 4 / (2 * kTestPi) * 2 * x * std::atan(x);
   EXPECT_NEAR(single_cosine, 1 - face_form_factor, 1e-4);
   const double triple_cosine = r->missedShare(MapLayout::kTriple, cosine);
-  std::printf("missed shares: triple/cosine %.4f, single/cosine %.4f, hemicube/isotropic %.4f\n", triple_cosine,
-              single_cosine, r->missedShare(MapLayout::kHemicube, isotropic));
+  std::printf("missed shares: triple/cosine %.4f, single/cosine %.4f, hemicube/isotropic %.4f\n",
+              triple_cosine, single_cosine, r->missedShare(MapLayout::kHemicube, isotropic));
   // The triple covers the cone of acos(1/3) = 70.5 degrees around its corner
   // fully and parts of the rest: it misses a few % of a cosine lobe.
   EXPECT_GT(triple_cosine, 0.005);
@@ -84,7 +84,8 @@ TEST(IndexMapLayout, MissedSharesAndChoice) {
   EXPECT_EQ(r->chooseLayout(isotropic), MapLayout::kCube);
   EXPECT_EQ(r->chooseLayout(parallel), MapLayout::kParallel);
   EXPECT_EQ(r->chooseLayout(spot(45, 30)), MapLayout::kSingle);
-  EXPECT_EQ(r->chooseLayout(spot(65, 30)), MapLayout::kTriple);  // inside the triple's 70.5-degree cone
+  // inside the triple's 70.5-degree cone
+  EXPECT_EQ(r->chooseLayout(spot(65, 30)), MapLayout::kTriple);
   EXPECT_EQ(r->chooseLayout(spot(85, 30)), MapLayout::kHemicube);
   EXPECT_EQ(r->chooseLayout(spot(120, 30)), MapLayout::kCube);
 }
@@ -92,8 +93,9 @@ TEST(IndexMapLayout, MissedSharesAndChoice) {
 TEST(IndexMapLayout, DiscreteNormaliserMatchesTheAnalyticIntegral) {
   // The midpoint rule's error is O(1 / res^2): ~1e-4 at 128 for smooth
   // lobes; a spot's kink at its cones costs a few texels' worth more.
-  for (auto [lobe, ci, co, tol] : {std::tuple{Lobe::kCosine, 0.0, 0.0, 1e-4}, std::tuple{Lobe::kIsotropic, 0.0, 0.0, 1e-4},
-                                   std::tuple{Lobe::kSpot, 0.9, 0.7, 2e-3}}) {
+  for (auto [lobe, ci, co, tol] :
+       {std::tuple{Lobe::kCosine, 0.0, 0.0, 1e-4}, std::tuple{Lobe::kIsotropic, 0.0, 0.0, 1e-4},
+        std::tuple{Lobe::kSpot, 0.9, 0.7, 2e-3}}) {
     const gl::LobeCoverage c = gl::lobeCoverage(lobe, ci, co, 128);
     const double analytic = gl::lobeIntegral(lobe, ci, co);
     EXPECT_NEAR(c.normaliser_face_axis / analytic, 1.0, tol) << int(lobe);
@@ -119,8 +121,9 @@ TEST(IndexMapLayout, ClosedBoxGetsAllTheFlux) {
   std::vector<float> shares;
   gl::GatherStats stats;
   ASSERT_TRUE(r->gather(samples, 2, shares, &stats).ok());
-  std::printf("closed box: cosine %.6f, isotropic %.6f (%u faces, %.1f ms render, %.1f ms reduce)\n", shares[0],
-              shares[1], stats.faces_rendered, stats.render_ms, stats.reduce_ms);
+  std::printf(
+      "closed box: cosine %.6f, isotropic %.6f (%u faces, %.1f ms render, %.1f ms reduce)\n",
+      shares[0], shares[1], stats.faces_rendered, stats.render_ms, stats.reduce_ms);
   EXPECT_NEAR(shares[0], 1.0, 1e-3);
   EXPECT_NEAR(shares[1], 1.0, 1e-3);
   EXPECT_EQ(stats.faces_rendered, 5u + 6u);
@@ -196,11 +199,14 @@ TEST(IndexMapLayout, DynamicTrianglesFollowTheStaticOnes) {
   }
   whole = room;
   whole.positions.insert(whole.positions.end(), crate.positions.begin(), crate.positions.end());
-  whole.front_receiver.insert(whole.front_receiver.end(), crate.front_receiver.begin(), crate.front_receiver.end());
-  whole.back_receiver.insert(whole.back_receiver.end(), crate.back_receiver.begin(), crate.back_receiver.end());
+  whole.front_receiver.insert(whole.front_receiver.end(), crate.front_receiver.begin(),
+                              crate.front_receiver.end());
+  whole.back_receiver.insert(whole.back_receiver.end(), crate.back_receiver.begin(),
+                             crate.back_receiver.end());
   std::vector<PointSample> samples = {sample(Lobe::kIsotropic, {0.2, 0.3, 1.0}, {0, 1, 0}),
                                       sample(Lobe::kCosine, {0.1, 0.2 + 1e-3, 0}, {0, 1, 0})};
-  samples[1].own_triangle = uint32_t(room.triangleCount() + 6);  // the crate's top (+y, second pair)
+  // the crate's top (+y, second pair)
+  samples[1].own_triangle = uint32_t(room.triangleCount() + 6);
   samples[1].slot = 1;
   auto r = makeRenderer();
   ASSERT_TRUE(r);
@@ -216,7 +222,7 @@ TEST(IndexMapLayout, DynamicTrianglesFollowTheStaticOnes) {
   ASSERT_TRUE(r->gather(samples, 2, joined).ok());
   ASSERT_EQ(split.size(), joined.size());
   EXPECT_EQ(std::memcmp(split.data(), joined.data(), split.size() * sizeof(float)), 0);
-  EXPECT_GT(split[12], 0.0f);  // the small field gets light
+  EXPECT_GT(split[12], 0.0f);      // the small field gets light
   EXPECT_GT(split[13 + 3], 0.0f);  // the ceiling sees the crate-top sample
 }
 
@@ -224,7 +230,8 @@ TEST(IndexMapLayout, CreateWithoutContextIsAnError) {
   Expected<std::unique_ptr<IndexMapRenderer>> r = IndexMapRenderer::create({});
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().code(), StatusCode::kUnsupported);
-  EXPECT_NE(r.status().message().find("no current OpenGL context"), std::string::npos) << r.status().message();
+  EXPECT_NE(r.status().message().find("no current OpenGL context"), std::string::npos)
+      << r.status().message();
 }
 
 TEST(IndexMapLayout, BadSettingsAreErrorsNamingTheField) {
@@ -262,7 +269,8 @@ TEST(IndexMapLayout, BadSamplesAndTrianglesAreErrorsAndLeaveSharesAlone) {
   EXPECT_NE(r->gather({&s, 1}, 1, shares).message().find("axis"), std::string::npos);
   s = sample(Lobe::kIsotropic, {0, 0, 0}, {0, 1, 0});
   s.slot = 3;
-  EXPECT_NE(r->gather({&s, 1}, 1, shares).message().find("slot 3 >= slot count 1"), std::string::npos);
+  EXPECT_NE(r->gather({&s, 1}, 1, shares).message().find("slot 3 >= slot count 1"),
+            std::string::npos);
   ASSERT_EQ(shares.size(), 1u);
   EXPECT_EQ(shares[0], 42.0f);
 
@@ -273,7 +281,8 @@ TEST(IndexMapLayout, BadSamplesAndTrianglesAreErrorsAndLeaveSharesAlone) {
   s = sample(Lobe::kIsotropic, {0, 0, 0}, {0, 1, 0});
   status = r->gather({&s, 1}, 1, shares);
   EXPECT_EQ(status.code(), StatusCode::kInvalidInput);
-  EXPECT_NE(status.message().find("dynamic triangle 2: corner 1 is not finite"), std::string::npos) << status.message();
+  EXPECT_NE(status.message().find("dynamic triangle 2: corner 1 is not finite"), std::string::npos)
+      << status.message();
   EXPECT_EQ(shares[0], 42.0f);
   r->setDynamicTriangles({});
   EXPECT_TRUE(r->gather({&s, 1}, 1, shares).ok());
@@ -299,8 +308,8 @@ TEST(IndexMapLayout, DeterministicAndAllocationFreeWhenSteady) {
   r->setReceiverCount(18);
   std::vector<PointSample> samples;
   for (int i = 0; i < 8; ++i) {
-    PointSample s = sample(i % 2 ? Lobe::kIsotropic : Lobe::kCosine, {-1.5 + 0.3 * i, 1.0, -1 + 0.2 * i}, {0.1, -1, 0.2},
-                           0.7f * float(i));
+    PointSample s = sample(i % 2 ? Lobe::kIsotropic : Lobe::kCosine,
+                           {-1.5 + 0.3 * i, 1.0, -1 + 0.2 * i}, {0.1, -1, 0.2}, 0.7f * float(i));
     s.slot = uint32_t(i % 3);
     s.weight = 0.25f;
     samples.push_back(s);

@@ -24,8 +24,8 @@ constexpr int kCells = 8;  // quads per wall edge: 128 triangles a wall
 
 // One wall piece at x, y in [y0, y1], z in [z0, z1], front toward +x
 // (`toward_plus`) or -x.
-void wallPiece(gl::MapTriangles& t, double x, double y0, double y1, double z0, double z1, bool toward_plus,
-               uint32_t receiver) {
+void wallPiece(gl::MapTriangles& t, double x, double y0, double y1, double z0, double z1,
+               bool toward_plus, uint32_t receiver) {
   const glm::dvec3 o(x, y0, z0), dy(0, y1 - y0, 0), dz(0, 0, z1 - z0);
   if (toward_plus) {
     addQuad(t, o, dy, dz, receiver, gl::kNoReceiver, kCells);
@@ -84,9 +84,9 @@ std::vector<PointSample> samples() {
     s.slot = slot;
     out.push_back(s);
   };
-  add(Lobe::kIsotropic, {1.0, 2.7, 1.2}, {0, -1, 0}, 0);      // a lamp in room 0
-  add(Lobe::kCosine, {3.7, 1.5, 2.0}, {-1, 0.1, 0}, 1);       // room 0's holed wall, facing in
-  add(Lobe::kCosine, {6.0, 0.001, 2.0}, {0, 1, 0}, 2);        // room 1's floor
+  add(Lobe::kIsotropic, {1.0, 2.7, 1.2}, {0, -1, 0}, 0);          // a lamp in room 0
+  add(Lobe::kCosine, {3.7, 1.5, 2.0}, {-1, 0.1, 0}, 1);           // room 0's holed wall, facing in
+  add(Lobe::kCosine, {6.0, 0.001, 2.0}, {0, 1, 0}, 2);            // room 1's floor
   add(Lobe::kIsotropic, {4 * kPitch + 2, 1.5, 2}, {0, 1, 0}, 3);  // a lamp in a closed room
   return out;
 }
@@ -102,10 +102,13 @@ TEST(IndexMapOcclusionRender, MapsAreThoseOfDrawingEverything) {
   gl::GatherStats stats_all, stats_culled;
   ASSERT_TRUE(all->gather(list, 4, shares_all, &stats_all, &seen_all).ok());
   ASSERT_TRUE(culled->gather(list, 4, shares_culled, &stats_culled, &seen_culled).ok());
-  std::printf("occlusion: %llu triangles drawn against %llu (%llu hidden); fallback credits %u against %u\n",
-              (unsigned long long)stats_culled.triangles_drawn, (unsigned long long)stats_all.triangles_drawn,
-              (unsigned long long)stats_culled.triangles_hidden, stats_culled.fallback_triangles,
-              stats_all.fallback_triangles);
+  std::printf(
+      "occlusion: %llu triangles drawn against %llu (%llu hidden); fallback credits %u against "
+      "%u\n",
+      (unsigned long long)stats_culled.triangles_drawn,
+      (unsigned long long)stats_all.triangles_drawn,
+      (unsigned long long)stats_culled.triangles_hidden, stats_culled.fallback_triangles,
+      stats_all.fallback_triangles);
   // No coincident surfaces here, so no depth ties: exactly the same.
   EXPECT_EQ(shares_culled, shares_all);
   EXPECT_EQ(seen_culled, seen_all);
@@ -126,7 +129,8 @@ TEST(IndexMapOcclusionRender, ViewPixelsAreThoseOfDrawingEverything) {
   std::unique_ptr<IndexMapRenderer> all = makeRenderer(false), culled = makeRenderer(true);
   ASSERT_TRUE(all && culled);
   // From room 0 toward the hole, and from a closed room.
-  for (const glm::dvec3& eye : {glm::dvec3(0.5, 1.5, 2.0), glm::dvec3(4 * kPitch + 0.5, 1.5, 2.0)}) {
+  for (const glm::dvec3& eye :
+       {glm::dvec3(0.5, 1.5, 2.0), glm::dvec3(4 * kPitch + 0.5, 1.5, 2.0)}) {
     gl::ViewFrame view;
     view.eye = vec(eye);
     view.forward = {1, 0, 0};

@@ -29,8 +29,8 @@ inline Vec3 vec(const glm::dvec3& v) { return {float(v.x), float(v.y), float(v.z
 inline glm::dvec3 dvec(const Vec3& v) { return {v.x, v.y, v.z}; }
 
 /// Appends triangle (a, b, c) (CCW = front) with its receivers.
-inline void addTriangle(gl::MapTriangles& t, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
-                        uint32_t front, uint32_t back = gl::kNoReceiver) {
+inline void addTriangle(gl::MapTriangles& t, const glm::dvec3& a, const glm::dvec3& b,
+                        const glm::dvec3& c, uint32_t front, uint32_t back = gl::kNoReceiver) {
   t.positions.push_back(vec(a));
   t.positions.push_back(vec(b));
   t.positions.push_back(vec(c));
@@ -40,8 +40,9 @@ inline void addTriangle(gl::MapTriangles& t, const glm::dvec3& a, const glm::dve
 
 /// Appends quad origin + [0,1]^2 spanned by (du, dv), front side du x dv, as
 /// n x n cells of two triangles each.
-inline void addQuad(gl::MapTriangles& t, const glm::dvec3& origin, const glm::dvec3& du, const glm::dvec3& dv,
-                    uint32_t front, uint32_t back = gl::kNoReceiver, int n = 1) {
+inline void addQuad(gl::MapTriangles& t, const glm::dvec3& origin, const glm::dvec3& du,
+                    const glm::dvec3& dv, uint32_t front, uint32_t back = gl::kNoReceiver,
+                    int n = 1) {
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i < n; ++i) {
       const glm::dvec3 p00 = origin + du * (double(i) / n) + dv * (double(j) / n);
@@ -56,13 +57,13 @@ inline void addQuad(gl::MapTriangles& t, const glm::dvec3& origin, const glm::dv
 
 /// The six faces of the box [lo, hi], fronts facing inward (`inward`) or
 /// outward; receiver `first + face` when `per_face`, else `first`.
-inline void addBox(gl::MapTriangles& t, const glm::dvec3& lo, const glm::dvec3& hi, bool inward, uint32_t first,
-                   bool per_face = false) {
+inline void addBox(gl::MapTriangles& t, const glm::dvec3& lo, const glm::dvec3& hi, bool inward,
+                   uint32_t first, bool per_face = false) {
   const glm::dvec3 e = hi - lo;
   const glm::dvec3 x(e.x, 0, 0), y(0, e.y, 0), z(0, 0, e.z);
   // (origin, du, dv) with du x dv pointing outward.
   const std::tuple<glm::dvec3, glm::dvec3, glm::dvec3> faces[6] = {
-      {lo, z, y},     {lo + x, y, z}, {lo, x, z}, {lo + y, z, x}, {lo, y, x}, {lo + z, x, y}};
+      {lo, z, y}, {lo + x, y, z}, {lo, x, z}, {lo + y, z, x}, {lo, y, x}, {lo + z, x, y}};
   for (int f = 0; f < 6; ++f) {
     auto [o, du, dv] = faces[f];
     const uint32_t r = per_face ? first + uint32_t(f) : first;
@@ -79,7 +80,8 @@ inline baker::BakeGeometry bakeGeometry(const gl::MapTriangles& t) {
   baker::BakeGeometry g;
   g.positions = t.positions;
   for (size_t i = 0; i < t.triangleCount(); ++i) {
-    const glm::dvec3 a = dvec(t.positions[3 * i]), b = dvec(t.positions[3 * i + 1]), c = dvec(t.positions[3 * i + 2]);
+    const glm::dvec3 a = dvec(t.positions[3 * i]), b = dvec(t.positions[3 * i + 1]),
+                     c = dvec(t.positions[3 * i + 2]);
     const glm::dvec3 n = glm::cross(b - a, c - a);
     const double len = glm::length(n);
     g.normals.push_back(vec(len > 0 ? n / len : glm::dvec3(0, 0, 1)));
@@ -91,8 +93,10 @@ inline baker::BakeGeometry bakeGeometry(const gl::MapTriangles& t) {
     g.mesh_triangle.push_back(uint32_t(i));
     for (int k = 0; k < 3; ++k) {
       const Vec3& p = t.positions[3 * i + size_t(k)];
-      g.bounds.min = {std::min(g.bounds.min.x, p.x), std::min(g.bounds.min.y, p.y), std::min(g.bounds.min.z, p.z)};
-      g.bounds.max = {std::max(g.bounds.max.x, p.x), std::max(g.bounds.max.y, p.y), std::max(g.bounds.max.z, p.z)};
+      g.bounds.min = {std::min(g.bounds.min.x, p.x), std::min(g.bounds.min.y, p.y),
+                      std::min(g.bounds.min.z, p.z)};
+      g.bounds.max = {std::max(g.bounds.max.x, p.x), std::max(g.bounds.max.y, p.y),
+                      std::max(g.bounds.max.z, p.z)};
     }
   }
   return g;
@@ -101,13 +105,15 @@ inline baker::BakeGeometry bakeGeometry(const gl::MapTriangles& t) {
 /// The renderer's near plane for `s` in a scene of diagonal `diagonal_m`
 /// (index_map_renderer.cpp: max(1e-4 x diagonal, 1e-6 x max |coordinate|)).
 inline double nearPlane(const gl::PointSample& s, double diagonal_m) {
-  const double coordinate = std::max({std::abs(double(s.position.x)), std::abs(double(s.position.y)),
-                                      std::abs(double(s.position.z)), 1.0});
+  const double coordinate =
+      std::max({std::abs(double(s.position.x)), std::abs(double(s.position.y)),
+                std::abs(double(s.position.z)), 1.0});
   return std::max(1e-4 * diagonal_m, 1e-6 * coordinate);
 }
 
 inline double diagonal(const Aabb& b) {
-  return std::hypot(double(b.max.x) - b.min.x, double(b.max.y) - b.min.y, double(b.max.z) - b.min.z);
+  return std::hypot(double(b.max.x) - b.min.x, double(b.max.y) - b.min.y,
+                    double(b.max.z) - b.min.z);
 }
 
 /// Counter-based uniform in [0, 1) (splitmix64), a pure function of its ids.
@@ -125,8 +131,8 @@ inline double hashUniform(uint64_t seed, uint64_t i) {
 /// sphere; spot: uniform over the outer cap, weighted by profile / integral;
 /// parallel: the window). Rays start at the sample, t in [near, inf).
 inline std::vector<double> rayShares(const baker::RayCaster& caster, const gl::MapTriangles& t,
-                                     const gl::PointSample& s, uint32_t receivers, int grid_n, double near_m,
-                                     uint64_t seed) {
+                                     const gl::PointSample& s, uint32_t receivers, int grid_n,
+                                     double near_m, uint64_t seed) {
   std::vector<double> shares(receivers, 0.0);
   const glm::dmat3 frame = gl::mapFrame(s.axis, 0.0f);
   const glm::dvec3 t1 = frame[0], t2 = frame[1], axis = frame[2];
@@ -151,7 +157,8 @@ inline std::vector<double> rayShares(const baker::RayCaster& caster, const gl::M
       switch (s.lobe) {
         case gl::Lobe::kCosine: {
           const double r = std::sqrt(u1);
-          dir = r * std::cos(phi) * t1 + r * std::sin(phi) * t2 + std::sqrt(std::max(0.0, 1 - u1)) * axis;
+          dir = r * std::cos(phi) * t1 + r * std::sin(phi) * t2 +
+                std::sqrt(std::max(0.0, 1 - u1)) * axis;
           break;
         }
         case gl::Lobe::kIsotropic: {
@@ -181,7 +188,8 @@ inline std::vector<double> rayShares(const baker::RayCaster& caster, const gl::M
     caster.intersect(rays, hits);
     for (size_t i = 0; i < rays.size(); ++i) {
       if (!hits[i].hit() || hits[i].triangle == s.own_triangle) continue;
-      const uint32_t r = hits[i].front ? t.front_receiver[hits[i].triangle] : t.back_receiver[hits[i].triangle];
+      const uint32_t r =
+          hits[i].front ? t.front_receiver[hits[i].triangle] : t.back_receiver[hits[i].triangle];
       if (r < receivers) shares[r] += weights[i];
     }
   }

@@ -25,7 +25,8 @@ struct LinearFrame {
 };
 
 inline LinearFrame readLinearFrame(const SceneRenderer& renderer) {
-  return {renderer.width(), renderer.height(), renderer.readRadiance(), renderer.readSurfaceKinds()};
+  return {renderer.width(), renderer.height(), renderer.readRadiance(),
+          renderer.readSurfaceKinds()};
 }
 
 struct PictureError {
@@ -56,7 +57,8 @@ inline PictureError comparePictures(const LinearFrame& shown, const LinearFrame&
   const size_t pixels = size_t(shown.width) * size_t(shown.height);
   for (size_t i = 0; i < pixels && i < reference.surface.size(); ++i) {
     const double a = rec709Luminance(&shown.rgb[i * 3]), b = rec709Luminance(&reference.rgb[i * 3]);
-    if (shown.surface[i] == uint8_t(SurfaceKind::kStatic) && reference.surface[i] == uint8_t(SurfaceKind::kStatic)) {
+    if (shown.surface[i] == uint8_t(SurfaceKind::kStatic) &&
+        reference.surface[i] == uint8_t(SurfaceKind::kStatic)) {
       static_sq += (a - b) * (a - b);
       static_ref += b;
       ++out.static_pixels;
@@ -75,7 +77,8 @@ inline PictureError comparePictures(const LinearFrame& shown, const LinearFrame&
   if (out.dynamic_pixels > 0) {
     out.dynamic_mean = dynamic_sum / out.dynamic_pixels;
     out.dynamic_reference_mean = dynamic_ref / out.dynamic_pixels;
-    out.dynamic_rel_rms = std::sqrt(dynamic_sq / out.dynamic_pixels) / std::max(out.dynamic_reference_mean, 1e-30);
+    out.dynamic_rel_rms =
+        std::sqrt(dynamic_sq / out.dynamic_pixels) / std::max(out.dynamic_reference_mean, 1e-30);
   }
   return out;
 }

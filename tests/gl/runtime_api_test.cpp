@@ -30,7 +30,8 @@ TEST(RuntimeApi, RejectsTheBakeOfAnotherLevel) {
   Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(other, level.bake, level.dir);
   ASSERT_FALSE(runtime.ok());
   EXPECT_EQ(runtime.status().code(), StatusCode::kInvalidInput);
-  EXPECT_NE(runtime.status().message().find("another level"), std::string::npos) << runtime.status().message();
+  EXPECT_NE(runtime.status().message().find("another level"), std::string::npos)
+      << runtime.status().message();
 }
 
 TEST(RuntimeApi, RejectsSettingsOutOfRange) {
@@ -39,7 +40,8 @@ TEST(RuntimeApi, RejectsSettingsOutOfRange) {
   const test::BakedLevel& level = bakedLevel("cornell_static", test::cornellGltf());
   RuntimeSettings settings;
   settings.map_resolution = 4;
-  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(level.scene, level.bake, level.dir, settings);
+  Expected<std::unique_ptr<Runtime>> runtime =
+      Runtime::create(level.scene, level.bake, level.dir, settings);
   ASSERT_FALSE(runtime.ok());
   EXPECT_NE(runtime.status().message().find("map_resolution"), std::string::npos);
 }
@@ -81,7 +83,8 @@ TEST(RuntimeApi, BadObjectsAndLightsAreRejected) {
   mesh.indices = {0, 1, 5};
   Expected<ObjectId> bad_index = runtime.addObject(mesh, Mat4{});
   ASSERT_FALSE(bad_index.ok());
-  EXPECT_NE(bad_index.status().message().find("'crate': index 2 = 5 >= vertex count 3"), std::string::npos)
+  EXPECT_NE(bad_index.status().message().find("'crate': index 2 = 5 >= vertex count 3"),
+            std::string::npos)
       << bad_index.status().message();
   mesh.indices = {0, 1, 2};
   mesh.positions[1].y = std::nanf("");
@@ -99,7 +102,10 @@ TEST(RuntimeApi, BadObjectsAndLightsAreRejected) {
   EXPECT_EQ(runtime.setObjectTransform(9999, Mat4{}).code(), StatusCode::kNotFound);
   EXPECT_TRUE(runtime.removeObject(*ok).ok());
   EXPECT_EQ(runtime.removeObject(*ok).code(), StatusCode::kNotFound);
-  EXPECT_FALSE(runtime.deformObject(runtime.objectForNode(level.scene.findNode("tallBox")), std::vector<Vec3>(2)).ok());
+  EXPECT_FALSE(runtime
+                   .deformObject(runtime.objectForNode(level.scene.findNode("tallBox")),
+                                 std::vector<Vec3>(2))
+                   .ok());
 
   Light sun_like;
   sun_like.type = LightType::kDirectional;

@@ -44,7 +44,10 @@ MoveResult moveTableAndSettle(bool lit_set_culling, bool occlusion_culling = tru
   if (!runtime) return {};
   settle(*runtime, 0);
   const ObjectId table = runtime->objectForNode(nodeIndex(house().scene, "table_0_0"));
-  EXPECT_TRUE(runtime->setObjectTransform(table, translated(runtime->objectInfo(table)->world_from_object, 0.3f, 0.0f)).ok());
+  EXPECT_TRUE(runtime
+                  ->setObjectTransform(
+                      table, translated(runtime->objectInfo(table)->world_from_object, 0.3f, 0.0f))
+                  .ok());
   MoveResult out;
   for (int frame = 0; frame < 16; ++frame) {
     const FrameStats stats = runtime->update(0);
@@ -60,11 +63,13 @@ MoveResult moveTableAndSettle(bool lit_set_culling, bool occlusion_culling = tru
 
 // The largest |delta| of `reference` and the worst |difference| of `other`
 // from it, in lux (luminance of the patch deltas).
-std::pair<double, double> largestAndWorstDifference(const MoveResult& reference, const MoveResult& other) {
+std::pair<double, double> largestAndWorstDifference(const MoveResult& reference,
+                                                    const MoveResult& other) {
   double largest = 0, worst = 0;
   for (size_t i = 0; i < reference.deltas.size(); ++i) {
     largest = std::max(largest, double(std::abs(luminance(reference.deltas[i]))));
-    worst = std::max(worst, double(std::abs(luminance(reference.deltas[i]) - luminance(other.deltas[i]))));
+    worst = std::max(worst,
+                     double(std::abs(luminance(reference.deltas[i]) - luminance(other.deltas[i]))));
   }
   return {largest, worst};
 }
@@ -79,10 +84,12 @@ TEST(RuntimeCulling, LitSetCullingDrawsLessAndChangesNothing) {
   ASSERT_GT(box.samples, 0u);
   EXPECT_EQ(box.samples, lit.samples);
   const auto [largest, worst] = largestAndWorstDifference(box, lit);
-  std::printf("lit set: %llu triangles drawn against %llu by boxes (%u samples); largest delta %.4g lux, worst "
-              "difference %.3g lux\n",
-              (unsigned long long)lit.triangles_drawn, (unsigned long long)box.triangles_drawn, lit.samples, largest,
-              worst);
+  std::printf(
+      "lit set: %llu triangles drawn against %llu by boxes (%u samples); largest delta %.4g lux, "
+      "worst "
+      "difference %.3g lux\n",
+      (unsigned long long)lit.triangles_drawn, (unsigned long long)box.triangles_drawn, lit.samples,
+      largest, worst);
   ASSERT_GT(largest, 0.0);
   EXPECT_LE(worst, 1e-4 * largest);
   EXPECT_LT(double(lit.triangles_drawn), 0.9 * double(box.triangles_drawn));
@@ -102,10 +109,12 @@ TEST(RuntimeCulling, OcclusionCullingDrawsLessAndChangesNothing) {
   EXPECT_EQ(all.samples, culled.samples);
   EXPECT_EQ(all.triangles_hidden, 0u);
   const auto [largest, worst] = largestAndWorstDifference(all, culled);
-  std::printf("occlusion: %llu triangles drawn against %llu (%llu hidden; %u samples); largest delta %.4g lux, worst "
-              "difference %.3g lux\n",
-              (unsigned long long)culled.triangles_drawn, (unsigned long long)all.triangles_drawn,
-              (unsigned long long)culled.triangles_hidden, culled.samples, largest, worst);
+  std::printf(
+      "occlusion: %llu triangles drawn against %llu (%llu hidden; %u samples); largest delta %.4g "
+      "lux, worst "
+      "difference %.3g lux\n",
+      (unsigned long long)culled.triangles_drawn, (unsigned long long)all.triangles_drawn,
+      (unsigned long long)culled.triangles_hidden, culled.samples, largest, worst);
   ASSERT_GT(largest, 0.0);
   EXPECT_LE(worst, 1e-4 * largest);
   // Every sample here already draws only its reach box (its room), so

@@ -55,16 +55,18 @@ TEST(RuntimeDynamic, MovedTallBoxMatchesTheBakerAndMovingBackRestores) {
       cornellProbes({boundsOf(start.world_positions), boundsOf(after.world_positions), short_box});
   ASSERT_GE(probes.size(), 50u);
 
-  const test::BakedLevel& static_moved = test::bakedLevel("cornell_moved", writeCornellWithBoxAt(moved, "moved"));
+  const test::BakedLevel& static_moved =
+      test::bakedLevel("cornell_moved", writeCornellWithBoxAt(moved, "moved"));
   const std::vector<Rgb> expected_moved = bakedAt(static_moved, probes);
   const std::vector<Rgb> got_moved = runtimeAt(runtime, probes);
   const std::vector<Rgb> baked_only = bakedAt(level, probes);
   double worst = 0;
   const double rms_moved = normalizedRms(got_moved, expected_moved, &worst);
   const double rms_without = normalizedRms(baked_only, expected_moved);
-  std::printf("moved tall box, %zu probes: runtime vs static bake RMS %.2f%% (worst %.1f%%); "
-              "bake without the box would be %.2f%%\n",
-              probes.size(), 100 * rms_moved, 100 * worst, 100 * rms_without);
+  std::printf(
+      "moved tall box, %zu probes: runtime vs static bake RMS %.2f%% (worst %.1f%%); "
+      "bake without the box would be %.2f%%\n",
+      probes.size(), 100 * rms_moved, 100 * worst, 100 * rms_without);
   EXPECT_LT(rms_moved, 0.05);
 
   // Back where it started: the runtime returns to what it showed before.
@@ -74,7 +76,8 @@ TEST(RuntimeDynamic, MovedTallBoxMatchesTheBakerAndMovingBackRestores) {
   const std::vector<Rgb> expected_original = bakedAt(static_original, probes);
   const std::vector<Rgb> got_back = runtimeAt(runtime, probes);
   const double rms_back = normalizedRms(got_back, expected_original, &worst);
-  std::printf("moved back: runtime vs static bake RMS %.2f%% (worst %.1f%%)\n", 100 * rms_back, 100 * worst);
+  std::printf("moved back: runtime vs static bake RMS %.2f%% (worst %.1f%%)\n", 100 * rms_back,
+              100 * worst);
   // At its first place the box stands 10-30 cm from two walls: the gaps are
   // narrower than two runtime patches, so the shading interpolation blurs
   // the contact shadows there; a looser bound, stated.
@@ -94,7 +97,10 @@ TEST(RuntimeDynamic, MovingBackRestoresTheRuntimeWithinOnePercent) {
   const std::vector<Probe> probes = cornellProbes({boundsOf(start.world_positions)});
   const std::vector<Rgb> before = runtimeAt(runtime, probes);
   for (float x : {0.1f, 0.3f, 0.5f}) {
-    ASSERT_TRUE(runtime.setObjectTransform(box, fromGlmMat(glm::translate(glm::mat4(1), glm::vec3(x, 0, 0.2f)))).ok());
+    ASSERT_TRUE(runtime
+                    .setObjectTransform(
+                        box, fromGlmMat(glm::translate(glm::mat4(1), glm::vec3(x, 0, 0.2f))))
+                    .ok());
     runtime.update(0);
   }
   ASSERT_TRUE(runtime.setObjectTransform(box, start.world_from_object).ok());
@@ -115,12 +121,14 @@ double cornerFormFactor(double a, double b, double c) {
 
 // Point under an axis-aligned rectangle [x0,x1] x [z0,z1] at height h:
 // signed sum of the four corner rectangles.
-double rectangleFormFactor(double px, double pz, double x0, double x1, double z0, double z1, double h) {
+double rectangleFormFactor(double px, double pz, double x0, double x1, double z0, double z1,
+                           double h) {
   auto corner = [&](double dx, double dz) {
     const double sx = dx < 0 ? -1 : 1, sz = dz < 0 ? -1 : 1;
     return sx * sz * cornerFormFactor(std::abs(dx), std::abs(dz), h);
   };
-  return corner(x1 - px, z1 - pz) - corner(x0 - px, z1 - pz) - corner(x1 - px, z0 - pz) + corner(x0 - px, z0 - pz);
+  return corner(x1 - px, z1 - pz) - corner(x0 - px, z1 - pz) - corner(x1 - px, z0 - pz) +
+         corner(x0 - px, z0 - pz);
 }
 
 TEST(RuntimeDynamic, EmissivePanelLightsTheFloorByTheAnalyticAmount) {
@@ -134,19 +142,24 @@ TEST(RuntimeDynamic, EmissivePanelLightsTheFloorByTheAnalyticAmount) {
   const int n = 32;
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
-      const float x0 = -2 + 4.0f * i / n, x1 = -2 + 4.0f * (i + 1) / n, z0 = -2 + 4.0f * j / n, z1 = -2 + 4.0f * (j + 1) / n;
-      floor.insert(floor.end(), {{x0, 0, z0}, {x0, 0, z1}, {x1, 0, z1}, {x0, 0, z0}, {x1, 0, z1}, {x1, 0, z0}});
+      const float x0 = -2 + 4.0f * i / n, x1 = -2 + 4.0f * (i + 1) / n, z0 = -2 + 4.0f * j / n,
+                  z1 = -2 + 4.0f * (j + 1) / n;
+      floor.insert(floor.end(),
+                   {{x0, 0, z0}, {x0, 0, z1}, {x1, 0, z1}, {x0, 0, z0}, {x1, 0, z1}, {x1, 0, z0}});
     }
   }
   b.addMesh("floor", floor, black);
   const float half = 0.1f, luminance_cd = 1000.0f;
   const int glow = b.material({0, 0, 0}, {luminance_cd, luminance_cd, luminance_cd});
-  b.addQuad("panel", {-half, 0, -half}, {half, 0, -half}, {half, 0, half}, {-half, 0, half}, glow);  // faces down
+  b.addQuad("panel", {-half, 0, -half}, {half, 0, -half}, {half, 0, half}, {-half, 0, half},
+            glow);  // faces down
   b.addPointLight({0, 8, 0}, 0.01f);
   Scene& scene = b.scene();
   scene.nodes.back().dynamic = true;
   scene.nodes.back().translation = {0, 0.5f, 0};
-  const std::string dir = (std::filesystem::temp_directory_path() / ("svit_panel_" + std::to_string(::getpid()))).string();
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / ("svit_panel_" + std::to_string(::getpid())))
+          .string();
   std::filesystem::create_directories(dir);
   ASSERT_TRUE(writeGltf(scene, dir + "/panel.gltf").ok());
   const test::BakedLevel& level = test::bakedLevel("panel", dir + "/panel.gltf");
@@ -154,14 +167,16 @@ TEST(RuntimeDynamic, EmissivePanelLightsTheFloorByTheAnalyticAmount) {
   // The panel is 20 cm across at 40 cm: its point samples must resolve it
   // (a point set's error on the nearest patches grows as (size / distance)^2).
   settings.max_samples_per_emitter = 64;
-  Expected<std::unique_ptr<Runtime>> created = Runtime::create(level.scene, level.bake, level.dir, settings);
+  Expected<std::unique_ptr<Runtime>> created =
+      Runtime::create(level.scene, level.bake, level.dir, settings);
   ASSERT_TRUE(created.ok()) << created.status().message();
   Runtime& runtime = **created;
   const ObjectId panel = runtime.objectForNode(level.scene.findNode("panel"));
   ASSERT_NE(panel, kInvalidId);
   // Carried over the floor: check at two places.
   for (const glm::vec3 at : {glm::vec3(0.3f, 0.6f, -0.2f), glm::vec3(-0.5f, 0.4f, 0.7f)}) {
-    ASSERT_TRUE(runtime.setObjectTransform(panel, fromGlmMat(glm::translate(glm::mat4(1), at))).ok());
+    ASSERT_TRUE(
+        runtime.setObjectTransform(panel, fromGlmMat(glm::translate(glm::mat4(1), at))).ok());
     ASSERT_TRUE(settle(runtime));
     const std::vector<Rgb>& deltas = runtime.patchDeltas();
     double worst = 0, peak = 0;
@@ -181,7 +196,8 @@ TEST(RuntimeDynamic, EmissivePanelLightsTheFloorByTheAnalyticAmount) {
             const float s = (u + 0.33f) / 5.0f, r = (v + 0.33f) / 5.0f;
             const glm::vec3 q = a + s * (bb - a) + r * (c - a);
             sum += tri_area / 15 * 3.14159265358979 * luminance_cd *
-                   rectangleFormFactor(q.x, q.z, at.x - half, at.x + half, at.z - half, at.z + half, at.y);
+                   rectangleFormFactor(q.x, q.z, at.x - half, at.x + half, at.z - half, at.z + half,
+                                       at.y);
           }
         }
         area += tri_area;
@@ -194,7 +210,8 @@ TEST(RuntimeDynamic, EmissivePanelLightsTheFloorByTheAnalyticAmount) {
       if (expected < 0.1 * peak) continue;
       worst = std::max(worst, std::abs(got - expected) / expected);
     }
-    std::printf("panel at (%.1f, %.1f, %.1f): peak %.1f lux, worst patch error %.2f%%\n", at.x, at.y, at.z, peak, 100 * worst);
+    std::printf("panel at (%.1f, %.1f, %.1f): peak %.1f lux, worst patch error %.2f%%\n", at.x,
+                at.y, at.z, peak, 100 * worst);
     EXPECT_LT(worst, 0.03);
   }
 }

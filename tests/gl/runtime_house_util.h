@@ -15,7 +15,8 @@
 namespace svit::test {
 
 inline const test::BakedLevel& house() {
-  return bakedLevel("house", std::string(SVIT_SOURCE_DIR) + "/samples/levels/house/level.json", 0.2);
+  return bakedLevel("house", std::string(SVIT_SOURCE_DIR) + "/samples/levels/house/level.json",
+                    0.2);
 }
 
 inline int nodeIndex(const Scene& scene, const std::string& name) {
@@ -38,8 +39,10 @@ inline RuntimeSettings cachingSettings() {
   return settings;
 }
 
-inline std::unique_ptr<Runtime> makeRuntime(const test::BakedLevel& level, const RuntimeSettings& settings) {
-  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(level.scene, level.bake, level.dir, settings);
+inline std::unique_ptr<Runtime> makeRuntime(const test::BakedLevel& level,
+                                            const RuntimeSettings& settings) {
+  Expected<std::unique_ptr<Runtime>> runtime =
+      Runtime::create(level.scene, level.bake, level.dir, settings);
   EXPECT_TRUE(runtime.ok()) << runtime.status().message();
   return runtime.ok() ? std::move(runtime).value() : nullptr;
 }

@@ -33,7 +33,8 @@ using test::translated;
 
 int lightIndex(const Scene& scene, const std::string& name) {
   for (size_t i = 0; i < scene.lights.size(); ++i) {
-    if (scene.lights[i].name == name || scene.nodes[size_t(scene.lights[i].node)].name == name) return int(i);
+    if (scene.lights[i].name == name || scene.nodes[size_t(scene.lights[i].node)].name == name)
+      return int(i);
   }
   ADD_FAILURE() << "no light " << name;
   return -1;
@@ -41,7 +42,8 @@ int lightIndex(const Scene& scene, const std::string& name) {
 
 uint32_t bakeEmitterOfLight(const BakeData& bake, int light) {
   for (uint32_t i = 0; i < bake.emitters.size(); ++i) {
-    if (bake.emitters[i].kind == BakeEmitter::Kind::kLight && int(bake.emitters[i].index) == light) return i;
+    if (bake.emitters[i].kind == BakeEmitter::Kind::kLight && int(bake.emitters[i].index) == light)
+      return i;
   }
   ADD_FAILURE() << "no bake emitter for light " << light;
   return kInvalidId;
@@ -53,7 +55,9 @@ struct Lamps {
   uint32_t state(const Runtime& runtime, const std::string& lamp) const {
     const std::vector<EmitterState> states = runtime.emitterStates();
     for (uint32_t i = 0; i < states.size(); ++i) {
-      if (states[i].type == EmitterType::kBakedLight && states[i].bake_emitter == bake_emitter.at(lamp)) return i;
+      if (states[i].type == EmitterType::kBakedLight &&
+          states[i].bake_emitter == bake_emitter.at(lamp))
+        return i;
     }
     ADD_FAILURE() << "no emitter state for " << lamp;
     return 0;
@@ -101,7 +105,8 @@ Mat4 withYRotation(const Mat4& placed, float angle_rad) {
 /// whose light reaches a table goes out of date.
 void nudgeTables(Runtime& runtime, const std::map<ObjectId, Mat4>& start, int frame) {
   for (const auto& [id, placed] : start) {
-    ASSERT_TRUE(runtime.setObjectTransform(id, translated(placed, 0.05f * float(frame % 4), 0.0f)).ok());
+    ASSERT_TRUE(
+        runtime.setObjectTransform(id, translated(placed, 0.05f * float(frame % 4), 0.0f)).ok());
   }
 }
 
@@ -161,7 +166,8 @@ TEST(RuntimeImportance, SetViewRejectsBadViews) {
   EXPECT_TRUE(runtime->setView(viewInRoom00()).ok());
   RuntimeSettings bad = cachingSettings();
   bad.max_refresh_interval = 0;
-  Expected<std::unique_ptr<Runtime>> rejected = Runtime::create(house().scene, house().bake, house().dir, bad);
+  Expected<std::unique_ptr<Runtime>> rejected =
+      Runtime::create(house().scene, house().bake, house().dir, bad);
   ASSERT_FALSE(rejected.ok());
   EXPECT_NE(rejected.status().message().find("max_refresh_interval"), std::string::npos);
 }
@@ -174,9 +180,12 @@ TEST(RuntimeImportance, TheViewedRoomsLampsMatterMostAndRefreshEveryFrame) {
   std::unique_ptr<Runtime> runtime;
   const RefreshLog log = slideTablesAndLog(level, runtime);
   ASSERT_TRUE(runtime);
-  const double near_a = lamps.importance(*runtime, "lamp_0_0_a"), near_b = lamps.importance(*runtime, "lamp_0_0_b");
-  const double far_a = lamps.importance(*runtime, "lamp_1_1_a"), far_b = lamps.importance(*runtime, "lamp_1_1_b");
-  std::printf("importance: room 0_0 lamps %.4g %.4g, room 1_1 lamps %.4g %.4g\n", near_a, near_b, far_a, far_b);
+  const double near_a = lamps.importance(*runtime, "lamp_0_0_a"),
+               near_b = lamps.importance(*runtime, "lamp_0_0_b");
+  const double far_a = lamps.importance(*runtime, "lamp_1_1_a"),
+               far_b = lamps.importance(*runtime, "lamp_1_1_b");
+  std::printf("importance: room 0_0 lamps %.4g %.4g, room 1_1 lamps %.4g %.4g\n", near_a, near_b,
+              far_a, far_b);
   EXPECT_GT(std::min(near_a, near_b), 4.0 * std::max(far_a, far_b));
   std::map<uint32_t, std::set<int>> frames_of;
   std::map<uint32_t, std::set<RefreshReason>> reasons_of;
@@ -233,8 +242,10 @@ TEST(RuntimeImportance, OpeningADoorPromotesTheNextRoomsLamps) {
   const std::map<ObjectId, Mat4> start = tables(*runtime, level.scene);
   nudgeTables(*runtime, start, 1);
   runtime->update(0);
-  const double closed_a = lamps.importance(*runtime, "lamp_0_1_a"), closed_b = lamps.importance(*runtime, "lamp_0_1_b");
-  const uint32_t next_a = lamps.state(*runtime, "lamp_0_1_a"), next_b = lamps.state(*runtime, "lamp_0_1_b");
+  const double closed_a = lamps.importance(*runtime, "lamp_0_1_a"),
+               closed_b = lamps.importance(*runtime, "lamp_0_1_b");
+  const uint32_t next_a = lamps.state(*runtime, "lamp_0_1_a"),
+                 next_b = lamps.state(*runtime, "lamp_0_1_b");
   ASSERT_TRUE(runtime->setObjectTransform(door, open).ok());
   std::set<uint32_t> refreshed;
   int frames = 0;
@@ -243,11 +254,16 @@ TEST(RuntimeImportance, OpeningADoorPromotesTheNextRoomsLamps) {
     ASSERT_TRUE(stats.error.empty()) << stats.error;
     for (const EmitterRefresh& r : stats.refreshes) refreshed.insert(r.emitter);
   }
-  const double open_a = lamps.importance(*runtime, "lamp_0_1_a"), open_b = lamps.importance(*runtime, "lamp_0_1_b");
-  std::printf("room 0_1 lamps: importance with the door closed %.4g %.4g, opening %.4g %.4g; refreshed within %d frames\n",
-              closed_a, closed_b, open_a, open_b, frames);
-  EXPECT_TRUE(refreshed.count(next_a)) << "lamp_0_1_a not refreshed within 3 frames of the door opening";
-  EXPECT_TRUE(refreshed.count(next_b)) << "lamp_0_1_b not refreshed within 3 frames of the door opening";
+  const double open_a = lamps.importance(*runtime, "lamp_0_1_a"),
+               open_b = lamps.importance(*runtime, "lamp_0_1_b");
+  std::printf(
+      "room 0_1 lamps: importance with the door closed %.4g %.4g, opening %.4g %.4g; refreshed "
+      "within %d frames\n",
+      closed_a, closed_b, open_a, open_b, frames);
+  EXPECT_TRUE(refreshed.count(next_a))
+      << "lamp_0_1_a not refreshed within 3 frames of the door opening";
+  EXPECT_TRUE(refreshed.count(next_b))
+      << "lamp_0_1_b not refreshed within 3 frames of the door opening";
   EXPECT_GT(open_a + open_b, 2.0 * (closed_a + closed_b));
 }
 
@@ -256,7 +272,8 @@ DynamicMesh shadeAround(const Vec3& lamp, float half_width, float below, float a
   DynamicMesh mesh;
   mesh.name = "shade";
   mesh.double_sided = true;
-  const float x0 = lamp.x - half_width, x1 = lamp.x + half_width, z0 = lamp.z - half_width, z1 = lamp.z + half_width;
+  const float x0 = lamp.x - half_width, x1 = lamp.x + half_width, z0 = lamp.z - half_width,
+              z1 = lamp.z + half_width;
   const float y0 = lamp.y - below, y1 = lamp.y + above;
   auto quad = [&](Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
     const uint32_t base = uint32_t(mesh.positions.size());
@@ -287,9 +304,12 @@ TEST(RuntimeImportance, AShadedLampStillCountsAndSwitchingItOffShowsNextFrame) {
   const std::map<ObjectId, Mat4> start = tables(*runtime, level.scene);
   nudgeTables(*runtime, start, 1);
   runtime->update(0);
-  const double shaded = lamps.importance(*runtime, "lamp_0_0_a"), open = lamps.importance(*runtime, "lamp_0_0_b");
-  const double far = std::max(lamps.importance(*runtime, "lamp_1_1_a"), lamps.importance(*runtime, "lamp_1_1_b"));
-  std::printf("importance: shaded lamp %.4g, unshaded lamp %.4g, far lamps <= %.4g\n", shaded, open, far);
+  const double shaded = lamps.importance(*runtime, "lamp_0_0_a"),
+               open = lamps.importance(*runtime, "lamp_0_0_b");
+  const double far =
+      std::max(lamps.importance(*runtime, "lamp_1_1_a"), lamps.importance(*runtime, "lamp_1_1_b"));
+  std::printf("importance: shaded lamp %.4g, unshaded lamp %.4g, far lamps <= %.4g\n", shaded, open,
+              far);
   EXPECT_GT(shaded, 0.1 * open);
   EXPECT_GT(shaded, 4.0 * far);
   settle(*runtime);
@@ -302,8 +322,10 @@ TEST(RuntimeImportance, AShadedLampStillCountsAndSwitchingItOffShowsNextFrame) {
   settle(*runtime);
   const float settled = runtime->irradianceAt(floor_under, up).g;
   // The lamp alone puts I / h^2 = 120 / 2.7^2 = 16.5 lux on the floor under it.
-  std::printf("floor under the shaded lamp: %.3f lux lit, %.3f the frame after switching off, %.3f settled\n", lit,
-              next_frame, settled);
+  std::printf(
+      "floor under the shaded lamp: %.3f lux lit, %.3f the frame after switching off, %.3f "
+      "settled\n",
+      lit, next_frame, settled);
   EXPECT_LT(next_frame, lit - 0.8f * 16.5f);
   EXPECT_NEAR(next_frame, settled, 0.02f * lit);
 }
@@ -332,7 +354,8 @@ TEST(RuntimeImportance, AnObjectEnteringAnEmittersReachInvalidatesOnlyThatEmitte
     return runtime->emitterStates()[state].out_of_date;
   };
   const FrameStats stats = runtime->update(0);
-  for (const char* lamp : {"lamp_1_1_a", "lamp_1_1_b"}) EXPECT_TRUE(invalidated(stats, lamp)) << lamp << " should see the crate";
+  for (const char* lamp : {"lamp_1_1_a", "lamp_1_1_b"})
+    EXPECT_TRUE(invalidated(stats, lamp)) << lamp << " should see the crate";
   for (const char* lamp : {"lamp_0_0_a", "lamp_0_0_b"}) {
     EXPECT_FALSE(invalidated(stats, lamp)) << lamp << " cannot reach room (1, 1)'s far corner";
   }

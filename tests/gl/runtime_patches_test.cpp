@@ -18,7 +18,8 @@ TEST(RuntimePatches, SubTrianglesAreFoundFromBarycentrics) {
   Expected<std::vector<LightmapImage>> pages = readLightmapPages(level.bake, level.dir);
   ASSERT_TRUE(pages.ok());
   const double max_area = 0.01;
-  Expected<gl::RuntimePatches> built = gl::buildRuntimePatches(level.scene, level.bake, *surfaces, *pages, max_area, 0.1);
+  Expected<gl::RuntimePatches> built =
+      gl::buildRuntimePatches(level.scene, level.bake, *surfaces, *pages, max_area, 0.1);
   ASSERT_TRUE(built.ok()) << built.status().message();
   const gl::RuntimePatches& p = *built;
   for (const gl::Receiver& r : p.receivers) EXPECT_LE(r.area_m2, max_area * 1.001);
@@ -38,14 +39,19 @@ TEST(RuntimePatches, SubTrianglesAreFoundFromBarycentrics) {
         q = {q.x + v.x / 3, q.y + v.y / 3, q.z + v.z / 3};
       }
       // Solve q = a + w1 (b - a) + w2 (c - a) by least squares.
-      const double e1[3] = {b.x - a.x, b.y - a.y, b.z - a.z}, e2[3] = {c.x - a.x, c.y - a.y, c.z - a.z};
+      const double e1[3] = {b.x - a.x, b.y - a.y, b.z - a.z},
+                   e2[3] = {c.x - a.x, c.y - a.y, c.z - a.z};
       const double d[3] = {q.x - a.x, q.y - a.y, q.z - a.z};
-      auto dot = [](const double* u, const double* v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; };
-      const double a11 = dot(e1, e1), a12 = dot(e1, e2), a22 = dot(e2, e2), b1 = dot(e1, d), b2 = dot(e2, d);
+      auto dot = [](const double* u, const double* v) {
+        return u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+      };
+      const double a11 = dot(e1, e1), a12 = dot(e1, e2), a22 = dot(e2, e2), b1 = dot(e1, d),
+                   b2 = dot(e2, d);
       const double det = a11 * a22 - a12 * a12;
       const float w1 = float((a22 * b1 - a12 * b2) / det), w2 = float((a11 * b2 - a12 * b1) / det);
       float s1 = 0, s2 = 0;
-      ASSERT_EQ(p.subTriangle(element, w1, w2, s1, s2), sub) << "element " << element << " slot " << slot;
+      ASSERT_EQ(p.subTriangle(element, w1, w2, s1, s2), sub)
+          << "element " << element << " slot " << slot;
       EXPECT_NEAR(s1, 1.0f / 3, 1e-3);
       EXPECT_NEAR(s2, 1.0f / 3, 1e-3);
       ++checked;

@@ -25,7 +25,8 @@ namespace fs = std::filesystem;
 // The Cornell box, tall box dynamic, with a static sphere of 64 x 32
 // segments (about 4,000 triangles) on the floor in front of the short box.
 std::string cornellWithSphere() {
-  const fs::path path = fs::temp_directory_path() / "svit_runtime_proxies_test" / "cornell_sphere.json";
+  const fs::path path =
+      fs::temp_directory_path() / "svit_runtime_proxies_test" / "cornell_sphere.json";
   fs::create_directories(path.parent_path());
   std::ofstream(path) << R"({"gltf": ")" << test::cornellGltf() << R"(", "dynamic": ["tallBox"],
   "objects": [{"name": "sphere", "shape": "sphere", "radius_m": 0.2, "segments": 64, "albedo": 0.6,
@@ -41,7 +42,8 @@ struct Settled {
 Settled moveTallBoxAndSettle(const test::BakedLevel& level, bool proxies) {
   RuntimeSettings settings;
   settings.use_proxies = proxies;
-  Expected<std::unique_ptr<Runtime>> created = Runtime::create(level.scene, level.bake, level.dir, settings);
+  Expected<std::unique_ptr<Runtime>> created =
+      Runtime::create(level.scene, level.bake, level.dir, settings);
   EXPECT_TRUE(created.ok()) << created.status().message();
   if (!created.ok()) return {};
   Runtime& runtime = **created;
@@ -76,11 +78,13 @@ TEST(RuntimeProxies, AFlatLevelDrawsItsOwnTriangles) {
   test::GlTestContext gl;
   SVIT_REQUIRE_GL(gl);
   const test::BakedLevel& level = test::bakedLevel("cornell", test::cornellLevel());
-  const Settled proxies = moveTallBoxAndSettle(level, true), full = moveTallBoxAndSettle(level, false);
+  const Settled proxies = moveTallBoxAndSettle(level, true),
+                full = moveTallBoxAndSettle(level, false);
   ASSERT_EQ(proxies.deltas.size(), full.deltas.size());
   const double diff = relativeL1(proxies.deltas, full.deltas, full.deltas.size());
   std::printf("flat: %llu triangles drawn with proxies, %llu without; deltas differ by %.2g (L1)\n",
-              (unsigned long long)proxies.triangles_drawn, (unsigned long long)full.triangles_drawn, diff);
+              (unsigned long long)proxies.triangles_drawn, (unsigned long long)full.triangles_drawn,
+              diff);
   EXPECT_LE(diff, 1e-3);
 }
 
@@ -88,11 +92,13 @@ TEST(RuntimeProxies, ADetailedMeshIsDrawnFromItsProxy) {
   test::GlTestContext gl;
   SVIT_REQUIRE_GL(gl);
   const test::BakedLevel& level = test::bakedLevel("cornell_sphere", cornellWithSphere());
-  const Settled proxies = moveTallBoxAndSettle(level, true), full = moveTallBoxAndSettle(level, false);
+  const Settled proxies = moveTallBoxAndSettle(level, true),
+                full = moveTallBoxAndSettle(level, false);
   ASSERT_EQ(proxies.deltas.size(), full.deltas.size());
   const double diff = relativeL1(proxies.deltas, full.deltas, full.deltas.size());
-  std::printf("sphere: %llu triangles drawn with proxies, %llu without; deltas differ by %.2g (L1)\n",
-              (unsigned long long)proxies.triangles_drawn, (unsigned long long)full.triangles_drawn, diff);
+  std::printf(
+      "sphere: %llu triangles drawn with proxies, %llu without; deltas differ by %.2g (L1)\n",
+      (unsigned long long)proxies.triangles_drawn, (unsigned long long)full.triangles_drawn, diff);
   // Measured: 12 % fewer triangles (the walls, most of them, keep theirs), 0.45 % L1 apart.
   EXPECT_LT(double(proxies.triangles_drawn), 0.9 * double(full.triangles_drawn));
   EXPECT_LE(diff, 0.02);

@@ -51,7 +51,8 @@ TEST(ResourceAudit, GlStorageIsMeasuredFromGl) {
   EXPECT_EQ(gl::glObjectBytes(gl::glTextureObject(array)), 64u * 64u * 6u * 8u);
   EXPECT_EQ(gl::glObjectBytes(gl::glTextureObject(cube)), 6u * 16u * 16u * 4u);
   EXPECT_EQ(gl::glObjectBytes(gl::glRenderbufferObject(renderbuffer)), 30u * 20u * 4u);
-  const std::vector<gl::GlObject> set = {gl::glBufferObject(buffer), gl::glTextureObject(0), gl::glTextureObject(array)};
+  const std::vector<gl::GlObject> set = {gl::glBufferObject(buffer), gl::glTextureObject(0),
+                                         gl::glTextureObject(array)};
   const gl::GlFootprint footprint = gl::glFootprint(set);
   EXPECT_EQ(footprint.objects, 2u);
   EXPECT_EQ(footprint.bytes, 1234u + 64u * 64u * 6u * 8u);
@@ -71,7 +72,8 @@ TEST(ResourceAudit, StaticLevelHoldsOnlyItsLightmaps) {
   for (int frame = 0; frame < 3; ++frame) runtime.update(16);
 
   uint64_t page_bytes = 0;
-  for (const BakeLightmapPage& page : level.bake.pages) page_bytes += uint64_t(page.width) * page.height * 12u;
+  for (const BakeLightmapPage& page : level.bake.pages)
+    page_bytes += uint64_t(page.width) * page.height * 12u;
   std::vector<ResourceUse> uses = runtime.resources();
   for (const ResourceUse& use : uses) {
     EXPECT_FALSE(use.reason.empty()) << use.name;
@@ -83,7 +85,9 @@ TEST(ResourceAudit, StaticLevelHoldsOnlyItsLightmaps) {
       EXPECT_EQ(use.gpu_bytes + use.cpu_bytes, 0u) << use.name;
     }
   }
-  EXPECT_NE(find(uses, "index maps, geometry and reduction buffers").reason.find("no dynamic objects"), std::string::npos);
+  EXPECT_NE(
+      find(uses, "index maps, geometry and reduction buffers").reason.find("no dynamic objects"),
+      std::string::npos);
 
   // The host asks for the textures: exactly one GL copy of the pages.
   runtime.shadingResources();
@@ -108,7 +112,8 @@ TEST(ResourceAudit, StaticLevelHoldsOnlyItsLightmaps) {
   EXPECT_FALSE(find(drawn, "light shadow maps").allocated);
   EXPECT_FALSE(find(drawn, "dynamic object vertex buffer").allocated);
   // RGBA8 colour, RGBA32F radiance, 32-bit depth.
-  EXPECT_EQ(find(drawn, "offscreen target (colour + radiance + depth)").gpu_bytes, 64u * 48u * (4u + 16u + 4u));
+  EXPECT_EQ(find(drawn, "offscreen target (colour + radiance + depth)").gpu_bytes,
+            64u * 48u * (4u + 16u + 4u));
 }
 
 TEST(ResourceAudit, DynamicLevelAccountsForWhatItMade) {
@@ -117,7 +122,8 @@ TEST(ResourceAudit, DynamicLevelAccountsForWhatItMade) {
   const test::BakedLevel& level = bakedLevel("cornell", test::cornellLevel());
   RuntimeSettings settings;
   settings.map_resolution = 128;
-  Expected<std::unique_ptr<Runtime>> created = Runtime::create(level.scene, level.bake, level.dir, settings);
+  Expected<std::unique_ptr<Runtime>> created =
+      Runtime::create(level.scene, level.bake, level.dir, settings);
   ASSERT_TRUE(created.ok()) << created.status().message();
   Runtime& runtime = **created;
 
@@ -157,7 +163,8 @@ TEST(ResourceAudit, DynamicLevelAccountsForWhatItMade) {
   const std::vector<ResourceUse> viewed = runtime.resources();
   const ResourceUse& pass = find(viewed, "camera id pass (importance)");
   EXPECT_TRUE(pass.allocated);
-  EXPECT_EQ(pass.gpu_bytes, uint64_t(settings.view_pass_width) * uint64_t(settings.view_pass_width / 2) * 12u);
+  EXPECT_EQ(pass.gpu_bytes,
+            uint64_t(settings.view_pass_width) * uint64_t(settings.view_pass_width / 2) * 12u);
 
   // A renderer over the runtime borrows the runtime's lightmaps and draws
   // the box with the probe grid.

@@ -26,7 +26,8 @@ DynamicMesh cube(const std::string& name, float half) {
   DynamicMesh mesh;
   mesh.name = name;
   for (int i = 0; i < 8; ++i) {
-    mesh.positions.push_back({(i & 1) ? half : -half, (i & 2) ? half : -half, (i & 4) ? half : -half});
+    mesh.positions.push_back(
+        {(i & 1) ? half : -half, (i & 2) ? half : -half, (i & 4) ? half : -half});
   }
   // Outward, counter-clockwise faces.
   mesh.indices = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
@@ -93,7 +94,8 @@ class RuntimeRobustness : public ::testing::Test {
     const test::BakedLevel& level = test::bakedLevel("cornell", test::cornellLevel());
     RuntimeSettings settings;
     settings.map_resolution = 64;  // llvmpipe: keep 256 objects quick
-    Expected<std::unique_ptr<Runtime>> created = Runtime::create(level.scene, level.bake, level.dir, settings);
+    Expected<std::unique_ptr<Runtime>> created =
+        Runtime::create(level.scene, level.bake, level.dir, settings);
     EXPECT_TRUE(created.ok()) << created.status().message();
     return created.ok() ? std::move(created).value() : nullptr;
   }
@@ -113,8 +115,8 @@ TEST_F(RuntimeRobustness, ObjectFarFromTheOrigin) {
   // lost in all, 0.16 % of the tall box's own 8 lm shadow. Bound: 0.03 lm.
   settledDeltas(*runtime_);
   const DeltaFlux flux = staticDeltaFlux(*runtime_, before);
-  std::printf("[measured] far object: %u patches changed, gained %.4g lm, lost %.4g lm\n", flux.changed_patches,
-              flux.gained_lm, flux.lost_lm);
+  std::printf("[measured] far object: %u patches changed, gained %.4g lm, lost %.4g lm\n",
+              flux.changed_patches, flux.gained_lm, flux.lost_lm);
   EXPECT_LT(flux.gained_lm + flux.lost_lm, 0.03);
 }
 
@@ -126,8 +128,8 @@ TEST_F(RuntimeRobustness, ObjectThroughAWall) {
   expectFinite(*runtime_);
   settledDeltas(*runtime_);
   const DeltaFlux flux = staticDeltaFlux(*runtime_, before);
-  std::printf("[measured] through a wall: %u patches changed, gained %.4g lm, lost %.4g lm\n", flux.changed_patches,
-              flux.gained_lm, flux.lost_lm);
+  std::printf("[measured] through a wall: %u patches changed, gained %.4g lm, lost %.4g lm\n",
+              flux.changed_patches, flux.gained_lm, flux.lost_lm);
   // The cube (albedo 0.6, 40 % absorbed) casts a shadow and reflects only
   // part of what it intercepts: the static surfaces lose more than they gain
   // (measured: 0.51 lm lost, 0.008 lm gained).
@@ -139,21 +141,23 @@ TEST_F(RuntimeRobustness, ManyObjectsAndTeleports) {
   const std::vector<Rgb> before = settledDeltas(*runtime_);
   std::vector<ObjectId> ids;
   for (int i = 0; i < 256; ++i) {
-    Expected<ObjectId> id = runtime_->addObject(cube("crate " + std::to_string(i), 0.02f),
-                                                at(-0.8f + 0.1f * float(i % 16), 0.05f + 0.1f * float(i / 16), 0.5f));
+    Expected<ObjectId> id =
+        runtime_->addObject(cube("crate " + std::to_string(i), 0.02f),
+                            at(-0.8f + 0.1f * float(i % 16), 0.05f + 0.1f * float(i / 16), 0.5f));
     ASSERT_TRUE(id.ok());
     ids.push_back(*id);
   }
   FrameStats stats = runtime_->update(50);  // a budget: not everything settles in one frame
   EXPECT_TRUE(stats.error.empty()) << stats.error;
-  for (size_t i = 0; i < ids.size(); i += 7) ASSERT_TRUE(runtime_->setObjectTransform(ids[i], at(0.5f, 1.5f, -0.5f)).ok());
+  for (size_t i = 0; i < ids.size(); i += 7)
+    ASSERT_TRUE(runtime_->setObjectTransform(ids[i], at(0.5f, 1.5f, -0.5f)).ok());
   stats = runtime_->update(50);
   EXPECT_TRUE(stats.error.empty()) << stats.error;
   expectFinite(*runtime_);
   settledDeltas(*runtime_);
   const DeltaFlux flux = staticDeltaFlux(*runtime_, before);
-  std::printf("[measured] 256 crates: %u patches changed, gained %.4g lm, lost %.4g lm\n", flux.changed_patches,
-              flux.gained_lm, flux.lost_lm);
+  std::printf("[measured] 256 crates: %u patches changed, gained %.4g lm, lost %.4g lm\n",
+              flux.changed_patches, flux.gained_lm, flux.lost_lm);
   // A curtain of small crates (albedo 0.6) shadows the floor and throws
   // some light back on the walls: measured 0.47 lm gained and 0.29 lm lost
   // of the ceiling lamp's 7 lm. Bound: 1 lm in all, and some shadow.
@@ -183,8 +187,9 @@ TEST_F(RuntimeRobustness, LightInsideAnObject) {
   settledDeltas(*runtime_);
   const DeltaFlux flux = staticDeltaFlux(*runtime_, shaded);
   const double lamp_lm = 4.0 * kPi * double(lamp.intensity);
-  std::printf("[measured] lamp in a shade: gained %.4g lm, lost %.4g lm of %.4g lm (%.3f %%)\n", flux.gained_lm,
-              flux.lost_lm, lamp_lm, 100.0 * (flux.gained_lm + flux.lost_lm) / lamp_lm);
+  std::printf("[measured] lamp in a shade: gained %.4g lm, lost %.4g lm of %.4g lm (%.3f %%)\n",
+              flux.gained_lm, flux.lost_lm, lamp_lm,
+              100.0 * (flux.gained_lm + flux.lost_lm) / lamp_lm);
   // The same lamp without the shade, for scale.
   std::unique_ptr<Runtime> unshaded = create();
   ASSERT_TRUE(unshaded);
@@ -192,8 +197,8 @@ TEST_F(RuntimeRobustness, LightInsideAnObject) {
   ASSERT_TRUE(unshaded->addLight(lamp).ok());
   settledDeltas(*unshaded);
   const DeltaFlux open = staticDeltaFlux(*unshaded, unlit);
-  std::printf("[measured] the lamp without its shade: gained %.4g lm, lost %.4g lm (%.3f %%)\n", open.gained_lm,
-              open.lost_lm, 100.0 * (open.gained_lm + open.lost_lm) / lamp_lm);
+  std::printf("[measured] the lamp without its shade: gained %.4g lm, lost %.4g lm (%.3f %%)\n",
+              open.gained_lm, open.lost_lm, 100.0 * (open.gained_lm + open.lost_lm) / lamp_lm);
   EXPECT_LT(flux.gained_lm + flux.lost_lm, 0.09 * lamp_lm);
   EXPECT_LT(flux.gained_lm + flux.lost_lm, 0.15 * (open.gained_lm + open.lost_lm));
 }

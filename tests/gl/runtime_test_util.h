@@ -16,13 +16,13 @@
 
 /// Setup that cannot go on (a bake failed): says why and aborts (usable
 /// from tests and benchmarks alike).
-#define SVIT_SETUP_CHECK(cond, message)                                                          \
-  do {                                                                                           \
-    if (!(cond)) {                                                                               \
-      std::fprintf(stderr, "%s:%d: %s failed: %s\n", __FILE__, __LINE__, #cond,                  \
-                   std::string(message).c_str());                                                \
-      std::abort();                                                                              \
-    }                                                                                            \
+#define SVIT_SETUP_CHECK(cond, message)                                         \
+  do {                                                                          \
+    if (!(cond)) {                                                              \
+      std::fprintf(stderr, "%s:%d: %s failed: %s\n", __FILE__, __LINE__, #cond, \
+                   std::string(message).c_str());                               \
+      std::abort();                                                             \
+    }                                                                           \
   } while (0)
 
 namespace svit::test {
@@ -35,12 +35,13 @@ struct BakedLevel {
 
 /// Bakes `level_path` (once per process, keyed by `key`) and loads it back.
 /// No time budget: a quality-bound bake is deterministic for its seed.
-inline const BakedLevel& bakedLevel(const std::string& key, const std::string& level_path, double quality = 0.3) {
+inline const BakedLevel& bakedLevel(const std::string& key, const std::string& level_path,
+                                    double quality = 0.3) {
   static std::map<std::string, BakedLevel> cache;
   auto it = cache.find(key);
   if (it != cache.end()) return it->second;
-  const std::string dir = (std::filesystem::temp_directory_path() / ("svit_runtime_test_" + key + "_" +
-                                                                      std::to_string(::getpid())))
+  const std::string dir = (std::filesystem::temp_directory_path() /
+                           ("svit_runtime_test_" + key + "_" + std::to_string(::getpid())))
                               .string();
   baker::BakeOptions options;
   options.level_path = level_path;
@@ -60,7 +61,9 @@ inline const BakedLevel& bakedLevel(const std::string& key, const std::string& l
   return cache.emplace(key, std::move(level)).first->second;
 }
 
-inline std::string cornellLevel() { return std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/level.json"; }
+inline std::string cornellLevel() {
+  return std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/level.json";
+}
 inline std::string cornellGltf() { return SVIT_CORNELL_GLTF; }
 
 }  // namespace svit::test

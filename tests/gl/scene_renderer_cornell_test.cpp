@@ -29,8 +29,8 @@ TEST(SceneRendererCornell, BakedOnlyLooksLikeTheCornellBox) {
     ms.push_back(stats->shading_ms);
   }
   std::sort(ms.begin(), ms.end());
-  std::printf("Cornell kBakedOnly %dx%d: %.2f ms per frame (median of 5, llvmpipe)\n", settings.width,
-              settings.height, ms[2]);
+  std::printf("Cornell kBakedOnly %dx%d: %.2f ms per frame (median of 5, llvmpipe)\n",
+              settings.width, settings.height, ms[2]);
   const std::string png = pngPath("svit_scene_renderer_cornell_baked.png");
   ASSERT_TRUE((*renderer)->writePng(png).ok());
   std::printf("frame: %s\n", png.c_str());
@@ -56,14 +56,16 @@ TEST(SceneRendererCornell, BakedOnlyLooksLikeTheCornellBox) {
     const glm::ivec2 p = project(camera, w, h, nodeCentre(level.scene, node) + nudge);
     return boxMean(rgb, w, h, p.x, p.y);
   };
-  const Pixel left = at("leftWall"), right = at("rightwall"), back = at("backwall"), floor = at("floor");
+  const Pixel left = at("leftWall"), right = at("rightwall"), back = at("backwall"),
+              floor = at("floor");
   const Pixel lamp = at("light");
   EXPECT_GT(left.r, 1.5 * left.g) << "left wall not red";
   EXPECT_GT(left.r, 1.5 * left.b) << "left wall not red";
   EXPECT_GT(right.g, 1.3 * right.r) << "right wall not green";
   EXPECT_GT(right.g, 1.3 * right.b) << "right wall not green";
   EXPECT_NEAR(back.r, back.g, 0.25 * back.g) << "back wall not grey-white";
-  for (const Pixel& other : {left, right, back, floor}) EXPECT_GT(lamp.luminance(), other.luminance());
+  for (const Pixel& other : {left, right, back, floor})
+    EXPECT_GT(lamp.luminance(), other.luminance());
   EXPECT_GT(lamp.luminance(), 200.0);
 }
 
@@ -79,7 +81,8 @@ TEST(SceneRendererCornell, PatchDeltaViewWithoutRuntimeShowsNoDelta) {
   const std::vector<uint8_t> rgb = (*renderer)->readPixels();
   // Zero delta = the dimmed grey of the frame: no pixel takes a hue.
   for (size_t i = 0; i < rgb.size(); i += 3) {
-    ASSERT_LE(std::max({rgb[i], rgb[i + 1], rgb[i + 2]}) - std::min({rgb[i], rgb[i + 1], rgb[i + 2]}), 1)
+    ASSERT_LE(
+        std::max({rgb[i], rgb[i + 1], rgb[i + 2]}) - std::min({rgb[i], rgb[i + 1], rgb[i + 2]}), 1)
         << "pixel " << i / 3;
   }
 }

@@ -24,10 +24,12 @@ namespace {
 
 using namespace svit::render_test;  // NOLINT: test helpers
 
-test::LinearFrame settledRuntimePicture(const BakedLevel& level, bool delta_textures, ShadingView view) {
+test::LinearFrame settledRuntimePicture(const BakedLevel& level, bool delta_textures,
+                                        ShadingView view) {
   RuntimeSettings settings;
   settings.delta_textures = delta_textures;
-  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(level.scene, level.bake, level.dir, settings);
+  Expected<std::unique_ptr<Runtime>> runtime =
+      Runtime::create(level.scene, level.bake, level.dir, settings);
   EXPECT_TRUE(runtime.ok()) << runtime.status().message();
   if (!runtime.ok()) return {};
   // The tall box where the level's path takes it at 3 s (25 cm, 30 degrees):
@@ -57,8 +59,9 @@ TEST(SceneRendererDeltaPaths, PerPixelLookupAndLightmapSpacePagesDrawTheSamePict
   const test::LinearFrame baked = settledRuntimePicture(level, false, ShadingView::kBakedOnly);
   const test::PictureError paths = test::comparePictures(per_pixel, pages);
   const test::PictureError delta = test::comparePictures(per_pixel, baked);
-  std::printf("per-pixel against lightmap-space pages: %.4f of the mean; the deltas themselves: %.4f\n",
-              paths.static_rel_rms, delta.static_rel_rms);
+  std::printf(
+      "per-pixel against lightmap-space pages: %.4f of the mean; the deltas themselves: %.4f\n",
+      paths.static_rel_rms, delta.static_rel_rms);
   EXPECT_TRUE(test::writeComparisonPng(pngPath("svit_delta_paths.png"), per_pixel, pages, 1).ok());
   ASSERT_GT(paths.static_pixels, 10000u);
   // The deltas are large (a moved box's shadow and light), and the two

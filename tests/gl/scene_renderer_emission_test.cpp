@@ -41,7 +41,8 @@ LampFrame renderLamp(SceneRenderer& renderer, const BakedLevel& level, ShadingVi
   const glm::ivec2 lamp = project(camera, w, h, nodeCentre(level.scene, "light"));
   const glm::ivec2 back = project(camera, w, h, nodeCentre(level.scene, "backwall"));
   // The lamp is 0.47 m wide: 0.45 m to its side is bare ceiling.
-  const glm::ivec2 ceiling = project(camera, w, h, nodeCentre(level.scene, "light") + glm::vec3(0.45f, 0, 0));
+  const glm::ivec2 ceiling =
+      project(camera, w, h, nodeCentre(level.scene, "light") + glm::vec3(0.45f, 0, 0));
   frame.lamp = boxMean(frame.rgb, w, h, lamp.x, lamp.y, 2);
   frame.ceiling = boxMean(frame.rgb, w, h, ceiling.x, ceiling.y, 2);
   frame.back_wall = boxMean(frame.rgb, w, h, back.x, back.y);
@@ -64,8 +65,10 @@ TEST(SceneRendererEmission, LampGoesDarkWhenItsBakeEmittersAreOff) {
 
   for (uint32_t e : lamp_emitters) ASSERT_TRUE(r.setBakedEmitterScale(e, 0.0f).ok());
   const LampFrame off = renderLamp(r, level, ShadingView::kRuntime);
-  std::printf("lamp on %.1f, off %.1f; ceiling beside it %.1f; back wall %.1f (8-bit display luminance)\n",
-              on.lamp.luminance(), off.lamp.luminance(), off.ceiling.luminance(), off.back_wall.luminance());
+  std::printf(
+      "lamp on %.1f, off %.1f; ceiling beside it %.1f; back wall %.1f (8-bit display luminance)\n",
+      on.lamp.luminance(), off.lamp.luminance(), off.ceiling.luminance(),
+      off.back_wall.luminance());
   ASSERT_TRUE(r.writePng(pngPath("svit_scene_renderer_lamp_off.png")).ok());
   // Off, the lamp only reflects what reaches it from below, as the ceiling
   // beside it does (without a runtime the lightmaps keep the lamp's light):
@@ -88,7 +91,8 @@ TEST(SceneRendererEmission, LampGoesDarkWhenItsBakeEmittersAreOff) {
   const LampFrame delta_off = renderLamp(r, level, ShadingView::kPatchDelta);
   for (uint32_t e : lamp_emitters) ASSERT_TRUE(r.setBakedEmitterScale(e, 1.0f).ok());
   const LampFrame delta_on = renderLamp(r, level, ShadingView::kPatchDelta);
-  EXPECT_NEAR(delta_off.lamp.luminance(), delta_off.ceiling.luminance(), 0.25 * delta_off.ceiling.luminance());
+  EXPECT_NEAR(delta_off.lamp.luminance(), delta_off.ceiling.luminance(),
+              0.25 * delta_off.ceiling.luminance());
   EXPECT_GT(delta_on.lamp.luminance(), delta_on.ceiling.luminance() + 20.0);
 
   // Back to 1: the frame is the first one again, bit for bit.
@@ -126,7 +130,8 @@ TEST(SceneRendererEmission, BadScalesAreRefusedAndChangeNothing) {
 
   Status s = r.setBakedEmitterScale(count, 0.0f);
   EXPECT_EQ(s.code(), StatusCode::kNotFound);
-  EXPECT_NE(s.message().find("no baked emitter " + std::to_string(count)), std::string::npos) << s.message();
+  EXPECT_NE(s.message().find("no baked emitter " + std::to_string(count)), std::string::npos)
+      << s.message();
   for (float bad : {-1.0f, std::nanf(""), std::numeric_limits<float>::infinity()}) {
     s = r.setBakedEmitterScale(lamp, bad);
     EXPECT_EQ(s.code(), StatusCode::kInvalidInput) << bad;

@@ -15,7 +15,8 @@ using namespace svit::render_test;  // NOLINT: test helpers
 
 TEST(SceneRenderer, CreateWithoutContextIsAnError) {
   const BakedLevel& level = bakedLevel(cornellLevel());
-  Expected<std::unique_ptr<SceneRenderer>> renderer = SceneRenderer::create(level.scene, level.bake, level.dir, nullptr);
+  Expected<std::unique_ptr<SceneRenderer>> renderer =
+      SceneRenderer::create(level.scene, level.bake, level.dir, nullptr);
   ASSERT_FALSE(renderer.ok());
   EXPECT_EQ(renderer.status().code(), StatusCode::kUnsupported);
   EXPECT_NE(renderer.status().message().find("no current OpenGL context"), std::string::npos)
@@ -24,12 +25,14 @@ TEST(SceneRenderer, CreateWithoutContextIsAnError) {
 
 TEST(SceneRenderer, MissingLightmapPageNamesTheFile) {
   const BakedLevel& level = bakedLevel(cornellLevel());
-  const fs::path dir = fs::temp_directory_path() / ("svit_scene_renderer_missing_page_" + std::to_string(::getpid()));
+  const fs::path dir = fs::temp_directory_path() /
+                       ("svit_scene_renderer_missing_page_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   fs::copy_file(level.dir + "/bake.svit", dir / "bake.svit", fs::copy_options::overwrite_existing);
   test::GlTestContext context;
   SVIT_REQUIRE_GL(context);
-  Expected<std::unique_ptr<SceneRenderer>> renderer = SceneRenderer::create(level.scene, level.bake, dir.string(), nullptr);
+  Expected<std::unique_ptr<SceneRenderer>> renderer =
+      SceneRenderer::create(level.scene, level.bake, dir.string(), nullptr);
   ASSERT_FALSE(renderer.ok());
   EXPECT_EQ(renderer.status().code(), StatusCode::kNotFound);
   EXPECT_NE(renderer.status().message().find(level.bake.pages.at(0).file), std::string::npos)
@@ -43,11 +46,14 @@ TEST(SceneRenderer, BakeOfOtherGeometryIsAnError) {
   bake.triangle_uvs.pop_back();
   test::GlTestContext context;
   SVIT_REQUIRE_GL(context);
-  Expected<std::unique_ptr<SceneRenderer>> renderer = SceneRenderer::create(level.scene, bake, level.dir, nullptr);
+  Expected<std::unique_ptr<SceneRenderer>> renderer =
+      SceneRenderer::create(level.scene, bake, level.dir, nullptr);
   ASSERT_FALSE(renderer.ok());
   EXPECT_EQ(renderer.status().code(), StatusCode::kInvalidInput);
-  EXPECT_NE(renderer.status().message().find("static triangles"), std::string::npos) << renderer.status().message();
-  EXPECT_NE(renderer.status().message().find("bake.svit"), std::string::npos) << renderer.status().message();
+  EXPECT_NE(renderer.status().message().find("static triangles"), std::string::npos)
+      << renderer.status().message();
+  EXPECT_NE(renderer.status().message().find("bake.svit"), std::string::npos)
+      << renderer.status().message();
 }
 
 TEST(SceneRenderer, SettingsOutOfRangeAreNamed) {
@@ -59,7 +65,8 @@ TEST(SceneRenderer, SettingsOutOfRangeAreNamed) {
   Expected<std::unique_ptr<SceneRenderer>> renderer =
       SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, settings);
   ASSERT_FALSE(renderer.ok());
-  EXPECT_NE(renderer.status().message().find("shadow_taps"), std::string::npos) << renderer.status().message();
+  EXPECT_NE(renderer.status().message().find("shadow_taps"), std::string::npos)
+      << renderer.status().message();
 }
 
 TEST(SceneRenderer, WritePngBeforeAnyFrameOrToABadPathIsAnError) {

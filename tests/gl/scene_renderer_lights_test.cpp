@@ -22,11 +22,13 @@ struct Frames {
   // Luminance the runtime lights add at world point p (8-bit display units).
   double gain(const glm::vec3& p) const {
     const glm::ivec2 q = project(camera, width, height, p);
-    return boxMean(lit, width, height, q.x, q.y, 2).luminance() - boxMean(baked, width, height, q.x, q.y, 2).luminance();
+    return boxMean(lit, width, height, q.x, q.y, 2).luminance() -
+           boxMean(baked, width, height, q.x, q.y, 2).luminance();
   }
 };
 
-Frames renderBothViews(const Camera& camera, const std::string& png_name, RenderStats* first, RenderStats* second) {
+Frames renderBothViews(const Camera& camera, const std::string& png_name, RenderStats* first,
+                       RenderStats* second) {
   const BakedLevel& level = bakedLevel(cornellWithRuntimeLights());
   Frames frames;
   frames.camera = camera;
@@ -74,7 +76,8 @@ TEST(SceneRendererLights, PointLightShadowsTheFloorBehindTheShortBox) {
 
 TEST(SceneRendererLights, SpotLightsInsideItsConeOnly) {
   RenderStats first, second;
-  const Frames f = renderBothViews(cornellFrontCamera(), "svit_scene_renderer_spot.png", &first, &second);
+  const Frames f =
+      renderBothViews(cornellFrontCamera(), "svit_scene_renderer_spot.png", &first, &second);
   ASSERT_FALSE(f.lit.empty());
   // The spot (5 cd, 1.04 m from the back wall) gives ~4.6 lux inside its
   // cone; the point lamp adds < 1 lux on both points below.

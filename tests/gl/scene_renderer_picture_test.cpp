@@ -26,9 +26,9 @@ namespace {
 
 using namespace svit::render_test;  // NOLINT: test helpers
 using test::comparePictures;
-using test::placeAt;
 using test::LinearFrame;
 using test::PictureError;
+using test::placeAt;
 using test::readLinearFrame;
 
 // Bakes good enough that their own noise sits well below the errors measured.
@@ -39,8 +39,9 @@ constexpr TestBake kSecondReferenceBake{3, 0.1, 8};
 constexpr TestBake kHouseRuntimeBake{1, 0.3, 20};
 constexpr TestBake kHouseReferenceBake{2, 0.3, 20};
 constexpr TestBake kHouseSecondReferenceBake{3, 0.3, 20};
-constexpr int kSamplesPerFrame = 24;  // RuntimeSettings::max_samples_per_frame: deterministic frames
-constexpr int kFrames = 16;           // the Cornell box settles in 11 at that budget
+// RuntimeSettings::max_samples_per_frame: deterministic frames
+constexpr int kSamplesPerFrame = 24;
+constexpr int kFrames = 16;  // the Cornell box settles in 11 at that budget
 
 std::string writeLevel(const std::string& name, const std::string& body) {
   const fs::path path = fs::temp_directory_path() / "svit_scene_renderer_test" / (name + ".json");
@@ -51,7 +52,8 @@ std::string writeLevel(const std::string& name, const std::string& body) {
 
 // The Cornell box with the tall box dynamic where the glTF has it.
 std::string cornellStillBoxLevel() {
-  return writeLevel("cornell_still_box", R"({"gltf": ")" + cornellGltf() + R"(", "dynamic": ["tallBox"]})");
+  return writeLevel("cornell_still_box",
+                    R"({"gltf": ")" + cornellGltf() + R"(", "dynamic": ["tallBox"]})");
 }
 std::string cornellStaticLevel() {
   return writeLevel("cornell_static", R"({"gltf": ")" + cornellGltf() + R"("})");
@@ -72,7 +74,8 @@ SceneRendererSettings fixedExposure() {
 
 // The baked view of `level` (no runtime): a reference picture.
 LinearFrame bakedPicture(const BakedLevel& level, const Camera& camera) {
-  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, fixedExposure());
+  auto renderer =
+      SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, fixedExposure());
   EXPECT_TRUE(renderer.ok()) << renderer.status().message();
   if (!renderer.ok()) return {};
   EXPECT_TRUE((*renderer)->render(camera, ShadingView::kBakedOnly).ok());
@@ -91,11 +94,13 @@ Viewer makeViewer(const BakedLevel& level, int samples_per_frame) {
   settings.max_samples_per_frame = samples_per_frame;
   settings.delta_textures = false;
   Viewer v;
-  Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(level.scene, level.bake, level.dir, settings);
+  Expected<std::unique_ptr<Runtime>> runtime =
+      Runtime::create(level.scene, level.bake, level.dir, settings);
   EXPECT_TRUE(runtime.ok()) << runtime.status().message();
   if (!runtime.ok()) return v;
   v.runtime = std::move(runtime).value();
-  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, v.runtime.get(), fixedExposure());
+  auto renderer =
+      SceneRenderer::create(level.scene, level.bake, level.dir, v.runtime.get(), fixedExposure());
   EXPECT_TRUE(renderer.ok()) << renderer.status().message();
   if (renderer.ok()) v.renderer = std::move(renderer).value();
   return v;
@@ -111,15 +116,16 @@ RuntimeView viewOf(const Camera& camera) {
 }
 
 struct Walk {
-  PictureError baked_only;        ///< the dynamic level's baked view: doing nothing
+  PictureError baked_only;           ///< the dynamic level's baked view: doing nothing
   std::vector<PictureError> frames;  ///< the runtime view after each update
 };
 
 // A runtime of `level` with the view set, the object placed at `pose`,
 // kFrames updates of kSamplesPerFrame samples, the runtime view after each
 // against `reference`.
-Walk walkAgainst(const BakedLevel& level, const std::string& node, const Mat4& pose, const LinearFrame& reference,
-                 const Camera& camera, const std::string& png_prefix, int frames = kFrames) {
+Walk walkAgainst(const BakedLevel& level, const std::string& node, const Mat4& pose,
+                 const LinearFrame& reference, const Camera& camera, const std::string& png_prefix,
+                 int frames = kFrames) {
   Walk walk;
   Viewer v = makeViewer(level, kSamplesPerFrame);
   if (!v.renderer) return walk;
@@ -131,21 +137,25 @@ Walk walkAgainst(const BakedLevel& level, const std::string& node, const Mat4& p
   EXPECT_TRUE(runtime.setView(viewOf(camera)).ok());
   EXPECT_TRUE(renderer.render(camera, ShadingView::kBakedOnly).ok());
   walk.baked_only = comparePictures(readLinearFrame(renderer), reference);
-  std::printf("baked-only: static %.4f, object %.4f against %.4f (%+.1f %%)\n", walk.baked_only.static_rel_rms,
-              walk.baked_only.dynamic_mean, walk.baked_only.dynamic_reference_mean,
-              100 * walk.baked_only.dynamicMeanError());
+  std::printf("baked-only: static %.4f, object %.4f against %.4f (%+.1f %%)\n",
+              walk.baked_only.static_rel_rms, walk.baked_only.dynamic_mean,
+              walk.baked_only.dynamic_reference_mean, 100 * walk.baked_only.dynamicMeanError());
   for (int frame = 0; frame < frames; ++frame) {
     const FrameStats stats = runtime.update(0);
     EXPECT_TRUE(stats.error.empty()) << stats.error;
     EXPECT_TRUE(renderer.render(camera, ShadingView::kRuntime).ok());
     walk.frames.push_back(comparePictures(readLinearFrame(renderer), reference));
     const PictureError& e = walk.frames.back();
-    std::printf("frame %2d: static %.4f (baked-only %.4f), object %.4f against %.4f (%+.1f %%), %u pending\n", frame,
-                e.static_rel_rms, walk.baked_only.static_rel_rms, e.dynamic_mean, e.dynamic_reference_mean,
-                100 * e.dynamicMeanError(), stats.emitters_pending);
+    std::printf(
+        "frame %2d: static %.4f (baked-only %.4f), object %.4f against %.4f (%+.1f %%), %u "
+        "pending\n",
+        frame, e.static_rel_rms, walk.baked_only.static_rel_rms, e.dynamic_mean,
+        e.dynamic_reference_mean, 100 * e.dynamicMeanError(), stats.emitters_pending);
   }
   // Runtime view, reference, difference (red brighter, blue darker).
-  EXPECT_TRUE(test::writeComparisonPng(pngPath(png_prefix + ".png"), readLinearFrame(renderer), reference, 1).ok());
+  EXPECT_TRUE(test::writeComparisonPng(pngPath(png_prefix + ".png"), readLinearFrame(renderer),
+                                       reference, 1)
+                  .ok());
   return walk;
 }
 
@@ -153,8 +163,8 @@ struct Bounds {
   double noise_floor = 0;  ///< static error between two references of different seeds
 };
 
-Bounds noiseFloor(const std::string& static_level, const LinearFrame& reference, const Camera& camera,
-                  const TestBake& second_bake = kSecondReferenceBake) {
+Bounds noiseFloor(const std::string& static_level, const LinearFrame& reference,
+                  const Camera& camera, const TestBake& second_bake = kSecondReferenceBake) {
   const LinearFrame second = bakedPicture(bakedLevel(static_level, second_bake), camera);
   Bounds b;
   b.noise_floor = comparePictures(second, reference).static_rel_rms;
@@ -168,10 +178,12 @@ Bounds noiseFloor(const std::string& static_level, const LinearFrame& reference,
 void expectConverges(const Walk& walk, const Bounds& bounds) {
   ASSERT_FALSE(walk.frames.empty());
   for (size_t f = 0; f < walk.frames.size(); ++f) {
-    EXPECT_LE(walk.frames[f].static_rel_rms, walk.baked_only.static_rel_rms * 1.001) << "frame " << f;
+    EXPECT_LE(walk.frames[f].static_rel_rms, walk.baked_only.static_rel_rms * 1.001)
+        << "frame " << f;
   }
   const PictureError& settled = walk.frames.back();
-  const double floor = std::sqrt(2.0) * bounds.noise_floor;  // the runtime's bake and the reference both noisy
+  // the runtime's bake and the reference both noisy
+  const double floor = std::sqrt(2.0) * bounds.noise_floor;
   EXPECT_LE(settled.static_rel_rms, std::max(walk.baked_only.static_rel_rms / 3, floor))
       << "baked-only " << walk.baked_only.static_rel_rms << ", noise floor " << bounds.noise_floor;
   EXPECT_GT(settled.dynamic_pixels, 100u);
@@ -183,10 +195,11 @@ TEST(RuntimePicture, CornellBoxWhereItStandsConvergesToTheStaticBake) {
   test::GlTestContext context;
   SVIT_REQUIRE_GL(context);
   const Camera camera = cornellFrontCamera();
-  const LinearFrame reference = bakedPicture(bakedLevel(cornellStaticLevel(), kReferenceBake), camera);
+  const LinearFrame reference =
+      bakedPicture(bakedLevel(cornellStaticLevel(), kReferenceBake), camera);
   const Bounds bounds = noiseFloor(cornellStaticLevel(), reference, camera);
-  const Walk walk = walkAgainst(bakedLevel(cornellStillBoxLevel(), kRuntimeBake), "tallBox", Mat4{}, reference,
-                                camera, "svit_picture_cornell_still");
+  const Walk walk = walkAgainst(bakedLevel(cornellStillBoxLevel(), kRuntimeBake), "tallBox", Mat4{},
+                                reference, camera, "svit_picture_cornell_still");
   expectConverges(walk, bounds);
 }
 
@@ -195,8 +208,9 @@ TEST(RuntimePicture, CornellBoxMovedConvergesToTheStaticBakeThere) {
   SVIT_REQUIRE_GL(context);
   const Camera camera = cornellFrontCamera();
   const std::string work = (fs::temp_directory_path() / "svit_scene_renderer_test").string();
-  const std::string moved = test::writeLevelWithNodeStatic(cornellStillBoxLevel(), "tallBox", kMovedTranslation,
-                                                           kMovedRotation, work, "cornell_box_moved");
+  const std::string moved =
+      test::writeLevelWithNodeStatic(cornellStillBoxLevel(), "tallBox", kMovedTranslation,
+                                     kMovedRotation, work, "cornell_box_moved");
   const LinearFrame reference = bakedPicture(bakedLevel(moved, kReferenceBake), camera);
   const Bounds bounds = noiseFloor(moved, reference, camera);
   const Walk walk = walkAgainst(bakedLevel(cornellStillBoxLevel(), kRuntimeBake), "tallBox",
@@ -225,13 +239,15 @@ TEST(RuntimePicture, DemoFirstFramesAreNoWorseThanBakedOnly) {
   for (int frame = 0; frame <= 20; ++frame) {
     const float a = float(frame) / 90.0f;  // 30 frames a second, 3 s to the key
     const Vec3 t{kMovedTranslation.x * a, 0, kMovedTranslation.z * a};
-    const glm::quat q = glm::slerp(glm::quat(1, 0, 0, 0), glm::quat(kMovedRotation.w, 0, kMovedRotation.y, 0), a);
+    const glm::quat q =
+        glm::slerp(glm::quat(1, 0, 0, 0), glm::quat(kMovedRotation.w, 0, kMovedRotation.y, 0), a);
     const Quat r{q.x, q.y, q.z, q.w};
     ASSERT_TRUE(runtime.setObjectTransform(box, placeAt(t, r)).ok());
     runtime.update(0);
     if (frame % 10 != 0) continue;
-    const std::string posed = test::writeLevelWithNodeStatic(cornellStillBoxLevel(), "tallBox", t, r, work,
-                                                             "cornell_demo_frame_" + std::to_string(frame));
+    const std::string posed =
+        test::writeLevelWithNodeStatic(cornellStillBoxLevel(), "tallBox", t, r, work,
+                                       "cornell_demo_frame_" + std::to_string(frame));
     const LinearFrame reference = bakedPicture(bakedLevel(posed, kReferenceBake), camera);
     ASSERT_TRUE(renderer.render(camera, ShadingView::kRuntime).ok());
     const PictureError shown = comparePictures(readLinearFrame(renderer), reference);
@@ -252,8 +268,8 @@ TEST(RuntimePicture, HouseTableMovedConvergesToTheStaticBakeThere) {
   const std::string house = std::string(SVIT_SOURCE_DIR) + "/samples/levels/house/level.json";
   const std::string work = (fs::temp_directory_path() / "svit_scene_renderer_test").string();
   const Vec3 moved_to{2.4f, 0, 1.1f};
-  const std::string moved =
-      test::writeLevelWithNodeStatic(house, "table_0_0", moved_to, Quat{}, work, "house_table_moved", true);
+  const std::string moved = test::writeLevelWithNodeStatic(house, "table_0_0", moved_to, Quat{},
+                                                           work, "house_table_moved", true);
   Camera camera;
   camera.position = {0.6f, 1.6f, 3.5f};
   camera.look_at = {2.6f, 0.5f, 1.0f};
@@ -261,8 +277,9 @@ TEST(RuntimePicture, HouseTableMovedConvergesToTheStaticBakeThere) {
   const LinearFrame reference = bakedPicture(bakedLevel(moved, kHouseReferenceBake), camera);
   const Bounds bounds = noiseFloor(moved, reference, camera, kHouseSecondReferenceBake);
   const int frames = 72;  // settled after 66 at 24 samples a frame
-  const Walk walk = walkAgainst(bakedLevel(house, kHouseRuntimeBake), "table_0_0", placeAt(moved_to, Quat{}), reference,
-                                camera, "svit_picture_house_table", frames);
+  const Walk walk =
+      walkAgainst(bakedLevel(house, kHouseRuntimeBake), "table_0_0", placeAt(moved_to, Quat{}),
+                  reference, camera, "svit_picture_house_table", frames);
   expectConverges(walk, bounds);
 }
 
@@ -301,10 +318,10 @@ TEST(RuntimePicture, CornellLampOffIsBlackAndDimmedIsHalf) {
     const PictureError e = comparePictures(dimmed, expected);
     const double residue = e.static_rms / lit_mean;
     const double mean_share = test::meanLuminance(dimmed, SurfaceKind::kStatic) / lit_mean;
-    std::printf("lamp at %.1f: mean %.4f of the lit picture, RMS residue %.4f of its mean\n", scale, mean_share,
-                residue);
-    EXPECT_TRUE(test::writeComparisonPng(pngPath("svit_picture_cornell_lamp_" + std::to_string(int(scale * 10)) +
-                                                 ".png"),
+    std::printf("lamp at %.1f: mean %.4f of the lit picture, RMS residue %.4f of its mean\n", scale,
+                mean_share, residue);
+    EXPECT_TRUE(test::writeComparisonPng(pngPath("svit_picture_cornell_lamp_" +
+                                                 std::to_string(int(scale * 10)) + ".png"),
                                          dimmed, expected, 1)
                     .ok());
     EXPECT_LE(residue, 0.02) << "lamp at " << scale;

@@ -36,7 +36,8 @@ double srgbEncode(double c) {
 
 double display(float radiance, float exposure) {
   const double x = std::max(double(radiance), 0.0) * double(exposure);
-  const double curve = std::clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
+  const double curve =
+      std::clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
   return srgbEncode(curve);
 }
 
@@ -90,17 +91,20 @@ TEST(SceneRendererRadiance, DisplayOfTheRadianceIsThePixels) {
   ASSERT_TRUE(runtime.ok()) << runtime.status().message();
   (*runtime)->update();
   for (float exposure : {1.0f, 4.0f}) {
-    auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, runtime->get(), fixedExposure(exposure));
+    auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, runtime->get(),
+                                          fixedExposure(exposure));
     ASSERT_TRUE(renderer.ok()) << renderer.status().message();
     for (ShadingView view : {ShadingView::kBakedOnly, ShadingView::kRuntime}) {
       const Frame frame = renderFrame(**renderer, cameraOf(level.scene), view);
       ASSERT_EQ(frame.pixels.size(), size_t(kWidth) * kHeight * 3);
       ASSERT_EQ(frame.radiance.size(), frame.pixels.size());
       const DisplayMatch match = matchDisplay(frame, exposure);
-      std::printf("exposure %g, view %d: worst %.3f of an 8-bit step, %zu of %zu channels mid-tone\n", exposure,
-                  int(view), match.worst, match.mid_tones, frame.pixels.size());
+      std::printf(
+          "exposure %g, view %d: worst %.3f of an 8-bit step, %zu of %zu channels mid-tone\n",
+          exposure, int(view), match.worst, match.mid_tones, frame.pixels.size());
       EXPECT_LE(match.worst, 1.5) << "exposure " << exposure << ", view " << int(view);
-      EXPECT_GT(match.mid_tones, frame.pixels.size() / 2) << "exposure " << exposure << ": mostly black or saturated";
+      EXPECT_GT(match.mid_tones, frame.pixels.size() / 2)
+          << "exposure " << exposure << ": mostly black or saturated";
     }
   }
 }
@@ -115,7 +119,8 @@ TEST(SceneRendererRadiance, PatchDeltaViewStoresItsFalseColour) {
   Expected<std::unique_ptr<Runtime>> runtime = Runtime::create(level.scene, level.bake, level.dir);
   ASSERT_TRUE(runtime.ok()) << runtime.status().message();
   (*runtime)->update();
-  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, runtime->get(), fixedExposure(1.0f));
+  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, runtime->get(),
+                                        fixedExposure(1.0f));
   ASSERT_TRUE(renderer.ok()) << renderer.status().message();
   const Frame frame = renderFrame(**renderer, cameraOf(level.scene), ShadingView::kPatchDelta);
   ASSERT_EQ(frame.radiance.size(), frame.pixels.size());
@@ -133,8 +138,10 @@ TEST(SceneRendererRadiance, RadianceDoesNotDependOnExposure) {
   const BakedLevel& level = bakedLevel(cornellLevel());
   test::GlTestContext context;
   SVIT_REQUIRE_GL(context);
-  auto dim = SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, fixedExposure(1.0f));
-  auto bright = SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, fixedExposure(4.0f));
+  auto dim =
+      SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, fixedExposure(1.0f));
+  auto bright =
+      SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, fixedExposure(4.0f));
   ASSERT_TRUE(dim.ok()) << dim.status().message();
   ASSERT_TRUE(bright.ok()) << bright.status().message();
   const Frame a = renderFrame(**dim, cornellFrontCamera(), ShadingView::kBakedOnly);
@@ -157,7 +164,8 @@ TEST(SceneRendererRadiance, HostDrawingAfterRenderLeavesTheRadiance) {
   const BakedLevel& level = bakedLevel(cornellLevel());
   test::GlTestContext context;
   SVIT_REQUIRE_GL(context);
-  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, fixedExposure(1.0f));
+  auto renderer =
+      SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, fixedExposure(1.0f));
   ASSERT_TRUE(renderer.ok()) << renderer.status().message();
   const Frame frame = renderFrame(**renderer, cornellFrontCamera(), ShadingView::kBakedOnly);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (*renderer)->offscreenFramebuffer());
@@ -165,8 +173,10 @@ TEST(SceneRendererRadiance, HostDrawingAfterRenderLeavesTheRadiance) {
   glClear(GL_COLOR_BUFFER_BIT);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
   const std::vector<uint8_t> hud = (*renderer)->readPixels();
-  EXPECT_TRUE(std::all_of(hud.begin(), hud.end(), [](uint8_t v) { return v == 255; })) << "the clear did not reach";
-  EXPECT_TRUE((*renderer)->readRadiance() == frame.radiance) << "the host's clear reached the radiance";
+  EXPECT_TRUE(std::all_of(hud.begin(), hud.end(), [](uint8_t v) { return v == 255; }))
+      << "the clear did not reach";
+  EXPECT_TRUE((*renderer)->readRadiance() == frame.radiance)
+      << "the host's clear reached the radiance";
 }
 
 // No frame: nothing to read or write. A frame into the default framebuffer
@@ -175,7 +185,8 @@ TEST(SceneRendererRadiance, DefaultFramebufferFramesKeepThePreviousRadiance) {
   const BakedLevel& level = bakedLevel(cornellLevel());
   test::GlTestContext context(kWidth, kHeight);
   SVIT_REQUIRE_GL(context);
-  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, fixedExposure(1.0f));
+  auto renderer =
+      SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, fixedExposure(1.0f));
   ASSERT_TRUE(renderer.ok()) << renderer.status().message();
   EXPECT_TRUE((*renderer)->readRadiance().empty());
   const std::string never = pngPath("svit_radiance_never_written.exr");
@@ -187,7 +198,9 @@ TEST(SceneRendererRadiance, DefaultFramebufferFramesKeepThePreviousRadiance) {
   const Frame offscreen = renderFrame(**renderer, cornellFrontCamera(), ShadingView::kBakedOnly);
   Camera elsewhere = cornellFrontCamera();
   elsewhere.look_at = {0.5f, 0.3f, 0};
-  ASSERT_TRUE((*renderer)->render(elsewhere, ShadingView::kBakedOnly, /*to_default_framebuffer=*/true).ok());
+  ASSERT_TRUE((*renderer)
+                  ->render(elsewhere, ShadingView::kBakedOnly, /*to_default_framebuffer=*/true)
+                  .ok());
   EXPECT_TRUE((*renderer)->readRadiance() == offscreen.radiance);
 }
 
@@ -198,10 +211,12 @@ TEST(SceneRendererRadiance, WriteExrRoundTripsThroughLoadExr) {
   const BakedLevel& level = bakedLevel(cornellLevel());
   test::GlTestContext context;
   SVIT_REQUIRE_GL(context);
-  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, fixedExposure(1.0f));
+  auto renderer =
+      SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, fixedExposure(1.0f));
   ASSERT_TRUE(renderer.ok()) << renderer.status().message();
   const Frame frame = renderFrame(**renderer, cornellFrontCamera(), ShadingView::kBakedOnly);
-  const fs::path dir = fs::temp_directory_path() / ("svit_radiance_exr_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("svit_radiance_exr_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string path = (dir / "frame.exr").string();
   const Status written = (*renderer)->writeExr(path);
@@ -217,7 +232,8 @@ TEST(SceneRendererRadiance, WriteExrRoundTripsThroughLoadExr) {
   ASSERT_EQ(height, kHeight);
   size_t mismatches = 0;
   for (size_t p = 0; p < size_t(width) * size_t(height); ++p) {
-    for (size_t c = 0; c < 3; ++c) mismatches += rgba[p * 4 + c] != frame.radiance[p * 3 + c] ? 1 : 0;
+    for (size_t c = 0; c < 3; ++c)
+      mismatches += rgba[p * 4 + c] != frame.radiance[p * 3 + c] ? 1 : 0;
   }
   std::free(rgba);
   EXPECT_EQ(mismatches, 0u);

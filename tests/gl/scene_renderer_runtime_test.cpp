@@ -32,7 +32,8 @@ TEST(SceneRendererRuntime, RuntimeViewAtRestEqualsBakedOnlyAndARuntimeLightAddsL
   (*runtime)->update();
   SceneRendererSettings settings;
   settings.width = 320, settings.height = 180;
-  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, runtime->get(), settings);
+  auto renderer =
+      SceneRenderer::create(level.scene, level.bake, level.dir, runtime->get(), settings);
   ASSERT_TRUE(renderer.ok()) << renderer.status().message();
   const Camera camera = cornellFrontCamera();
   ASSERT_TRUE((*renderer)->render(camera, ShadingView::kBakedOnly).ok());
@@ -52,7 +53,8 @@ TEST(SceneRendererRuntime, RuntimeViewAtRestEqualsBakedOnlyAndARuntimeLightAddsL
   ASSERT_TRUE(second.ok());
   EXPECT_EQ(second->shadow_maps_rendered, 0u) << "nothing moved: the shadow map stays";
   // The back wall facing the lamp (0.33, 1.2, 0.38) is brighter.
-  const glm::ivec2 p = project(camera, settings.width, settings.height, glm::vec3(0.33f, 1.2f, -1.0f));
+  const glm::ivec2 p =
+      project(camera, settings.width, settings.height, glm::vec3(0.33f, 1.2f, -1.0f));
   const Pixel before = boxMean(baked, settings.width, settings.height, p.x, p.y);
   const Pixel after = boxMean(lit, settings.width, settings.height, p.x, p.y);
   EXPECT_GT(after.luminance(), before.luminance() + 10.0);
@@ -69,21 +71,28 @@ TEST(SceneRendererRuntime, CornellWithTheDynamicBox) {
   ASSERT_TRUE(runtime.ok()) << runtime.status().message();
   (*runtime)->update();
   SceneRendererSettings settings;
-  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, runtime->get(), settings);
+  auto renderer =
+      SceneRenderer::create(level.scene, level.bake, level.dir, runtime->get(), settings);
   ASSERT_TRUE(renderer.ok()) << renderer.status().message();
   const Camera camera = cameraOf(level.scene);
-  for (ShadingView view : {ShadingView::kBakedOnly, ShadingView::kRuntime, ShadingView::kPatchDelta}) {
+  for (ShadingView view :
+       {ShadingView::kBakedOnly, ShadingView::kRuntime, ShadingView::kPatchDelta}) {
     Expected<RenderStats> stats = (*renderer)->render(camera, view);
     ASSERT_TRUE(stats.ok()) << stats.status().message();
-    const char* name = view == ShadingView::kBakedOnly ? "baked" : view == ShadingView::kRuntime ? "runtime" : "delta";
-    const std::string png = pngPath(std::string("svit_scene_renderer_cornell_dynamic_") + name + ".png");
+    const char* name = view == ShadingView::kBakedOnly ? "baked"
+                       : view == ShadingView::kRuntime ? "runtime"
+                                                       : "delta";
+    const std::string png =
+        pngPath(std::string("svit_scene_renderer_cornell_dynamic_") + name + ".png");
     ASSERT_TRUE((*renderer)->writePng(png).ok());
-    std::printf("%s: %.2f ms, %u draw calls -> %s\n", name, stats->shading_ms, stats->draw_calls, png.c_str());
+    std::printf("%s: %.2f ms, %u draw calls -> %s\n", name, stats->shading_ms, stats->draw_calls,
+                png.c_str());
   }
   // The tall box in the runtime view is lit (not black) where it faces the camera.
   ASSERT_TRUE((*renderer)->render(camera, ShadingView::kRuntime).ok());
   const std::vector<uint8_t> rgb = (*renderer)->readPixels();
-  const glm::ivec2 p = project(camera, settings.width, settings.height, nodeCentre(level.scene, "tallBox"));
+  const glm::ivec2 p =
+      project(camera, settings.width, settings.height, nodeCentre(level.scene, "tallBox"));
   EXPECT_GT(boxMean(rgb, settings.width, settings.height, p.x, p.y).luminance(), 30.0);
 }
 

@@ -16,8 +16,8 @@ namespace {
 using namespace svit::render_test;  // NOLINT: test helpers
 
 // A frame from a renderer made now, which renders every map.
-std::vector<uint8_t> freshFrame(const BakedLevel& level, const Runtime& runtime, const SceneRendererSettings& settings,
-                                const Camera& camera) {
+std::vector<uint8_t> freshFrame(const BakedLevel& level, const Runtime& runtime,
+                                const SceneRendererSettings& settings, const Camera& camera) {
   auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, &runtime, settings);
   EXPECT_TRUE(renderer.ok()) << renderer.status().message();
   if (!renderer.ok()) return {};

@@ -89,7 +89,9 @@ inline const BakedLevel& bakedLevel(const std::string& level_path, const TestBak
   return cache[{level_path, how}] = std::move(level);
 }
 
-inline std::string cornellLevel() { return std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/level.json"; }
+inline std::string cornellLevel() {
+  return std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/level.json";
+}
 inline std::string cornellGltf() { return SVIT_CORNELL_GLTF; }
 
 // The Cornell box with two runtime lights: a point lamp above the short box
@@ -97,10 +99,12 @@ inline std::string cornellGltf() { return SVIT_CORNELL_GLTF; }
 // back wall (z = -1.04), 5 cd, cone 0.2/0.3 rad. All static, or with the
 // node `dynamic_node` (e.g. "tallBox") dynamic.
 inline std::string cornellWithRuntimeLights(const std::string& dynamic_node = "") {
-  const std::string name = dynamic_node.empty() ? "cornell_runtime_lights" : "cornell_runtime_lights_" + dynamic_node;
+  const std::string name =
+      dynamic_node.empty() ? "cornell_runtime_lights" : "cornell_runtime_lights_" + dynamic_node;
   const fs::path path = fs::temp_directory_path() / "svit_scene_renderer_test" / (name + ".json");
   fs::create_directories(path.parent_path());
-  const std::string dynamic = dynamic_node.empty() ? "" : R"("dynamic": [")" + dynamic_node + R"("],)";
+  const std::string dynamic =
+      dynamic_node.empty() ? "" : R"("dynamic": [")" + dynamic_node + R"("],)";
   std::ofstream(path) << R"({"gltf": ")" << cornellGltf() << R"(", )" << dynamic << R"(
   "lights": [
     {"name": "lamp", "type": "point", "position": [0.33, 1.2, 0.38], "color": [1, 1, 1], "intensity_cd": 2,
@@ -133,7 +137,8 @@ struct Pixel {
 };
 
 // Mean 8-bit colour of a (2h+1)^2 box around (x, y), clipped to the image.
-inline Pixel boxMean(const std::vector<uint8_t>& rgb, int width, int height, int x, int y, int h = 4) {
+inline Pixel boxMean(const std::vector<uint8_t>& rgb, int width, int height, int x, int y,
+                     int h = 4) {
   Pixel sum;
   int count = 0;
   for (int j = std::max(0, y - h); j <= std::min(height - 1, y + h); ++j) {
@@ -151,7 +156,8 @@ inline Pixel boxMean(const std::vector<uint8_t>& rgb, int width, int height, int
 inline glm::ivec2 project(const Camera& c, int width, int height, const glm::vec3& p) {
   const glm::mat4 clip_from_world =
       glm::perspective(c.yfov_rad, float(width) / float(height), c.near_m, c.far_m) *
-      glm::lookAt(glm::vec3(c.position.x, c.position.y, c.position.z), glm::vec3(c.look_at.x, c.look_at.y, c.look_at.z),
+      glm::lookAt(glm::vec3(c.position.x, c.position.y, c.position.z),
+                  glm::vec3(c.look_at.x, c.look_at.y, c.look_at.z),
                   glm::vec3(c.up.x, c.up.y, c.up.z));
   const glm::vec4 clip = clip_from_world * glm::vec4(p, 1.0f);
   const glm::vec2 ndc = glm::vec2(clip) / clip.w;
@@ -179,11 +185,14 @@ inline glm::vec3 nodeCentre(const Scene& scene, const std::string& name) {
   return glm::vec3(0);
 }
 
-inline std::string pngPath(const std::string& name) { return (fs::temp_directory_path() / name).string(); }
+inline std::string pngPath(const std::string& name) {
+  return (fs::temp_directory_path() / name).string();
+}
 
 inline int maxChannelDifference(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
   int worst = 0;
-  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) worst = std::max(worst, std::abs(int(a[i]) - int(b[i])));
+  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    worst = std::max(worst, std::abs(int(a[i]) - int(b[i])));
   return worst;
 }
 

@@ -17,16 +17,17 @@ namespace svit::gl {
 namespace {
 
 constexpr uint32_t kRoomReceivers = 40;
-constexpr uint32_t kGroupReceivers = 4;  ///< receivers per group; every tenth receiver shoots with none
+/// receivers per group; every tenth receiver shoots with none
+constexpr uint32_t kGroupReceivers = 4;
 
 /// Rooms of receivers whose groups light (part of) their own room only.
 struct Level {
   std::vector<Receiver> receivers;
   std::vector<glm::dvec3> first;
   std::vector<int32_t> group_of;
-  std::vector<SparseShares> shares;       ///< per group
-  std::vector<char> has_shares;           ///< per group
-  std::vector<uint64_t> revisions;        ///< per group
+  std::vector<SparseShares> shares;  ///< per group
+  std::vector<char> has_shares;      ///< per group
+  std::vector<uint64_t> revisions;   ///< per group
   uint64_t next_revision = 1;
   uint64_t draws = 0;
   bool doorways = false;  ///< groups also light a few receivers of the rooms either side
@@ -46,11 +47,13 @@ struct Level {
     }
     if (doorways) {
       std::vector<std::pair<uint32_t, float>> entries;
-      for (size_t i = 0; i < s.receivers.size(); ++i) entries.push_back({s.receivers[i], s.shares[i]});
+      for (size_t i = 0; i < s.receivers.size(); ++i)
+        entries.push_back({s.receivers[i], s.shares[i]});
       for (int side : {-1, 1}) {
         const int64_t next = int64_t(room) + side;
         if (next < 0 || next >= int64_t(rooms())) continue;
-        for (uint32_t i = 0; i < 3; ++i) entries.push_back({uint32_t(next) * kRoomReceivers + i, 0.05f});
+        for (uint32_t i = 0; i < 3; ++i)
+          entries.push_back({uint32_t(next) * kRoomReceivers + i, 0.05f});
       }
       std::sort(entries.begin(), entries.end());
       s = {};
@@ -99,31 +102,26 @@ struct Level {
   /// One random change of the kind a frame brings.
   void change() {
     const uint32_t room = below(rooms()), r = room * kRoomReceivers + below(kRoomReceivers);
-    const uint32_t g = room * (kRoomReceivers / kGroupReceivers) + below(kRoomReceivers / kGroupReceivers);
+    const uint32_t g =
+        room * (kRoomReceivers / kGroupReceivers) + below(kRoomReceivers / kGroupReceivers);
     switch (below(8)) {
       case 0:  // an emitter refreshed: new deltas over part of a room
         for (uint32_t i = 0; i < kRoomReceivers; i += 1 + below(4)) {
-          first[room * kRoomReceivers + i] += glm::dvec3(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5) * 50.0;
+          first[room * kRoomReceivers + i] +=
+              glm::dvec3(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5) * 50.0;
         }
         break;
       case 1:  // a room back to as baked
-        for (uint32_t i = 0; i < kRoomReceivers; ++i) first[room * kRoomReceivers + i] = glm::dvec3(0.0);
+        for (uint32_t i = 0; i < kRoomReceivers; ++i)
+          first[room * kRoomReceivers + i] = glm::dvec3(0.0);
         break;
-      case 2:
-        newShares(g);
-        break;
-      case 3:
-        has_shares[g] = !has_shares[g];
-        break;
-      case 4:
-        receivers[r].albedo.g = 0.05f + 0.9f * uniform();
-        break;
+      case 2: newShares(g); break;
+      case 3: has_shares[g] = !has_shares[g]; break;
+      case 4: receivers[r].albedo.g = 0.05f + 0.9f * uniform(); break;
       case 5:  // hidden or shown again
         receivers[r].area_m2 = receivers[r].area_m2 > 0 ? 0.0f : 0.5f + uniform();
         break;
-      case 6:
-        group_of[r] = group_of[r] < 0 ? int32_t(g) : -1;
-        break;
+      case 6: group_of[r] = group_of[r] < 0 ? int32_t(g) : -1; break;
       case 7:
         if (rooms() < 12) addRoom(true);
         break;
@@ -144,13 +142,15 @@ void expectSameSolve(const BounceResult& got, const BounceResult& want, int step
   const double tolerance = 1e-9 * std::max(largestLum(want.received), 1e-30);
   for (size_t r = 0; r < want.received.size(); ++r) {
     for (int c = 0; c < 3; ++c) {
-      ASSERT_NEAR(got.received[r][c], want.received[r][c], tolerance) << "step " << step << " receiver " << r;
+      ASSERT_NEAR(got.received[r][c], want.received[r][c], tolerance)
+          << "step " << step << " receiver " << r;
     }
   }
   double wanted_scale = 1e-30;
   for (double w : want.wanted) wanted_scale = std::max(wanted_scale, w);
   for (size_t g = 0; g < want.wanted.size(); ++g) {
-    ASSERT_NEAR(got.wanted[g], want.wanted[g], 1e-9 * wanted_scale) << "step " << step << " group " << g;
+    ASSERT_NEAR(got.wanted[g], want.wanted[g], 1e-9 * wanted_scale)
+        << "step " << step << " group " << g;
     ASSERT_EQ(got.wanted[g] > 0, want.wanted[g] > 0) << "step " << step << " group " << g;
   }
   EXPECT_NEAR(got.unshot_share, want.unshot_share, 1e-9) << "step " << step;
@@ -163,10 +163,11 @@ void matchThroughChanges(const BounceSettings& settings) {
   int incremental = 0;
   for (int step = 0; step < 400; ++step) {
     level.change();
-    const BounceResult& got = solver.solve(level.receivers, level.first, level.group_of, level.shooters(),
-                                           level.shooterRevisions(), settings);
+    const BounceResult& got = solver.solve(level.receivers, level.first, level.group_of,
+                                           level.shooters(), level.shooterRevisions(), settings);
     incremental += solver.lastFromNothing() ? 0 : 1;
-    const BounceResult want = bounceDeltas(level.receivers, level.first, level.group_of, level.shooters(), settings);
+    const BounceResult want =
+        bounceDeltas(level.receivers, level.first, level.group_of, level.shooters(), settings);
     expectSameSolve(got, want, step);
     if (::testing::Test::HasFatalFailure()) return;
   }
@@ -205,7 +206,8 @@ TEST(BounceSolver, AChangeInOneRoomCostsThatRoom) {
     for (uint32_t g = 0; g < level.shares.size(); ++g) level.has_shares[g] = 1;
     BounceSolver solver;
     const BounceSettings settings = exactly ? exact() : BounceSettings{};
-    solver.solve(level.receivers, level.first, level.group_of, level.shooters(), level.shooterRevisions(), settings);
+    solver.solve(level.receivers, level.first, level.group_of, level.shooters(),
+                 level.shooterRevisions(), settings);
     ASSERT_TRUE(solver.lastFromNothing());
     const size_t from_nothing = solver.lastWork();
     // One emitter refreshed in room 17: its deltas, and one group's shares.
@@ -216,7 +218,8 @@ TEST(BounceSolver, AChangeInOneRoomCostsThatRoom) {
     EXPECT_FALSE(solver.lastFromNothing());
     work[exactly] = solver.lastWork();
     EXPECT_LT(work[exactly] * 16, from_nothing) << work[exactly] << " vs " << from_nothing;
-    const BounceResult want = bounceDeltas(level.receivers, level.first, level.group_of, level.shooters(), exact());
+    const BounceResult want =
+        bounceDeltas(level.receivers, level.first, level.group_of, level.shooters(), exact());
     if (exactly) {
       expectSameSolve(results.back(), want, 0);
     } else {
@@ -224,9 +227,11 @@ TEST(BounceSolver, AChangeInOneRoomCostsThatRoom) {
       // round's |flux| per group and round (the first round's |flux| is
       // below 100 lm x 3 x 0.95 per receiver), spread as ambient.
       const double first_round = 3 * 100.0 * double(level.receivers.size());
-      const double bound = settings.min_shot_share * first_round * double(level.shares.size()) * want.rounds;
+      const double bound =
+          settings.min_shot_share * first_round * double(level.shares.size()) * want.rounds;
       for (size_t r = 0; r < want.received.size(); ++r) {
-        for (int c = 0; c < 3; ++c) ASSERT_NEAR(results.back().received[r][c], want.received[r][c], bound) << r;
+        for (int c = 0; c < 3; ++c)
+          ASSERT_NEAR(results.back().received[r][c], want.received[r][c], bound) << r;
       }
     }
   }
@@ -241,11 +246,12 @@ TEST(BounceSolver, BackToTheBakeIsExactlyZero) {
   const BounceSettings settings;
   for (int step = 0; step < 20; ++step) {
     level.change();
-    solver.solve(level.receivers, level.first, level.group_of, level.shooters(), level.shooterRevisions(), settings);
+    solver.solve(level.receivers, level.first, level.group_of, level.shooters(),
+                 level.shooterRevisions(), settings);
   }
   std::fill(level.first.begin(), level.first.end(), glm::dvec3(0.0));
-  const BounceResult& got =
-      solver.solve(level.receivers, level.first, level.group_of, level.shooters(), level.shooterRevisions(), settings);
+  const BounceResult& got = solver.solve(level.receivers, level.first, level.group_of,
+                                         level.shooters(), level.shooterRevisions(), settings);
   for (const glm::dvec3& r : got.received) EXPECT_EQ(r, glm::dvec3(0.0));
   for (double w : got.wanted) EXPECT_EQ(w, 0.0);
   EXPECT_EQ(got.unshot_share, 0.0);

@@ -25,7 +25,8 @@ ViewWeights twoRooms() {
 
 TEST(EmitterImportance, DirectLightOnVisiblePixels) {
   SparseShares here{{0, 1}, {0.25f, 0.25f}, {}, {}}, there{{2, 3}, {0.5f, 0.5f}, {}, {}};
-  const std::vector<double> imp = emitterImportance(twoRooms(), {{100, {&here}, -1}, {100, {&there}, -1}});
+  const std::vector<double> imp =
+      emitterImportance(twoRooms(), {{100, {&here}, -1}, {100, {&there}, -1}});
   // 100 lm x (0.25 + 0.25) x 10 = 500, plus its light reflected by group 0,
   // whose V is borrowed from the emitter itself: 100 x 0.5 x 0.5 x 5 = 125.
   EXPECT_NEAR(imp[0], 625, 1e-9);
@@ -45,18 +46,21 @@ TEST(EmitterImportance, ThroughASecondaryEmitterThatLightsTheView) {
 
 TEST(EmitterImportance, AnOutOfDateCacheCountsItsLargerShareSet) {
   SparseShares door_shut{{2}, {0.5f}, {}, {}}, door_open{{0, 2}, {0.3f, 0.2f}, {}, {}};
-  const std::vector<double> imp = emitterImportance(twoRooms(), {{10, {&door_shut, &door_open}, -1}});
+  const std::vector<double> imp =
+      emitterImportance(twoRooms(), {{10, {&door_shut, &door_open}, -1}});
   // At least what the open door's set puts on visible pixels directly: 10 lm x 0.3 x 10.
   EXPECT_GE(imp[0], 30.0 - 1e-9);
 }
 
 /// The importance of emitter_importance.h as its formulas read, every
 /// share of every set visited: the oracle for the skipping one.
-std::vector<double> everyShareImportance(const ViewWeights& v, const std::vector<ImportanceQuery>& queries) {
+std::vector<double> everyShareImportance(const ViewWeights& v,
+                                         const std::vector<ImportanceQuery>& queries) {
   const size_t groups = v.group_shares.size();
   auto direct = [&](const SparseShares& s) {
     double sum = 0;
-    for (size_t i = 0; i < s.receivers.size(); ++i) sum += double(s.shares[i]) * v.weight[s.receivers[i]];
+    for (size_t i = 0; i < s.receivers.size(); ++i)
+      sum += double(s.shares[i]) * v.weight[s.receivers[i]];
     return sum;
   };
   std::vector<double> per_lumen(groups, 0.0), borrowed(groups, 0.0), weight(groups, 0.0);
@@ -93,7 +97,8 @@ std::vector<double> everyShareImportance(const ViewWeights& v, const std::vector
       double per_flux = direct(*s);
       for (size_t i = 0; i < s->receivers.size(); ++i) {
         const int32_t g = v.group_of[s->receivers[i]];
-        if (g >= 0) per_flux += double(s->shares[i]) * v.reflectance[s->receivers[i]] * per_lumen[size_t(g)];
+        if (g >= 0)
+          per_flux += double(s->shares[i]) * v.reflectance[s->receivers[i]] * per_lumen[size_t(g)];
       }
       best = std::max(best, per_flux);
     }
@@ -132,7 +137,8 @@ TEST(EmitterImportance, IndexedSharesSkipWhatTheViewCannotSee) {
     return s;
   };
   std::vector<SparseShares> group_sets, emitter_sets;
-  for (uint32_t g = 0; g < kRooms * kRoom / kGroup; ++g) group_sets.push_back(lightRoom(g * kGroup / kRoom, g % 7 == 0));
+  for (uint32_t g = 0; g < kRooms * kRoom / kGroup; ++g)
+    group_sets.push_back(lightRoom(g * kGroup / kRoom, g % 7 == 0));
   for (uint32_t e = 0; e < 3 * kRooms; ++e) emitter_sets.push_back(lightRoom(e / 3, e % 2 == 0));
   // A lamp lighting only what the view does not see in its room: no direct
   // view, yet it weighs in the borrowed V of the groups it lights.
@@ -153,14 +159,17 @@ TEST(EmitterImportance, IndexedSharesSkipWhatTheViewCannotSee) {
     view.group_shares.assign(groups.size(), nullptr);
     for (size_t g = 0; g < groups.size(); g += 2) view.group_shares[g] = &groups[g];
     std::vector<ImportanceQuery> queries;
-    for (size_t e = 0; e < emitters.size(); ++e) queries.push_back({100.0 + double(e), {&emitters[e]}, -1});
-    for (size_t g = 1; g < groups.size(); g += 2) queries.push_back({5.0, {}, int32_t(g)});  // borrowing shooters
+    for (size_t e = 0; e < emitters.size(); ++e)
+      queries.push_back({100.0 + double(e), {&emitters[e]}, -1});
+    // borrowing shooters
+    for (size_t g = 1; g < groups.size(); g += 2) queries.push_back({5.0, {}, int32_t(g)});
     if (oracle) return everyShareImportance(view, queries);
     // The batch reuses groupView's direct sums; one query at a time sums
     // them again: the same numbers, bit for bit.
     const std::vector<double> all = emitterImportance(view, queries);
     const GroupView group_view = groupView(view, queries);
-    for (size_t i = 0; i < queries.size(); ++i) EXPECT_EQ(importanceOf(group_view, queries[i]), all[i]) << "query " << i;
+    for (size_t i = 0; i < queries.size(); ++i)
+      EXPECT_EQ(importanceOf(group_view, queries[i]), all[i]) << "query " << i;
     return all;
   };
   const std::vector<double> oracle = importance(false, true), plain = importance(false, false),

@@ -27,11 +27,12 @@ std::vector<float> rowOfTriangles(uint32_t count) {
 }
 
 Frustum everything() {  // a parallel window over the whole row
-  return faceFrustum(glm::dvec3(0, 0, 10), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, -1), 0.01,
-                     false, true, 1e6, 1e3);
+  return faceFrustum(glm::dvec3(0, 0, 10), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0),
+                     glm::dvec3(0, 0, -1), 0.01, false, true, 1e6, 1e3);
 }
 
-std::vector<uint32_t> drawn(const std::vector<int32_t>& firsts, const std::vector<int32_t>& counts) {
+std::vector<uint32_t> drawn(const std::vector<int32_t>& firsts,
+                            const std::vector<int32_t>& counts) {
   std::vector<uint32_t> out;
   for (size_t i = 0; i < firsts.size(); ++i) {
     for (int32_t v = firsts[i]; v < firsts[i] + counts[i]; v += 3) out.push_back(uint32_t(v / 3));
@@ -55,12 +56,14 @@ std::vector<uint32_t> listed(const std::vector<uint32_t>& indices) {
 
 // The triangles a face with a static set draws: the set's triangles of the
 // candidate chunks that may meet the frustum, and every dynamic one.
-std::vector<uint32_t> setDrawn(std::span<const TriangleChunk> chunks, std::span<const float> static_positions,
-                               const Frustum& frustum, uint32_t skip, const TriangleBits& set) {
+std::vector<uint32_t> setDrawn(std::span<const TriangleChunk> chunks,
+                               std::span<const float> static_positions, const Frustum& frustum,
+                               uint32_t skip, const TriangleBits& set) {
   std::vector<uint32_t> candidates, indices;
   candidateChunks(chunks, frustum, glm::dvec3(1), glm::dvec3(0), &set, candidates);
   uint64_t n = 0;
-  for (uint32_t c : candidates) n += appendSetIndices(chunks[c], static_positions, frustum, skip, set, indices);
+  for (uint32_t c : candidates)
+    n += appendSetIndices(chunks[c], static_positions, frustum, skip, set, indices);
   EXPECT_EQ(n * 3, indices.size());
   return listed(indices);
 }
@@ -103,8 +106,8 @@ TEST(IndexMapCulling, ASetDrawsOnlyItsTrianglesInTheFrustum) {
   appendChunks(positions, 0, false, chunks);
   TriangleBits set(triangleBitWords(n), 0u);
   for (uint32_t t = 0; t < n; t += 2) set[t / 32] |= 1u << (t % 32);
-  const Frustum face = faceFrustum(glm::dvec3(0), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, -1), 0.01,
-                                   false, false, 0, 0);
+  const Frustum face = faceFrustum(glm::dvec3(0), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0),
+                                   glm::dvec3(0, 0, -1), 0.01, false, false, 0, 0);
   std::vector<uint32_t> expected;
   for (uint32_t t = 0; t < n; t += 2) {
     const float x = float(t) - float(n) / 2;  // rowOfTriangles: corners x .. x + 0.5
@@ -167,8 +170,8 @@ TEST(IndexMapCulling, RunsNeverStraddleTwoParts) {
 }
 
 TEST(IndexMapCulling, ATriangleMeetsAFrustumUnlessAllCornersLieOutsideOnePlane) {
-  const Frustum face = faceFrustum(glm::dvec3(0), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, -1), 0.01,
-                                   false, false, 0, 0);
+  const Frustum face = faceFrustum(glm::dvec3(0), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0),
+                                   glm::dvec3(0, 0, -1), 0.01, false, false, 0, 0);
   const float inside[9] = {0, 0, -5, 1, 0, -5, 0, 1, -5};
   const float right_of[9] = {6, 0, -5, 7, 0, -5, 6, 1, -5};
   const float behind[9] = {0, 0, 5, 1, 0, 5, 0, 1, 5};
@@ -214,7 +217,8 @@ TEST(IndexMapCulling, SpatialRunOrderMakesRunsCompact) {
     }
   }
   std::vector<glm::vec3> shuffled(centroids.size());
-  for (size_t i = 0; i < centroids.size(); ++i) shuffled[i] = centroids[(i * 7919) % centroids.size()];
+  for (size_t i = 0; i < centroids.size(); ++i)
+    shuffled[i] = centroids[(i * 7919) % centroids.size()];
   const std::vector<uint32_t> order = spatialRunOrder(shuffled);
   ASSERT_EQ(order.size(), shuffled.size());
   std::vector<uint32_t> sorted = order;

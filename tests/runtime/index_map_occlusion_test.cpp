@@ -40,7 +40,7 @@ TEST(IndexMapOcclusion, PyramidKeepsTheFarthestDepthOfEachBlock) {
   ASSERT_EQ(p.levels.size(), 7u);  // 64, 32, ..., 1
   EXPECT_EQ(p.widths.back(), 1);
   EXPECT_EQ(p.levels.back()[0], 0.0f);
-  EXPECT_EQ(p.levels[3][size_t(37 / 8) * 8 + 0], 0.0f);  // its 8 x 8 block
+  EXPECT_EQ(p.levels[3][size_t(37 / 8) * 8 + 0], 0.0f);                // its 8 x 8 block
   EXPECT_FLOAT_EQ(p.levels[3][size_t(37 / 8) * 8 + 1], float(kNear));  // the next block: the wall
 }
 
@@ -91,7 +91,8 @@ TEST(IndexMapOcclusion, TheNearestChunksComeFirst) {
   const std::vector<uint32_t> candidates = {0, 1, 2, 3, 4, 5, 6, 7};
   std::vector<uint32_t> first, rest;
   splitNearest(chunks, candidates, glm::dvec3(0.5, 0.5, -1.0), 512, first, rest);
-  EXPECT_EQ(first, (std::vector<uint32_t>{6, 7}));  // z from 0 and 1: the nearest two, 512 triangles
+  // z from 0 and 1: the nearest two, 512 triangles
+  EXPECT_EQ(first, (std::vector<uint32_t>{6, 7}));
   EXPECT_EQ(rest, (std::vector<uint32_t>{0, 1, 2, 3, 4, 5}));
   splitNearest(chunks, candidates, glm::dvec3(0.5, 0.5, -1.0), 0, first, rest);
   EXPECT_EQ(first.size(), 1u);  // one chunk at least

@@ -10,7 +10,8 @@
 namespace svit::gl {
 namespace {
 
-RefreshCandidate candidate(uint32_t emitter, double importance, double cost = 1, uint64_t waiting_since = 1) {
+RefreshCandidate candidate(uint32_t emitter, double importance, double cost = 1,
+                           uint64_t waiting_since = 1) {
   RefreshCandidate c;
   c.emitter = emitter;
   c.importance = importance;
@@ -37,7 +38,8 @@ TEST(ScheduleRefreshes, ImportantEveryFrameTheRestAtTheirInterval) {
   std::vector<int> refreshed(2, 0);
   uint64_t waiting_since[2] = {1, 1};
   for (uint64_t frame = 1; frame <= 16; ++frame) {
-    std::vector<RefreshCandidate> c = {candidate(0, 100, 1, waiting_since[0]), candidate(1, 100.0 / 16, 1, waiting_since[1])};
+    std::vector<RefreshCandidate> c = {candidate(0, 100, 1, waiting_since[0]),
+                                       candidate(1, 100.0 / 16, 1, waiting_since[1])};
     for (const RefreshDecision& d : scheduleRefreshes(c, frame, 100, 32, 1e9)) {
       ++refreshed[d.emitter];
       waiting_since[d.emitter] = frame + 1;  // out of date again next frame
@@ -56,7 +58,8 @@ TEST(ScheduleRefreshes, ARisenImportancePromotesAtOnce) {
   low.importance = 40;
   low.settled_importance = 1;
   // It goes before the steadily important one, even on a budget of one.
-  const std::vector<RefreshDecision> chosen = scheduleRefreshes({candidate(0, 1000), low}, 10, 1000, 32, 1);
+  const std::vector<RefreshDecision> chosen =
+      scheduleRefreshes({candidate(0, 1000), low}, 10, 1000, 32, 1);
   ASSERT_EQ(chosen.size(), 1u);
   EXPECT_EQ(chosen[0].emitter, 3u);
   EXPECT_EQ(chosen[0].reason, RefreshReason::kPromoted);
@@ -65,7 +68,8 @@ TEST(ScheduleRefreshes, ARisenImportancePromotesAtOnce) {
 TEST(ScheduleRefreshes, UrgentAlwaysGoesFirstWhateverTheBudget) {
   RefreshCandidate urgent = candidate(7, 0.0, 5);
   urgent.urgent = true;
-  const std::vector<RefreshDecision> chosen = scheduleRefreshes({candidate(0, 1000, 1), urgent}, 1, 1000, 32, 1);
+  const std::vector<RefreshDecision> chosen =
+      scheduleRefreshes({candidate(0, 1000, 1), urgent}, 1, 1000, 32, 1);
   ASSERT_GE(chosen.size(), 1u);
   EXPECT_EQ(chosen[0].emitter, 7u);
   EXPECT_EQ(chosen[0].reason, RefreshReason::kLightChanged);
@@ -87,7 +91,8 @@ TEST(ScheduleRefreshes, ASmallBudgetStillServesTheLongestWaiting) {
 }
 
 TEST(ScheduleRefreshes, TheFirstAlwaysGoesAndTheScheduleIsDeterministic) {
-  std::vector<RefreshCandidate> c = {candidate(4, 10, 50), candidate(2, 10, 1), candidate(9, 10, 1)};
+  std::vector<RefreshCandidate> c = {candidate(4, 10, 50), candidate(2, 10, 1),
+                                     candidate(9, 10, 1)};
   const std::vector<RefreshDecision> a = scheduleRefreshes(c, 3, 10, 32, 2);
   const std::vector<RefreshDecision> b = scheduleRefreshes(c, 3, 10, 32, 2);
   ASSERT_EQ(a.size(), 1u);  // ties by id: 2 first, then 4 does not fit

@@ -36,7 +36,8 @@ PathKey key(float t_s, Vec3 translation, Quat rotation = {}, Vec3 scale = {1, 1,
 }
 
 TEST(WalkAnimation, PathKeysInterpolateLinearlyAndSlerp) {
-  const std::vector<PathKey> keys = {key(0, {0, 0, 0}), key(2, {2, 4, -2}, aboutY(1.0f), {3, 1, 1})};
+  const std::vector<PathKey> keys = {key(0, {0, 0, 0}),
+                                     key(2, {2, 4, -2}, aboutY(1.0f), {3, 1, 1})};
   const Trs mid = samplePathKeys(keys, 1.0f, false);
   expectVec(mid.translation, 1, 2, -1);
   expectVec(mid.scale, 2, 1, 1);
@@ -51,7 +52,7 @@ TEST(WalkAnimation, PathKeysClampOrLoop) {
   expectVec(samplePathKeys(keys, 10.0f, false).translation, 3, 0, 0);  // after the last
   // Looping wraps at the last key's time: t = 3.5 -> 0.5, before the first key.
   expectVec(samplePathKeys(keys, 3.5f, true).translation, 1, 0, 0);
-  expectVec(samplePathKeys(keys, 5.0f, true).translation, 2, 0, 0);   // 5 -> 2
+  expectVec(samplePathKeys(keys, 5.0f, true).translation, 2, 0, 0);  // 5 -> 2
   const std::vector<PathKey> one = {key(0, {7, 8, 9})};
   expectVec(samplePathKeys(one, 4.0f, true).translation, 7, 8, 9);
 }
@@ -83,8 +84,8 @@ AnimationTrack track(AnimationPath path, Interpolation interpolation, std::vecto
 }
 
 TEST(WalkAnimation, LinearAndStepTracks) {
-  const AnimationTrack linear =
-      track(AnimationPath::kTranslation, Interpolation::kLinear, {0, 1, 3}, {0, 0, 0, 1, 0, 0, 1, 4, 0});
+  const AnimationTrack linear = track(AnimationPath::kTranslation, Interpolation::kLinear,
+                                      {0, 1, 3}, {0, 0, 0, 1, 0, 0, 1, 4, 0});
   Trs trs;
   applyTrack(linear, 2.0f, trs);
   expectVec(trs.translation, 1, 2, 0);
@@ -109,16 +110,18 @@ TEST(WalkAnimation, LinearRotationTrackSlerps) {
 TEST(WalkAnimation, CubicSplineTrack) {
   // Keys (in-tangent, value, out-tangent) per glTF. With tangents equal to
   // the slope the Hermite spline reproduces the line: x = t over [0, 2].
-  const AnimationTrack line = track(AnimationPath::kTranslation, Interpolation::kCubicSpline, {0, 2},
-                                    {1, 0, 0, 0, 0, 0, 1, 0, 0,  //
-                                     1, 0, 0, 2, 0, 0, 1, 0, 0});
+  const AnimationTrack line =
+      track(AnimationPath::kTranslation, Interpolation::kCubicSpline, {0, 2},
+            {1, 0, 0, 0, 0, 0, 1, 0, 0,  //
+             1, 0, 0, 2, 0, 0, 1, 0, 0});
   Trs trs;
   applyTrack(line, 0.5f, trs);
   expectVec(trs.translation, 0.5f, 0, 0);
   // Zero tangents give smoothstep: h01(0.25) = 3u^2 - 2u^3 = 0.15625.
-  const AnimationTrack ease = track(AnimationPath::kTranslation, Interpolation::kCubicSpline, {0, 1},
-                                    {0, 0, 0, 0, 0, 0, 0, 0, 0,  //
-                                     0, 0, 0, 0, 4, 0, 0, 0, 0});
+  const AnimationTrack ease =
+      track(AnimationPath::kTranslation, Interpolation::kCubicSpline, {0, 1},
+            {0, 0, 0, 0, 0, 0, 0, 0, 0,  //
+             0, 0, 0, 0, 4, 0, 0, 0, 0});
   applyTrack(ease, 0.25f, trs);
   expectVec(trs.translation, 0, 4 * 0.15625f, 0);
   applyTrack(ease, 5.0f, trs);  // past the end: the last value
@@ -160,7 +163,8 @@ Scene hierarchyScene() {
     node.translation = translation;
     node.parent_from_node = composeTrs({translation, {}, {1, 1, 1}});
     const glm::mat4 parent_world =
-        parent >= 0 ? glm::make_mat4(scene.nodes[size_t(parent)].world_from_node.m.data()) : glm::mat4(1);
+        parent >= 0 ? glm::make_mat4(scene.nodes[size_t(parent)].world_from_node.m.data())
+                    : glm::mat4(1);
     const glm::mat4 world = parent_world * glm::make_mat4(node.parent_from_node.m.data());
     std::memcpy(node.world_from_node.m.data(), &world[0][0], sizeof(float) * 16);
     node.dynamic = dynamic;
@@ -181,7 +185,8 @@ Scene hierarchyScene() {
   Animation spin;
   spin.duration_s = 1;
   const Quat a = aboutY(0), b = aboutY(1.0f);
-  AnimationTrack t = track(AnimationPath::kRotation, Interpolation::kLinear, {0, 1}, {a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w});
+  AnimationTrack t = track(AnimationPath::kRotation, Interpolation::kLinear, {0, 1},
+                           {a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w});
   t.node = wheel;
   spin.tracks.push_back(t);
   scene.animations.push_back(spin);

@@ -128,7 +128,8 @@ BakeData fullBake() {
   BakeData d;
   d.level_hash = 0x0123456789abcdefull;
   d.seed = 0xfedcba9876543210ull;
-  d.pages = {{256, 128, "lightmap-0.exr", 0x1111222233334444ull}, {64, 64, "lightmap-1.exr", 0xffffffffffffffffull}};
+  d.pages = {{256, 128, "lightmap-0.exr", 0x1111222233334444ull},
+             {64, 64, "lightmap-1.exr", 0xffffffffffffffffull}};
   for (uint32_t t = 0; t < 4; ++t) {
     BakeTriangleUv uv;
     uv.instance = t / 2;
@@ -238,7 +239,8 @@ void expectSameBake(const BakeData& a, const BakeData& b) {
     EXPECT_EQ(a.triangle_uvs[i].instance, b.triangle_uvs[i].instance) << w;
     EXPECT_EQ(a.triangle_uvs[i].mesh_triangle, b.triangle_uvs[i].mesh_triangle) << w;
     EXPECT_EQ(a.triangle_uvs[i].page, b.triangle_uvs[i].page) << w;
-    for (int k = 0; k < 3; ++k) expectSame(a.triangle_uvs[i].uv[k], b.triangle_uvs[i].uv[k], w + " uv");
+    for (int k = 0; k < 3; ++k)
+      expectSame(a.triangle_uvs[i].uv[k], b.triangle_uvs[i].uv[k], w + " uv");
   }
   EXPECT_EQ(a.has_runtime_sections, b.has_runtime_sections);
   ASSERT_EQ(a.patches.size(), b.patches.size());
@@ -278,14 +280,16 @@ void expectSameBake(const BakeData& a, const BakeData& b) {
     }
   }
   ASSERT_EQ(a.proxy.positions.size(), b.proxy.positions.size());
-  for (size_t i = 0; i < a.proxy.positions.size(); ++i) expectSame(a.proxy.positions[i], b.proxy.positions[i], "proxy");
+  for (size_t i = 0; i < a.proxy.positions.size(); ++i)
+    expectSame(a.proxy.positions[i], b.proxy.positions[i], "proxy");
   EXPECT_EQ(a.proxy.indices, b.proxy.indices);
   EXPECT_EQ(a.proxy.face_patch, b.proxy.face_patch);
   expectSame(a.probes.origin, b.probes.origin, "probe origin");
   expectSame(a.probes.spacing, b.probes.spacing, "probe spacing");
   for (int k = 0; k < 3; ++k) EXPECT_EQ(a.probes.dims[k], b.probes.dims[k]);
   ASSERT_EQ(a.probes.sh.size(), b.probes.sh.size());
-  for (size_t i = 0; i < a.probes.sh.size(); ++i) expectSameFloat(a.probes.sh[i], b.probes.sh[i], "sh");
+  for (size_t i = 0; i < a.probes.sh.size(); ++i)
+    expectSameFloat(a.probes.sh[i], b.probes.sh[i], "sh");
 }
 
 TEST_F(BakeFileTest, RoundTripOfEverySectionIsBitwiseEqual) {
@@ -305,7 +309,8 @@ TEST_F(BakeFileTest, RoundTripOfEverySectionIsBitwiseEqual) {
   EXPECT_EQ(getU32(bytes, 8), kBakeFileVersion);
   std::vector<std::string> tags;
   for (const SectionAt& section : sectionTable(bytes)) tags.push_back(section.tag);
-  EXPECT_EQ(tags, (std::vector<std::string>{"HEAD", "PAGE", "TUVS", "PTCH", "PELM", "CLST", "EMIT", "PRXY", "PROB"}));
+  EXPECT_EQ(tags, (std::vector<std::string>{"HEAD", "PAGE", "TUVS", "PTCH", "PELM", "CLST", "EMIT",
+                                            "PRXY", "PROB"}));
   EXPECT_EQ(getU64(bytes, bytes.size() - 8), fnv1a64(bytes.data(), bytes.size() - 8));
 
   // Writing is deterministic: the same data gives the same bytes.
@@ -380,9 +385,13 @@ TEST_F(BakeFileTest, TruncatedFileIsRejectedAtEveryCut) {
         << describe(read.status());
   }
   // The cut inside PTCH names the section and the byte counts.
-  writeBytes(path("cut.svit"), std::vector<uint8_t>(bytes.begin(), bytes.begin() + std::ptrdiff_t(ptch.payload + 30)));
+  writeBytes(
+      path("cut.svit"),
+      std::vector<uint8_t>(bytes.begin(), bytes.begin() + std::ptrdiff_t(ptch.payload + 30)));
   const Status s = readBakeFile(path("cut.svit")).status();
-  EXPECT_TRUE(messageHas(s, {"truncated: section PTCH needs " + std::to_string(ptch.size) + " bytes"})) << describe(s);
+  EXPECT_TRUE(
+      messageHas(s, {"truncated: section PTCH needs " + std::to_string(ptch.size) + " bytes"}))
+      << describe(s);
 }
 
 TEST_F(BakeFileTest, FlippedByteIsChecksumMismatch) {
@@ -531,26 +540,66 @@ TEST_F(BakeFileTest, WriterRefusesBadDataAndKeepsThePreviousFile) {
     std::vector<std::string> message;
   };
   const Case cases[] = {
-      {"patch range past patch_elements", [](BakeData& d) { d.patches[1].element_count = 9; }, {"PTCH", "patch 1", "[2, 11)"}},
-      {"patch element past the triangles", [](BakeData& d) { d.patch_elements[3] = 9001; }, {"PELM", "element 3", "9001"}},
-      {"cluster child out of range", [](BakeData& d) { d.clusters[2].child[1] = 12; }, {"CLST", "cluster 2", "12"}},
-      {"cluster parent out of range", [](BakeData& d) { d.clusters[3].parent = 40; }, {"CLST", "cluster 3", "40"}},
-      {"cluster patch out of range", [](BakeData& d) { d.clusters[4].patch = 3; }, {"CLST", "cluster 4", "patch 3"}},
-      {"cluster child/parent disagree", [](BakeData& d) { d.clusters[4].parent = 0; }, {"CLST", "cluster 2", "parent 0"}},
-      {"emitter patch out of range", [](BakeData& d) { d.emitters[0].patches[2] = 3; }, {"EMIT", "emitter 0", "3 >= patch count 3"}},
-      {"emitter patches not ascending", [](BakeData& d) { d.emitters[2].patches = {1, 0}; }, {"EMIT", "emitter 2", "ascending"}},
-      {"emitter factors length", [](BakeData& d) { d.emitters[2].factors.push_back(0.5f); }, {"EMIT", "emitter 2", "3 factors for 2 patches"}},
-      {"emitting patch out of range", [](BakeData& d) { d.emitters[2].index = 5; }, {"EMIT", "emitter 2", "5"}},
-      {"proxy index out of range", [](BakeData& d) { d.proxy.indices[4] = 4; }, {"PRXY", "face 1", "index 4 >= vertex count 4"}},
-      {"proxy face patch out of range", [](BakeData& d) { d.proxy.face_patch[1] = 7; }, {"PRXY", "face 1", "patch 7"}},
-      {"proxy face count", [](BakeData& d) { d.proxy.face_patch.pop_back(); }, {"PRXY", "1 face patches for 2 faces"}},
-      {"triangle uv page out of range", [](BakeData& d) { d.triangle_uvs[3].page = 2; }, {"TUVS", "triangle 3", "page 2 >= page count 2"}},
+      {"patch range past patch_elements",
+       [](BakeData& d) { d.patches[1].element_count = 9; },
+       {"PTCH", "patch 1", "[2, 11)"}},
+      {"patch element past the triangles",
+       [](BakeData& d) { d.patch_elements[3] = 9001; },
+       {"PELM", "element 3", "9001"}},
+      {"cluster child out of range",
+       [](BakeData& d) { d.clusters[2].child[1] = 12; },
+       {"CLST", "cluster 2", "12"}},
+      {"cluster parent out of range",
+       [](BakeData& d) { d.clusters[3].parent = 40; },
+       {"CLST", "cluster 3", "40"}},
+      {"cluster patch out of range",
+       [](BakeData& d) { d.clusters[4].patch = 3; },
+       {"CLST", "cluster 4", "patch 3"}},
+      {"cluster child/parent disagree",
+       [](BakeData& d) { d.clusters[4].parent = 0; },
+       {"CLST", "cluster 2", "parent 0"}},
+      {"emitter patch out of range",
+       [](BakeData& d) { d.emitters[0].patches[2] = 3; },
+       {"EMIT", "emitter 0", "3 >= patch count 3"}},
+      {"emitter patches not ascending",
+       [](BakeData& d) {
+         d.emitters[2].patches = {1, 0};
+       },
+       {"EMIT", "emitter 2", "ascending"}},
+      {"emitter factors length",
+       [](BakeData& d) { d.emitters[2].factors.push_back(0.5f); },
+       {"EMIT", "emitter 2", "3 factors for 2 patches"}},
+      {"emitting patch out of range",
+       [](BakeData& d) { d.emitters[2].index = 5; },
+       {"EMIT", "emitter 2", "5"}},
+      {"proxy index out of range",
+       [](BakeData& d) { d.proxy.indices[4] = 4; },
+       {"PRXY", "face 1", "index 4 >= vertex count 4"}},
+      {"proxy face patch out of range",
+       [](BakeData& d) { d.proxy.face_patch[1] = 7; },
+       {"PRXY", "face 1", "patch 7"}},
+      {"proxy face count",
+       [](BakeData& d) { d.proxy.face_patch.pop_back(); },
+       {"PRXY", "1 face patches for 2 faces"}},
+      {"triangle uv page out of range",
+       [](BakeData& d) { d.triangle_uvs[3].page = 2; },
+       {"TUVS", "triangle 3", "page 2 >= page count 2"}},
       {"probe sh size", [](BakeData& d) { d.probes.sh.pop_back(); }, {"PROB", "47", "2 x 1 x 2"}},
-      {"NaN radiosity", [](BakeData& d) { d.patches[2].radiosity.g = kNan; }, {"PTCH", "patch 2", "radiosity", "not finite"}},
-      {"Inf uv", [](BakeData& d) { d.triangle_uvs[1].uv[2].x = std::numeric_limits<float>::infinity(); }, {"TUVS", "triangle 1", "inf"}},
-      {"NaN factor", [](BakeData& d) { d.emitters[0].factors[1] = kNan; }, {"EMIT", "emitter 0", "factor 1"}},
-      {"NaN proxy vertex", [](BakeData& d) { d.proxy.positions[3].z = kNan; }, {"PRXY", "vertex 3"}},
-      {"page file escapes the directory", [](BakeData& d) { d.pages[1].file = "../lightmap-1.exr"; }, {"PAGE", "page 1", "../lightmap-1.exr"}},
+      {"NaN radiosity",
+       [](BakeData& d) { d.patches[2].radiosity.g = kNan; },
+       {"PTCH", "patch 2", "radiosity", "not finite"}},
+      {"Inf uv",
+       [](BakeData& d) { d.triangle_uvs[1].uv[2].x = std::numeric_limits<float>::infinity(); },
+       {"TUVS", "triangle 1", "inf"}},
+      {"NaN factor",
+       [](BakeData& d) { d.emitters[0].factors[1] = kNan; },
+       {"EMIT", "emitter 0", "factor 1"}},
+      {"NaN proxy vertex",
+       [](BakeData& d) { d.proxy.positions[3].z = kNan; },
+       {"PRXY", "vertex 3"}},
+      {"page file escapes the directory",
+       [](BakeData& d) { d.pages[1].file = "../lightmap-1.exr"; },
+       {"PAGE", "page 1", "../lightmap-1.exr"}},
       {"empty page", [](BakeData& d) { d.pages[0].height = 0; }, {"PAGE", "page 0", "256 x 0"}},
   };
   for (const Case& c : cases) {

@@ -28,7 +28,9 @@ namespace {
 using test::describe;
 using test::messageHas;
 
-std::string regressionPath(const std::string& name) { return test::dataPath("fuzz_regressions/" + name); }
+std::string regressionPath(const std::string& name) {
+  return test::dataPath("fuzz_regressions/" + name);
+}
 
 std::string readText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -97,9 +99,11 @@ TEST(FuzzRegressions, UndecodableImageWarningIsPrintableAndSummarises) {
   expectCleanLoad("png_chunk_type_not_utf8.gltf");
   Expected<Scene> scene = loadLevel(regressionPath("png_chunk_type_not_utf8.gltf"));
   ASSERT_TRUE(scene.ok()) << describe(scene.status());
-  EXPECT_TRUE(test::someWarningHas(scene->warnings, {"image 'checker' cannot be decoded", "the factor is used alone"}));
+  EXPECT_TRUE(test::someWarningHas(
+      scene->warnings, {"image 'checker' cannot be decoded", "the factor is used alone"}));
   for (const std::string& warning : scene->warnings) {
-    for (char c : warning) EXPECT_TRUE(c >= 0x20 && c <= 0x7e) << "unprintable byte in: " << warning;
+    for (char c : warning)
+      EXPECT_TRUE(c >= 0x20 && c <= 0x7e) << "unprintable byte in: " << warning;
   }
   // Whatever a name holds, the JSON summary is written (bad bytes replaced).
   SceneSummary summary = summarize(*scene);
@@ -115,20 +119,23 @@ TEST(FuzzRegressions, ImageBufferViewOutOfBoundsIsAnError) {
   Expected<Scene> scene = loadLevel(path);
   ASSERT_FALSE(scene.ok());
   EXPECT_EQ(scene.status().code(), StatusCode::kInvalidInput) << describe(scene.status());
-  EXPECT_TRUE(messageHas(scene.status(), {path, "image 0", "bufferView 6", "[136, 211)", "out of bounds", "174 bytes"}));
+  EXPECT_TRUE(messageHas(scene.status(), {path, "image 0", "bufferView 6", "[136, 211)",
+                                          "out of bounds", "174 bytes"}));
   // The same with the view starting past the buffer's end (bytes [504, 579)
   // of 348): tinygltf computed &data[504] for the callback.
   const std::string past = regressionPath("image_buffer_view_offset_past_buffer.glb");
   Expected<Scene> past_scene = loadLevel(past);
   ASSERT_FALSE(past_scene.ok());
-  EXPECT_TRUE(messageHas(past_scene.status(), {past, "image 0", "bufferView 6", "[504, 579)", "348 bytes"}));
+  EXPECT_TRUE(messageHas(past_scene.status(),
+                         {past, "image 0", "bufferView 6", "[504, 579)", "348 bytes"}));
   // Without textures the image bytes are never read: whatever else the file
   // has wrong (an animation accessor out of bounds too), it is not the image.
   LoadOptions no_textures;
   no_textures.load_textures = false;
   Expected<Scene> untextured = loadLevel(path, no_textures);
   ASSERT_FALSE(untextured.ok());
-  EXPECT_FALSE(test::containsNoCase(untextured.status().message(), "image 0")) << describe(untextured.status());
+  EXPECT_FALSE(test::containsNoCase(untextured.status().message(), "image 0"))
+      << describe(untextured.status());
 }
 
 // fuzz_gltf, fuzz_glb: accessor 3 (TEXCOORD_1, no bufferView, one sparse
@@ -141,8 +148,9 @@ TEST(FuzzRegressions, SparseIndicesOfUnknownTypeAreAnError) {
     Expected<Scene> scene = loadLevel(path);
     ASSERT_FALSE(scene.ok());
     EXPECT_EQ(scene.status().code(), StatusCode::kInvalidInput) << describe(scene.status());
-    EXPECT_TRUE(messageHas(scene.status(), {path, "TEXCOORD_1", "accessor 3", "sparse indices componentType",
-                                            "is not unsigned byte, short or int"}));
+    EXPECT_TRUE(messageHas(scene.status(),
+                           {path, "TEXCOORD_1", "accessor 3", "sparse indices componentType",
+                            "is not unsigned byte, short or int"}));
   }
 }
 
@@ -153,18 +161,22 @@ TEST(FuzzRegressions, SparseIndicesOfSignedTypeAndHugeUnbackedCountAreErrors) {
   const TempDir dir("sparse");
   const std::string text = readText(regressionPath("sparse_indices_unknown_type.gltf"));
   const std::string signed_path =
-      writeVariant(dir, text, "\"componentType\": 2561", "\"componentType\": 5120", "signed_sparse_indices.gltf");
+      writeVariant(dir, text, "\"componentType\": 2561", "\"componentType\": 5120",
+                   "signed_sparse_indices.gltf");
   Expected<Scene> signed_indices = loadLevel(signed_path);
   ASSERT_FALSE(signed_indices.ok());
-  EXPECT_TRUE(messageHas(signed_indices.status(), {"accessor 3", "sparse indices componentType 5120"}));
+  EXPECT_TRUE(
+      messageHas(signed_indices.status(), {"accessor 3", "sparse indices componentType 5120"}));
 
   const std::string accessor_3 = "\"count\": 4,\n      \"type\": \"VEC2\",\n      \"sparse\"";
-  const std::string huge_path = writeVariant(dir, text, accessor_3, "\"count\": 1099511627776, \"type\": \"VEC2\", \"sparse\"",
-                                             "huge_unbacked_count.gltf");
+  const std::string huge_path = writeVariant(
+      dir, text, accessor_3, "\"count\": 1099511627776, \"type\": \"VEC2\", \"sparse\"",
+      "huge_unbacked_count.gltf");
   Expected<Scene> huge = loadLevel(huge_path);
   ASSERT_FALSE(huge.ok());
   EXPECT_EQ(huge.status().code(), StatusCode::kInvalidInput) << describe(huge.status());
-  EXPECT_TRUE(messageHas(huge.status(), {"accessor 3", "count 1099511627776 without a bufferView exceeds 16777216"}));
+  EXPECT_TRUE(messageHas(
+      huge.status(), {"accessor 3", "count 1099511627776 without a bufferView exceeds 16777216"}));
 }
 
 // fuzz_glb: material 'Glow' uses its emissive texture through TEXCOORD_2;
@@ -174,7 +186,8 @@ TEST(FuzzRegressions, UnsupportedTexcoordSetDropsTheTextureAndTheSet) {
   expectCleanLoad("unsupported_texcoord_set_kept.glb");
   Expected<Scene> scene = loadLevel(regressionPath("unsupported_texcoord_set_kept.glb"));
   ASSERT_TRUE(scene.ok()) << describe(scene.status());
-  EXPECT_TRUE(test::someWarningHas(scene->warnings, {"material 'Glow'", "TEXCOORD_2 is not supported", "texture ignored"}));
+  EXPECT_TRUE(test::someWarningHas(
+      scene->warnings, {"material 'Glow'", "TEXCOORD_2 is not supported", "texture ignored"}));
   const Material& glow = scene->materials.at(1);
   EXPECT_EQ(glow.name, "Glow");
   EXPECT_EQ(glow.emissive_texture.texture, -1);
@@ -189,7 +202,8 @@ TEST(FuzzRegressions, LevelThatExcludesEverythingNamesTheLevelFile) {
   Expected<Scene> scene = loadLevel(path);
   ASSERT_FALSE(scene.ok());
   EXPECT_EQ(scene.status().code(), StatusCode::kInvalidInput) << describe(scene.status());
-  EXPECT_TRUE(messageHas(scene.status(), {path, "good_quad.gltf", "empty scene: no triangles to light"}));
+  EXPECT_TRUE(
+      messageHas(scene.status(), {path, "good_quad.gltf", "empty scene: no triangles to light"}));
 }
 
 // fuzz_lightmap_exr: a page whose G plane holds a non-finite float was
@@ -220,7 +234,8 @@ TEST(FuzzRegressions, ChunkCountBeyondTheFileIsAnError) {
   Expected<LightmapImage> image = readLightmapExr(path);
   ASSERT_FALSE(image.ok());
   EXPECT_EQ(image.status().code(), StatusCode::kInvalidInput) << describe(image.status());
-  EXPECT_TRUE(messageHas(image.status(), {path, "chunkCount 825193984", "9 scanlines", "882 bytes"}));
+  EXPECT_TRUE(
+      messageHas(image.status(), {path, "chunkCount 825193984", "9 scanlines", "882 bytes"}));
 }
 
 // fuzz_lightmap_exr: a PIZ-compressed chunk too short for its Huffman
@@ -260,7 +275,8 @@ TEST(FuzzRegressions, UnknownPartTypeIsRejectedBeforeTinyexrAsserts) {
     Expected<LightmapImage> image = readLightmapExr(path);
     ASSERT_FALSE(image.ok());
     EXPECT_EQ(image.status().code(), StatusCode::kUnsupported) << describe(image.status());
-    EXPECT_TRUE(messageHas(image.status(), {path, "part type", "lightmap pages are scanline images"}));
+    EXPECT_TRUE(
+        messageHas(image.status(), {path, "part type", "lightmap pages are scanline images"}));
   }
 }
 

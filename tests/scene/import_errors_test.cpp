@@ -68,7 +68,8 @@ TEST(ImportErrors, GoodQuadLoads) {
   for (const Vec3& n : mesh.normals) EXPECT_TRUE(test::vecNear(n, {0, 1, 0}, kExact));
   EXPECT_NEAR(test::meshArea(mesh), 2.0, kExact);  // 2 m x 1 m
   for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-    EXPECT_GT(test::faceCross(mesh, t).y, 0.0f) << "triangle " << t << " must stay counter-clockwise from +Y";
+    EXPECT_GT(test::faceCross(mesh, t).y, 0.0f)
+        << "triangle " << t << " must stay counter-clockwise from +Y";
   }
   ASSERT_EQ(mesh.triangle_material.size(), 2u);
   ASSERT_EQ(mesh.triangle_albedo.size(), 2u);
@@ -118,7 +119,8 @@ TEST(ImportErrors, GoodEmissiveQuadHasAnalyticFlux) {
   EXPECT_FALSE(scene.materials[0].double_sided);
   ASSERT_EQ(scene.meshes.size(), 1u);
   ASSERT_EQ(scene.meshes[0].triangle_emission.size(), 2u);
-  for (const Rgb& e : scene.meshes[0].triangle_emission) EXPECT_TRUE(test::rgbNear(e, {10, 10, 10}, kExact));
+  for (const Rgb& e : scene.meshes[0].triangle_emission)
+    EXPECT_TRUE(test::rgbNear(e, {10, 10, 10}, kExact));
   EXPECT_TRUE(scene.warnings.empty()) << test::joinLines(scene.warnings);
 
   // Single-sided Lambertian emitter: flux = pi x L x area = pi x 10 x 2 m^2.
@@ -266,7 +268,8 @@ TEST(ImportErrors, UnsupportedRequiredExtension) {
   const Status status = loadFailure("unsupported_required_extension.gltf");
   ASSERT_FALSE(status.ok());
   EXPECT_EQ(status.code(), StatusCode::kUnsupported) << describe(status);
-  EXPECT_TRUE(messageHas(status, {"unsupported_required_extension.gltf", "KHR_draco_mesh_compression"}));
+  EXPECT_TRUE(
+      messageHas(status, {"unsupported_required_extension.gltf", "KHR_draco_mesh_compression"}));
 }
 
 TEST(ImportErrors, EmptySceneHasNoTriangles) {
@@ -327,7 +330,8 @@ TEST(ImportErrors, TriangleStripIsConverted) {
   ASSERT_EQ(mesh.triangleCount(), 2u);
   for (size_t t = 0; t < mesh.triangleCount(); ++t) {
     // Winding must alternate correctly: every face keeps the +Y side front.
-    EXPECT_TRUE(test::vecNear(test::normalize(test::faceCross(mesh, t)), {0, 1, 0}, kDerived)) << "triangle " << t;
+    EXPECT_TRUE(test::vecNear(test::normalize(test::faceCross(mesh, t)), {0, 1, 0}, kDerived))
+        << "triangle " << t;
   }
   EXPECT_NEAR(test::meshArea(mesh), 2.0, kExact);
   ASSERT_EQ(mesh.triangle_source.size(), 2u);
@@ -342,7 +346,8 @@ TEST(ImportErrors, TriangleFanIsConverted) {
   const Mesh& mesh = result->meshes[0];
   ASSERT_EQ(mesh.triangleCount(), 3u);
   for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-    EXPECT_TRUE(test::vecNear(test::normalize(test::faceCross(mesh, t)), {0, 1, 0}, kDerived)) << "triangle " << t;
+    EXPECT_TRUE(test::vecNear(test::normalize(test::faceCross(mesh, t)), {0, 1, 0}, kDerived))
+        << "triangle " << t;
   }
   EXPECT_NEAR(test::meshArea(mesh), 1.5, kExact);
   ASSERT_EQ(mesh.triangle_source.size(), 3u);
@@ -356,7 +361,8 @@ TEST(ImportErrors, PointsAndLinesAreSkippedWithWarning) {
   const Scene& scene = *result;
   ASSERT_EQ(scene.meshes.size(), 1u);
   EXPECT_EQ(scene.meshes[0].triangleCount(), 2u);
-  for (const TriangleSource& source : scene.meshes[0].triangle_source) EXPECT_EQ(source.primitive, 0u);
+  for (const TriangleSource& source : scene.meshes[0].triangle_source)
+    EXPECT_EQ(source.primitive, 0u);
   EXPECT_EQ(scene.counters.skipped_point_line_primitives, 2u);
   EXPECT_TRUE(someWarningHas(scene.warnings, {"Quad", "primitive 1"}));
   EXPECT_TRUE(someWarningHas(scene.warnings, {"Quad", "primitive 2"}));
@@ -383,7 +389,8 @@ TEST(ImportErrors, MissingNormalsAreGeneratedFlat) {
       EXPECT_NEAR(test::length(n), 1.0f, kDerived) << "triangle " << t << " corner " << k;
       EXPECT_NEAR(test::dot(n, e1), 0.0f, kDerived) << "triangle " << t << " corner " << k;
       EXPECT_NEAR(test::dot(n, e2), 0.0f, kDerived) << "triangle " << t << " corner " << k;
-      EXPECT_GT(test::dot(n, face), 0.0f) << "triangle " << t << " corner " << k << " points backwards";
+      EXPECT_GT(test::dot(n, face), 0.0f)
+          << "triangle " << t << " corner " << k << " points backwards";
     }
   }
 }
@@ -412,7 +419,8 @@ TEST(ImportErrors, DynamicMarkIsInheritedBySubtree) {
 
   // world_from_node is column-major: translation in m[12..14].
   const Mat4& hand_world = scene.nodes[hand].world_from_node;
-  EXPECT_TRUE(test::vecNear({hand_world.m[12], hand_world.m[13], hand_world.m[14]}, {1, 1, 1}, kExact));
+  EXPECT_TRUE(
+      test::vecNear({hand_world.m[12], hand_world.m[13], hand_world.m[14]}, {1, 1, 1}, kExact));
 
   ASSERT_EQ(scene.instances.size(), 3u);
   for (const Instance& instance : scene.instances) {

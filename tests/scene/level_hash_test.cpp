@@ -61,7 +61,8 @@ TEST(LevelHash, ChangesWithOneVertex) {
   Scene moved = base;
   ASSERT_FALSE(moved.meshes.empty());
   ASSERT_FALSE(moved.meshes[0].positions.empty());
-  moved.meshes[0].positions[0].y = std::nextafter(moved.meshes[0].positions[0].y, 10.0f);  // one ulp
+  // one ulp
+  moved.meshes[0].positions[0].y = std::nextafter(moved.meshes[0].positions[0].y, 10.0f);
   EXPECT_NE(hashLevel(base), hashLevel(moved));
   Scene dynamic = base;
   ASSERT_FALSE(dynamic.instances.empty());

@@ -124,7 +124,8 @@ TEST(LevelJson, NegativeLightIntensity) {
   const Status status = loadFailure("negative_level_light.level.json");
   ASSERT_FALSE(status.ok());
   EXPECT_EQ(status.code(), StatusCode::kInvalidInput) << describe(status);
-  EXPECT_TRUE(messageHas(status, {"negative_level_light.level.json", "lights[0].intensity_cd", "-3"}));
+  EXPECT_TRUE(
+      messageHas(status, {"negative_level_light.level.json", "lights[0].intensity_cd", "-3"}));
 }
 
 TEST(LevelJson, UnknownFieldIsAnError) {
@@ -149,8 +150,9 @@ TEST(LevelJson, MissingGltf) {
 
 std::string writeLevel(const std::string& json) {
   const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) /
-                                    ("svit_level_json_" + std::string(info->test_suite_name()) + "_" + info->name());
+  const std::filesystem::path dir =
+      std::filesystem::path(::testing::TempDir()) /
+      ("svit_level_json_" + std::string(info->test_suite_name()) + "_" + info->name());
   std::filesystem::create_directories(dir);
   const std::string path = (dir / "level.json").string();
   std::ofstream(path) << json;
@@ -163,7 +165,8 @@ std::string quadLevel(const std::string& fields) {
 }
 
 Vec3 worldPoint(const Mat4& m, const Vec3& p) {
-  return {m.m[0] * p.x + m.m[4] * p.y + m.m[8] * p.z + m.m[12], m.m[1] * p.x + m.m[5] * p.y + m.m[9] * p.z + m.m[13],
+  return {m.m[0] * p.x + m.m[4] * p.y + m.m[8] * p.z + m.m[12],
+          m.m[1] * p.x + m.m[5] * p.y + m.m[9] * p.z + m.m[13],
           m.m[2] * p.x + m.m[6] * p.y + m.m[10] * p.z + m.m[14]};
 }
 
@@ -179,7 +182,8 @@ const Instance* instanceOf(const Scene& scene, int node) {
 void expectClosedOutward(const Mesh& mesh, double area_m2, double tolerance) {
   for (size_t t = 0; t < mesh.triangleCount(); ++t) {
     const Vec3 c = test::faceCross(mesh, t);
-    const Vec3 a = test::corner(mesh, t, 0), b = test::corner(mesh, t, 1), d = test::corner(mesh, t, 2);
+    const Vec3 a = test::corner(mesh, t, 0), b = test::corner(mesh, t, 1),
+               d = test::corner(mesh, t, 2);
     const Vec3 centroid{a.x + b.x + d.x, a.y + b.y + d.y, a.z + b.z + d.z};
     ASSERT_GT(test::dot(c, centroid), 0.0f) << mesh.name << " triangle " << t << " faces inward";
   }
@@ -230,7 +234,8 @@ TEST(LevelJsonObjects, SphereAndBoxBecomeMeshesMaterialsNodesAndInstances) {
   const Instance* ball_instance = instanceOf(scene, ball);
   ASSERT_NE(ball_instance, nullptr);
   EXPECT_TRUE(ball_instance->dynamic);
-  EXPECT_TRUE(test::vecNear(worldPoint(ball_instance->world_from_object, {0, 0, 0}), {1, 0.5f, -2}, kRelative));
+  EXPECT_TRUE(test::vecNear(worldPoint(ball_instance->world_from_object, {0, 0, 0}), {1, 0.5f, -2},
+                            kRelative));
 
   // Box: 12 triangles, area 2 (0.2 x 0.4 + 0.4 x 0.6 + 0.6 x 0.2) = 0.88 m^2,
   // static (no dynamic field) until the path marked it.
@@ -248,7 +253,8 @@ TEST(LevelJsonObjects, SphereAndBoxBecomeMeshesMaterialsNodesAndInstances) {
   ASSERT_NE(box_instance, nullptr);
   EXPECT_TRUE(box_instance->dynamic);
   // The box's local +x corner (0.1, 0, 0) lands at world (0, 2, -0.1).
-  EXPECT_TRUE(test::vecNear(worldPoint(box_instance->world_from_object, {0.1f, 0, 0}), {0, 2, -0.1f}, 1e-6f));
+  EXPECT_TRUE(test::vecNear(worldPoint(box_instance->world_from_object, {0.1f, 0, 0}),
+                            {0, 2, -0.1f}, 1e-6f));
 
   // The path names the object.
   ASSERT_EQ(scene.object_paths.size(), 1u);
@@ -271,30 +277,35 @@ TEST(LevelJsonObjects, SphereAndBoxBecomeMeshesMaterialsNodesAndInstances) {
 }
 
 TEST(LevelJsonObjects, SphereDefaultsTo24SegmentsAndGreyAlbedo) {
-  const std::string path = quadLevel(R"("objects": [{"name": "b", "shape": "sphere", "radius_m": 2}])");
+  const std::string path =
+      quadLevel(R"("objects": [{"name": "b", "shape": "sphere", "radius_m": 2}])");
   Expected<Scene> result = loadLevel(path);
   ASSERT_TRUE(result.ok()) << describe(result.status());
   const Mesh& sphere = result->meshes[size_t(result->nodes[size_t(result->findNode("b"))].mesh)];
   EXPECT_EQ(sphere.triangleCount(), 2u * 24u * 11u);
   // 24 x 12 facets: within 2% of 4 pi r^2 = 50.3 m^2 (the polyhedron is smaller).
   expectClosedOutward(sphere, 4 * 3.14159265 * 4, 0.02 * 50.3);
-  EXPECT_TRUE(test::rgbNear(result->materials[sphere.triangle_material[0]].base_color, {0.8f, 0.8f, 0.8f}, kRelative));
+  EXPECT_TRUE(test::rgbNear(result->materials[sphere.triangle_material[0]].base_color,
+                            {0.8f, 0.8f, 0.8f}, kRelative));
   EXPECT_FALSE(instanceOf(*result, result->findNode("b"))->dynamic);
 }
 
 TEST(LevelJsonObjects, ObjectsAreInTheLevelHash) {
   // The bake depends on the object's geometry and material: the hash must see them.
-  const std::string object = R"("objects": [{"name": "b", "shape": "box", "size_m": 1, "albedo": 0.5}])";
+  const std::string object =
+      R"("objects": [{"name": "b", "shape": "box", "size_m": 1, "albedo": 0.5}])";
   Expected<Scene> a = loadLevel(quadLevel(object));
   ASSERT_TRUE(a.ok()) << describe(a.status());
   const uint64_t hash_a = hashLevel(*a);
   Expected<Scene> same = loadLevel(quadLevel(object));
   ASSERT_TRUE(same.ok());
   EXPECT_EQ(hashLevel(*same), hash_a);
-  Expected<Scene> bigger = loadLevel(quadLevel(R"("objects": [{"name": "b", "shape": "box", "size_m": 1.1, "albedo": 0.5}])"));
+  Expected<Scene> bigger = loadLevel(
+      quadLevel(R"("objects": [{"name": "b", "shape": "box", "size_m": 1.1, "albedo": 0.5}])"));
   ASSERT_TRUE(bigger.ok());
   EXPECT_NE(hashLevel(*bigger), hash_a);
-  Expected<Scene> darker = loadLevel(quadLevel(R"("objects": [{"name": "b", "shape": "box", "size_m": 1, "albedo": 0.4}])"));
+  Expected<Scene> darker = loadLevel(
+      quadLevel(R"("objects": [{"name": "b", "shape": "box", "size_m": 1, "albedo": 0.4}])"));
   ASSERT_TRUE(darker.ok());
   EXPECT_NE(hashLevel(*darker), hash_a);
   Expected<Scene> none = loadLevel(quadLevel(R"("description": "no objects")"));
@@ -316,29 +327,46 @@ TEST(LevelJsonObjects, EveryBadFieldIsAnErrorNamingIt) {
       {R"({"name": "b", "shape": "sphere", "radius_m": 1e39})", {"objects[1].radius_m", "finite"}},
       {R"({"name": "b", "shape": "sphere", "radius_m": "big"})", {"objects[1].radius_m", "number"}},
       {R"({"name": "b", "shape": "sphere"})", {"objects[1].radius_m", "required"}},
-      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "segments": 3})", {"objects[1].segments", "[4, 256]"}},
-      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "segments": 257})", {"objects[1].segments", "[4, 256]"}},
-      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "segments": 8.5})", {"objects[1].segments", "integer"}},
-      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "size_m": 1})", {"objects[1].size_m", "does not apply"}},
+      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "segments": 3})",
+       {"objects[1].segments", "[4, 256]"}},
+      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "segments": 257})",
+       {"objects[1].segments", "[4, 256]"}},
+      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "segments": 8.5})",
+       {"objects[1].segments", "integer"}},
+      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "size_m": 1})",
+       {"objects[1].size_m", "does not apply"}},
       {R"({"name": "b", "shape": "box", "size_m": [1, 0, 1]})", {"objects[1].size_m[1]", "> 0"}},
       {R"({"name": "b", "shape": "box", "size_m": [1, 1]})", {"objects[1].size_m", "3 numbers"}},
-      {R"({"name": "b", "shape": "box", "size_m": [1, 1, -1e39]})", {"objects[1].size_m[2]", "finite"}},
-      {R"({"name": "b", "shape": "box", "size_m": 1, "radius_m": 1})", {"objects[1].radius_m", "does not apply"}},
-      {R"({"name": "b", "shape": "box", "size_m": 1, "segments": 8})", {"objects[1].segments", "does not apply"}},
+      {R"({"name": "b", "shape": "box", "size_m": [1, 1, -1e39]})",
+       {"objects[1].size_m[2]", "finite"}},
+      {R"({"name": "b", "shape": "box", "size_m": 1, "radius_m": 1})",
+       {"objects[1].radius_m", "does not apply"}},
+      {R"({"name": "b", "shape": "box", "size_m": 1, "segments": 8})",
+       {"objects[1].segments", "does not apply"}},
       {R"({"name": "b", "shape": "cone", "radius_m": 1})", {"objects[1].shape", "cone"}},
       {R"({"name": "b", "radius_m": 1})", {"objects[1].shape", "required"}},
       {R"({"shape": "sphere", "radius_m": 1})", {"objects[1].name", "required"}},
       {R"({"name": "", "shape": "sphere", "radius_m": 1})", {"objects[1].name", "empty"}},
-      {R"({"name": "Quad", "shape": "sphere", "radius_m": 1})", {"objects[1].name", "'Quad' already exists"}},
-      {R"({"name": "ok", "shape": "sphere", "radius_m": 1})", {"objects[1].name", "'ok' already exists"}},
-      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "albedo": [0.5, 1.5, 0.5]})", {"objects[1].albedo", "<= 1"}},
-      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "albedo": -0.5})", {"objects[1].albedo", "negative"}},
-      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "emissive_luminance": [-1, 0, 0]})", {"objects[1].emissive_luminance[0]", "negative"}},
-      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "double_sided": "yes"})", {"objects[1].double_sided", "true or false"}},
-      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "dynamic": 1})", {"objects[1].dynamic", "true or false"}},
-      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "translation": [0, 1e39, 0]})", {"objects[1].translation[1]", "finite"}},
-      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "rotation": [0, 0, 0, 0]})", {"objects[1].rotation", "zero length"}},
-      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "colour": [1, 0, 0]})", {"objects[1].colour", "unknown field"}},
+      {R"({"name": "Quad", "shape": "sphere", "radius_m": 1})",
+       {"objects[1].name", "'Quad' already exists"}},
+      {R"({"name": "ok", "shape": "sphere", "radius_m": 1})",
+       {"objects[1].name", "'ok' already exists"}},
+      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "albedo": [0.5, 1.5, 0.5]})",
+       {"objects[1].albedo", "<= 1"}},
+      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "albedo": -0.5})",
+       {"objects[1].albedo", "negative"}},
+      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "emissive_luminance": [-1, 0, 0]})",
+       {"objects[1].emissive_luminance[0]", "negative"}},
+      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "double_sided": "yes"})",
+       {"objects[1].double_sided", "true or false"}},
+      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "dynamic": 1})",
+       {"objects[1].dynamic", "true or false"}},
+      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "translation": [0, 1e39, 0]})",
+       {"objects[1].translation[1]", "finite"}},
+      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "rotation": [0, 0, 0, 0]})",
+       {"objects[1].rotation", "zero length"}},
+      {R"({"name": "b", "shape": "sphere", "radius_m": 1, "colour": [1, 0, 0]})",
+       {"objects[1].colour", "unknown field"}},
       {R"("ball")", {"objects[1]", "JSON object"}},
   };
   for (const BadObject& bad : cases) {
@@ -364,12 +392,15 @@ TEST(LevelJsonNodes, NodesCanBeNamedByIndex) {
   const Status past_end = loadLevel(quadLevel(R"("dynamic": [1])")).status();
   EXPECT_EQ(past_end.code(), StatusCode::kNotFound) << describe(past_end);
   EXPECT_TRUE(messageHas(past_end, {"dynamic[0]", "no node 1", "good_quad.gltf", "1 nodes"}));
-  const Status negative = loadLevel(quadLevel(R"("paths": [{"node": -1, "animation": 0}])")).status();
+  const Status negative =
+      loadLevel(quadLevel(R"("paths": [{"node": -1, "animation": 0}])")).status();
   EXPECT_EQ(negative.code(), StatusCode::kNotFound) << describe(negative);
   EXPECT_TRUE(messageHas(negative, {"paths[0].node", "no node -1"}));
   // Indices count the glTF's nodes only: an object is named by its name.
-  const Status object = loadLevel(quadLevel(R"("objects": [{"name": "b", "shape": "box", "size_m": 1}],
-                                               "dynamic": [1])")).status();
+  const Status object =
+      loadLevel(quadLevel(R"("objects": [{"name": "b", "shape": "box", "size_m": 1}],
+                                               "dynamic": [1])"))
+          .status();
   EXPECT_EQ(object.code(), StatusCode::kNotFound) << describe(object);
   EXPECT_TRUE(messageHas(object, {"dynamic[0]", "no node 1"}));
   const Status fraction = loadLevel(quadLevel(R"("dynamic": [0.5])")).status();
@@ -394,7 +425,8 @@ TEST(LevelJsonNodes, ExcludeLeavesOutASubtree) {
   EXPECT_NE(hashLevel(*whole), hashLevel(*result));
 
   // Nothing may name an excluded node or its subtree.
-  const Status hand = loadLevel(writeLevel(gltf + R"("exclude": ["Arm"], "dynamic": ["Hand"]})")).status();
+  const Status hand =
+      loadLevel(writeLevel(gltf + R"("exclude": ["Arm"], "dynamic": ["Hand"]})")).status();
   EXPECT_EQ(hand.code(), StatusCode::kInvalidInput) << describe(hand);
   EXPECT_TRUE(messageHas(hand, {"dynamic[0]", "Hand", "exclude"}));
   const Status missing = loadLevel(writeLevel(gltf + R"("exclude": ["Leg"]})")).status();
@@ -407,7 +439,9 @@ TEST(LevelJsonNodes, ExcludeLeavesOutASubtree) {
 
 TEST(LevelJsonNodes, LightOnAnUnknownNodeIsAnError) {
   const Status status =
-      loadLevel(quadLevel(R"("lights": [{"type": "point", "position": [0, 1, 0], "intensity_cd": 1, "node": "Lantern"}])"))
+      loadLevel(
+          quadLevel(
+              R"("lights": [{"type": "point", "position": [0, 1, 0], "intensity_cd": 1, "node": "Lantern"}])"))
           .status();
   EXPECT_EQ(status.code(), StatusCode::kNotFound) << describe(status);
   EXPECT_TRUE(messageHas(status, {"level.json", "lights[0].node", "Lantern"}));

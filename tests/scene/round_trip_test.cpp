@@ -71,7 +71,8 @@ Scene builtScene() {
 }
 
 TEST(RoundTrip, WrittenSceneLoadsBackUnchanged) {
-  const std::string path = (std::filesystem::temp_directory_path() / "svit_round_trip.gltf").string();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "svit_round_trip.gltf").string();
   const Scene original = builtScene();
   ASSERT_TRUE(writeGltf(original, path).ok());
   EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));

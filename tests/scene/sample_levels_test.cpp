@@ -160,9 +160,11 @@ TEST(SampleLevels, HouseHasLampsDoorsTablesAndAWalk) {
   const Scene scene = load(kLevels + "/house/level.json");
   EXPECT_TRUE(scene.warnings.empty());
   size_t lamps = 0;
-  for (const Light& light : scene.lights) lamps += (light.type == LightType::kPoint && !light.dynamic) ? 1 : 0;
+  for (const Light& light : scene.lights)
+    lamps += (light.type == LightType::kPoint && !light.dynamic) ? 1 : 0;
   EXPECT_EQ(lamps, 8u);
-  for (const char* name : {"door_x1_0", "door_x1_1", "door_z1_0", "door_z1_1", "table_0_0", "table_1_1"}) {
+  for (const char* name :
+       {"door_x1_0", "door_x1_1", "door_z1_0", "door_z1_1", "table_0_0", "table_1_1"}) {
     const Instance* instance = instanceOf(scene, name);
     ASSERT_NE(instance, nullptr) << name;
     EXPECT_TRUE(instance->dynamic) << name;
@@ -178,10 +180,12 @@ TEST(SampleLevels, HouseHasLampsDoorsTablesAndAWalk) {
 // Runs make_house.py into a fresh directory; returns it, or "" on failure.
 std::string makeHouse(const std::string& arguments) {
   const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const std::filesystem::path out = std::filesystem::path(::testing::TempDir()) / ("svit_house_" + std::string(info->name()));
+  const std::filesystem::path out =
+      std::filesystem::path(::testing::TempDir()) / ("svit_house_" + std::string(info->name()));
   std::filesystem::remove_all(out);
-  const std::string command = std::string("\"") + SVIT_PYTHON3 + "\" \"" + kLevels + "/house/make_house.py\" " + arguments +
-                              " --out \"" + out.string() + "\" > \"" + out.string() + ".log\" 2>&1";
+  const std::string command = std::string("\"") + SVIT_PYTHON3 + "\" \"" + kLevels +
+                              "/house/make_house.py\" " + arguments + " --out \"" + out.string() +
+                              "\" > \"" + out.string() + ".log\" 2>&1";
   const int status = std::system(command.c_str());
   if (status != 0) {
     ADD_FAILURE() << command << " -> " << status << "\n" << readFile(out.string() + ".log");
@@ -230,7 +234,8 @@ TEST(SampleLevels, HouseGeneratorScalesTo64RoomsWith128Lamps) {
 TEST(SampleLevels, HouseGeneratorRejectsBadSizes) {
   const std::filesystem::path out = std::filesystem::path(::testing::TempDir()) / "svit_house_bad";
   const std::string command = std::string("\"") + SVIT_PYTHON3 + "\" \"" + kLevels +
-                              "/house/make_house.py\" --rooms-x 0 --out \"" + out.string() + "\" > /dev/null 2>&1";
+                              "/house/make_house.py\" --rooms-x 0 --out \"" + out.string() +
+                              "\" > /dev/null 2>&1";
   EXPECT_NE(std::system(command.c_str()), 0);
   EXPECT_FALSE(std::filesystem::exists(out / "level.json"));
 }

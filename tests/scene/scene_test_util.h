@@ -66,8 +66,9 @@ inline ::testing::AssertionResult messageHas(const Status& status,
 inline ::testing::AssertionResult someWarningHas(const std::vector<std::string>& warnings,
                                                  std::initializer_list<std::string_view> parts) {
   for (const std::string& warning : warnings) {
-    const bool all = std::all_of(parts.begin(), parts.end(),
-                                 [&](std::string_view part) { return containsNoCase(warning, part); });
+    const bool all = std::all_of(parts.begin(), parts.end(), [&](std::string_view part) {
+      return containsNoCase(warning, part);
+    });
     if (all) return ::testing::AssertionSuccess();
   }
   ::testing::AssertionResult failure = ::testing::AssertionFailure();
@@ -112,8 +113,9 @@ inline ::testing::AssertionResult vecNear(const Vec3& a, const Vec3& b, float to
   if (std::abs(a.x - b.x) <= tol && std::abs(a.y - b.y) <= tol && std::abs(a.z - b.z) <= tol) {
     return ::testing::AssertionSuccess();
   }
-  return ::testing::AssertionFailure() << "(" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x
-                                       << ", " << b.y << ", " << b.z << "), tolerance " << tol;
+  return ::testing::AssertionFailure()
+         << "(" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", " << b.y << ", "
+         << b.z << "), tolerance " << tol;
 }
 
 inline ::testing::AssertionResult rgbNear(const Rgb& a, const Rgb& b, float tol) {

@@ -39,7 +39,8 @@ TEST(SharedScenes, CornellBoxOriginalHas36TrianglesAndOneEmissiveQuad) {
 
 TEST(SharedScenes, CornellBoxVinc3rKeepsAuthoredLightmapUvs) {
   SVIT_SKIP_WITHOUT_SHARED_SCENE("cornell_box_vinc3r/cornellBox-2.80-Eevee-gltf.gltf");
-  Expected<Scene> scene = loadLevel(test::sharedScenePath("cornell_box_vinc3r/cornellBox-2.80-Eevee-gltf.gltf"));
+  Expected<Scene> scene =
+      loadLevel(test::sharedScenePath("cornell_box_vinc3r/cornellBox-2.80-Eevee-gltf.gltf"));
   ASSERT_TRUE(scene.ok()) << scene.status().message();
   const SceneSummary summary = summarize(*scene);
   EXPECT_EQ(summary.static_triangles, 4410u);
@@ -55,8 +56,9 @@ TEST(SharedScenes, SponzaPlaces262087Triangles) {
   Expected<Scene> scene = loadLevel(test::sharedScenePath("sponza/Sponza.gltf"));
   ASSERT_TRUE(scene.ok()) << scene.status().message();
   const SceneSummary summary = summarize(*scene);
-  EXPECT_EQ(summary.static_triangles + summary.dynamic_triangles + scene->counters.zero_area_triangles,
-            262087u)
+  EXPECT_EQ(
+      summary.static_triangles + summary.dynamic_triangles + scene->counters.zero_area_triangles,
+      262087u)
       << "zero-area skipped: " << scene->counters.zero_area_triangles;
   EXPECT_EQ(summary.emissive_triangles, 0u);
   EXPECT_EQ(summary.point_lights + summary.spot_lights + summary.directional_lights, 0u);
@@ -83,7 +85,8 @@ TEST(SharedScenes, VirtualCityAnimationIsFound) {
   EXPECT_GT(animated, 0u);
   // Not marked dynamic in the bare glTF: baked at rest, with a warning.
   bool warned = false;
-  for (const std::string& w : scene->warnings) warned = warned || w.find("is animated but static") != std::string::npos;
+  for (const std::string& w : scene->warnings)
+    warned = warned || w.find("is animated but static") != std::string::npos;
   EXPECT_TRUE(warned);
   const SceneSummary summary = summarize(*scene);
   EXPECT_EQ(summary.static_triangles + scene->counters.zero_area_triangles, 8383u);

@@ -36,7 +36,8 @@ double absorbedFlux(const RadiositySolver& solver, const BakeGeometry& g) {
     for (size_t t = 0; t < g.triangleCount(); ++t) {
       if (!front && !g.double_sided[t]) continue;
       const Rgb& a = g.albedo[t];
-      absorbed += double(luminance({(1 - a.r) * e[t].r, (1 - a.g) * e[t].g, (1 - a.b) * e[t].b})) * g.areas_m2[t];
+      absorbed += double(luminance({(1 - a.r) * e[t].r, (1 - a.g) * e[t].g, (1 - a.b) * e[t].b})) *
+                  g.areas_m2[t];
     }
   }
   return absorbed;
@@ -45,9 +46,11 @@ double absorbedFlux(const RadiositySolver& solver, const BakeGeometry& g) {
 double emittedFlux(const Scene& scene, const BakeGeometry& g) {
   double emitted = 0;
   for (size_t t = 0; t < g.triangleCount(); ++t) {
-    emitted += kPi * double(luminance(g.emission[t])) * g.areas_m2[t] * (g.double_sided[t] ? 2.0 : 1.0);
+    emitted +=
+        kPi * double(luminance(g.emission[t])) * g.areas_m2[t] * (g.double_sided[t] ? 2.0 : 1.0);
   }
-  for (const Light& light : scene.lights) emitted += 4.0 * kPi * double(light.intensity) * double(luminance(light.color));
+  for (const Light& light : scene.lights)
+    emitted += 4.0 * kPi * double(light.intensity) * double(luminance(light.color));
   return emitted;
 }
 
@@ -78,7 +81,8 @@ int selfHits(const BakeGeometry& g, const Offset& offset, uint64_t seed, int ray
   EXPECT_TRUE(caster.ok());
   if (!caster.ok()) return -1;
   const glm::dvec3 n(g.normals[0].x, g.normals[0].y, g.normals[0].z);
-  const glm::dvec3 t1 = glm::normalize(glm::cross(n, std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+  const glm::dvec3 t1 = glm::normalize(
+      glm::cross(n, std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
   const glm::dvec3 t2 = glm::cross(n, t1);
   Rng rng(hashIds(seed, 0x5e1f));
   std::vector<Ray> batch(static_cast<size_t>(rays));
@@ -90,10 +94,13 @@ int selfHits(const BakeGeometry& g, const Offset& offset, uint64_t seed, int ray
     }
     const float w = 1.0f - u - v;
     const Vec3 &a = g.corner(0, 0), &b = g.corner(0, 1), &c = g.corner(0, 2);
-    const Vec3 p{a.x * w + b.x * u + c.x * v, a.y * w + b.y * u + c.y * v, a.z * w + b.z * u + c.z * v};
+    const Vec3 p{a.x * w + b.x * u + c.x * v, a.y * w + b.y * u + c.y * v,
+                 a.z * w + b.z * u + c.z * v};
     const double cos_theta = 1.0 - rng.uniformDouble();  // (0, 1]
-    const double sin_theta = std::sqrt(1.0 - cos_theta * cos_theta), phi = 2.0 * kPi * rng.uniformDouble();
-    const glm::dvec3 d = sin_theta * std::cos(phi) * t1 + sin_theta * std::sin(phi) * t2 + cos_theta * n;
+    const double sin_theta = std::sqrt(1.0 - cos_theta * cos_theta),
+                 phi = 2.0 * kPi * rng.uniformDouble();
+    const glm::dvec3 d =
+        sin_theta * std::cos(phi) * t1 + sin_theta * std::sin(phi) * t2 + cos_theta * n;
     ray.origin = offset(p, g.normals[0], cornerMagnitude(g, 0));
     ray.direction = {float(d.x), float(d.y), float(d.z)};
   }
@@ -119,7 +126,9 @@ TEST(Offsets, NoSelfIntersectionAtAnyScaleOrDistance) {
     const float step = 2.0f * std::ldexp(1.0f, std::ilogb(m) - 23);
     return Vec3{p.x + normal.x * step, p.y + normal.y * step, p.z + normal.z * step};
   };
-  auto real = [](const Vec3& p, const Vec3& normal, float magnitude) { return offsetRayOrigin(p, normal, magnitude); };
+  auto real = [](const Vec3& p, const Vec3& normal, float magnitude) {
+    return offsetRayOrigin(p, normal, magnitude);
+  };
   constexpr int kRays = 32768;
   int cases = 0, hits_real = 0, hits_two = 0;
   uint64_t seed = 1;
@@ -140,7 +149,8 @@ TEST(Offsets, NoSelfIntersectionAtAnyScaleOrDistance) {
   // A 1 mm triangle at the origin between coplanar neighbours up to 1e5 m.
   for (double big : {1.0, 1e3, 1e5}) {
     BakeGeometry g;
-    const Vec3 o = at({0, 0, 0}, 1e-4, 1e-4), a = at({0, 0, 0}, 1e-3, 0), b = at({0, 0, 0}, 0, 1e-3);
+    const Vec3 o = at({0, 0, 0}, 1e-4, 1e-4), a = at({0, 0, 0}, 1e-3, 0),
+               b = at({0, 0, 0}, 0, 1e-3);
     addTriangle(g, o, a, b);
     addTriangle(g, o, b, at({0, 0, 0}, -big, 0.3 * big));
     addTriangle(g, a, o, at({0, 0, 0}, 0.3 * big, -big));
@@ -171,10 +181,19 @@ TEST(Slivers, AspectRatio1e5InTheFloorAndStandingFree) {
   b.addQuad("wall -z", {0, 0, 0}, {4, 0, 0}, {4, 3, 0}, {0, 3, 0}, grey);
   b.addQuad("wall +z", {0, 0, 5}, {0, 3, 5}, {4, 3, 5}, {4, 0, 5}, grey);
   const float w = 4e-5f;
-  b.addMesh("floor", {{0, 0, 0}, {0, 0, 5}, {4, 0, 5},                // big
-                      {0, 0, 0}, {4, 0, 5}, {4, 0, 5 - w},            // sliver
-                      {0, 0, 0}, {4, 0, 5 - w}, {4, 0, 5 - 2 * w},    // sliver
-                      {0, 0, 0}, {4, 0, 5 - 2 * w}, {4, 0, 0}},       // big
+  b.addMesh("floor",
+            {{0, 0, 0},
+             {0, 0, 5},
+             {4, 0, 5},  // big
+             {0, 0, 0},
+             {4, 0, 5},
+             {4, 0, 5 - w},  // sliver
+             {0, 0, 0},
+             {4, 0, 5 - w},
+             {4, 0, 5 - 2 * w},  // sliver
+             {0, 0, 0},
+             {4, 0, 5 - 2 * w},
+             {4, 0, 0}},  // big
             grey);
   // A free-standing double-sided blade 1 m tall and 1e-5 m wide.
   b.addMesh("blade", {{2, 0.5f, 2}, {2, 1.5f, 2}, {2 + 1e-5f, 1.0f, 2}}, blade);
@@ -198,8 +217,10 @@ TEST(Slivers, AspectRatio1e5InTheFloorAndStandingFree) {
     for (int i = 0; i < 32; ++i) {
       double u = rng.uniformDouble(), v = rng.uniformDouble();
       if (u + v > 1) u = 1 - u, v = 1 - v;
-      for (InterpolationMode mode : {InterpolationMode::kVertex, InterpolationMode::kElementCentre}) {
-        ASSERT_TRUE(test::finiteNonNegative(solver.irradianceAt(t, true, u, v, mode))) << "triangle " << t;
+      for (InterpolationMode mode :
+           {InterpolationMode::kVertex, InterpolationMode::kElementCentre}) {
+        ASSERT_TRUE(test::finiteNonNegative(solver.irradianceAt(t, true, u, v, mode)))
+            << "triangle " << t;
       }
     }
   }
@@ -219,7 +240,8 @@ TEST(Slivers, AspectRatio1e5InTheFloorAndStandingFree) {
   };
   const size_t floor_first = 10;  // 5 quads before the floor
   reportFigure("absorbed / emitted flux - 1", balance);
-  reportFigure("big floor triangles' mean irradiance, lx", 0.5 * (luminance(e[floor_first]) + luminance(e[floor_first + 3])));
+  reportFigure("big floor triangles' mean irradiance, lx",
+               0.5 * (luminance(e[floor_first]) + luminance(e[floor_first + 3])));
   reportFigure("sliver 1 mean irradiance, lx", luminance(e[floor_first + 1]));
   reportFigure("sliver 2 mean irradiance, lx", luminance(e[floor_first + 2]));
   reportFigure("blade (1e-5 m wide) mean irradiance, lx", luminance(e[floor_first + 4]));
@@ -234,13 +256,15 @@ TEST(Slivers, AspectRatio1e5InTheFloorAndStandingFree) {
   ASSERT_TRUE(texels.ok()) << texels.status().message();
   TexelLightingSettings lighting;
   lighting.gather_rays = 16;
-  Expected<std::vector<TexelIrradiance>> lit = lightTexels(scene, g, *solved->caster, solver, *texels, lighting);
+  Expected<std::vector<TexelIrradiance>> lit =
+      lightTexels(scene, g, *solved->caster, solver, *texels, lighting);
   ASSERT_TRUE(lit.ok()) << lit.status().message();
   size_t floor_texels = 0, sliver_texels = 0;
   double worst_direct = 0;
   for (size_t i = 0; i < texels->samples.size(); ++i) {
     const TexelSample& s = texels->samples[i];
-    ASSERT_TRUE(test::finiteNonNegative((*lit)[i].direct) && test::finiteNonNegative((*lit)[i].indirect));
+    ASSERT_TRUE(test::finiteNonNegative((*lit)[i].direct) &&
+                test::finiteNonNegative((*lit)[i].indirect));
     if (s.triangle < floor_first || s.triangle > floor_first + 3) continue;
     ++floor_texels;
     if (s.triangle == floor_first + 1 || s.triangle == floor_first + 2) ++sliver_texels;
@@ -295,8 +319,9 @@ TEST(HugeTriangle, OneTriangleCoversAMillionTexels) {
 
   // Coverage sums to the triangle's area in texels (exact clipping).
   const Vec2* uv = &atlas->triangle_uv[0];
-  const double uv_area = 0.5 * std::abs(double(uv[1].x - uv[0].x) * (uv[2].y - uv[0].y) -
-                                        double(uv[2].x - uv[0].x) * (uv[1].y - uv[0].y)) *
+  const double uv_area = 0.5 *
+                         std::abs(double(uv[1].x - uv[0].x) * (uv[2].y - uv[0].y) -
+                                  double(uv[2].x - uv[0].x) * (uv[1].y - uv[0].y)) *
                          atlas->page_width * atlas->page_height;
   double coverage = 0, worst_direct = 0, worst_plane_m = 0, indirect = 0;
   const Light& lamp = scene.lights[0];
@@ -304,12 +329,15 @@ TEST(HugeTriangle, OneTriangleCoversAMillionTexels) {
     const TexelSample& s = texels->samples[i];
     coverage += s.coverage;
     const TexelIrradiance& e = (*lit)[i];
-    ASSERT_TRUE(test::finiteNonNegative(e.direct) && test::finiteNonNegative(e.indirect)) << "texel " << i;
+    ASSERT_TRUE(test::finiteNonNegative(e.direct) && test::finiteNonNegative(e.indirect))
+        << "texel " << i;
     const glm::dvec3 p(s.position.x, s.position.y, s.position.z);
     worst_plane_m = std::max(worst_plane_m, std::abs(glm::dot(p, normal)));
     // Inside: barycentrics along the orthogonal legs within [0, 1].
-    const double u = glm::dot(p, glm::dvec3(0, 6, 8)) / 100.0, v = glm::dot(p, glm::dvec3(8, -3.6, 2.7)) / 84.25;
-    ASSERT_TRUE(u >= -1e-6 && v >= -1e-6 && u + v <= 1.0 + 1e-6) << "texel " << i << ": " << u << ", " << v;
+    const double u = glm::dot(p, glm::dvec3(0, 6, 8)) / 100.0,
+                 v = glm::dot(p, glm::dvec3(8, -3.6, 2.7)) / 84.25;
+    ASSERT_TRUE(u >= -1e-6 && v >= -1e-6 && u + v <= 1.0 + 1e-6)
+        << "texel " << i << ": " << u << ", " << v;
     const glm::dvec3 to(lamp.position.x - p.x, lamp.position.y - p.y, lamp.position.z - p.z);
     const double d2 = glm::dot(to, to);
     const double exact = double(lamp.intensity) * glm::dot(to, normal) / std::sqrt(d2) / d2;
@@ -335,7 +363,8 @@ TEST(HugeTriangle, OneTriangleCoversAMillionTexels) {
 // Coincident coplanar surfaces.
 
 // Lights `scene` with the solver (2^14 rays, 3 passes) and returns it.
-std::unique_ptr<Solved> solveScene(const Scene& scene, uint32_t first_pass_rays = 1u << 14, uint32_t passes = 3) {
+std::unique_ptr<Solved> solveScene(const Scene& scene, uint32_t first_pass_rays = 1u << 14,
+                                   uint32_t passes = 3) {
   RadiositySettings settings;
   settings.first_pass_rays = first_pass_rays;
   auto solved = test::prepareSolver(scene, settings);
@@ -410,7 +439,8 @@ TEST(Coincident, ZeroThicknessWallBetweenTwoRooms) {
   TexelLightingSettings lighting;
   lighting.gather_rays = 16;
   lighting.area_light_samples = 4;
-  Expected<std::vector<TexelIrradiance>> lit = lightTexels(scene, g, *solved->caster, solver, *texels, lighting);
+  Expected<std::vector<TexelIrradiance>> lit =
+      lightTexels(scene, g, *solved->caster, solver, *texels, lighting);
   ASSERT_TRUE(lit.ok()) << lit.status().message();
   double b_max = 0, b_sum = 0, a_sum = 0, shared_sum = 0;
   size_t a_count = 0, shared_count = 0, b_count = 0;
@@ -435,7 +465,8 @@ TEST(Coincident, ZeroThicknessWallBetweenTwoRooms) {
   reportFigure("room B texels", double(b_count));
   reportFigure("room B brightest texel / room A mean texel", b_max / a_mean);
   reportFigure("room B mean texel / room A mean texel", b_sum / double(b_count) / a_mean);
-  reportFigure("A's shared wall texels' mean / room A mean", (shared_sum / double(shared_count)) / a_mean);
+  reportFigure("A's shared wall texels' mean / room A mean",
+               (shared_sum / double(shared_count)) / a_mean);
   EXPECT_GT(b_count, 500u);
   EXPECT_GT(shared_count, 300u);
   // A KNOWN LEAK, measured, not fixed: B's texels gather from B's ceiling
@@ -463,13 +494,48 @@ TEST(Coincident, ClosedBoxStandingOnTheFloorLeaksThroughItsBottom) {
     const int panel = b.material({0, 0, 0}, {20, 20, 20}, true);
     b.addRoom("room", {0, 0, 0}, {4, 3, 5}, wall);
     std::vector<Vec3> box;
-    for (const Vec3& p : std::vector<Vec3>{
-             {2.5f, 1, 1}, {2.5f, 1, 2}, {3.5f, 1, 2}, {2.5f, 1, 1}, {3.5f, 1, 2}, {3.5f, 1, 1},     // top
-             {2.5f, 0, 1}, {2.5f, 0, 2}, {2.5f, 1, 2}, {2.5f, 0, 1}, {2.5f, 1, 2}, {2.5f, 1, 1},     // -x
-             {3.5f, 0, 1}, {3.5f, 1, 1}, {3.5f, 1, 2}, {3.5f, 0, 1}, {3.5f, 1, 2}, {3.5f, 0, 2},     // +x
-             {2.5f, 0, 1}, {2.5f, 1, 1}, {3.5f, 1, 1}, {2.5f, 0, 1}, {3.5f, 1, 1}, {3.5f, 0, 1},     // -z
-             {2.5f, 0, 2}, {3.5f, 0, 2}, {3.5f, 1, 2}, {2.5f, 0, 2}, {3.5f, 1, 2}, {2.5f, 1, 2},     // +z
-             {2.5f, 0, 1}, {3.5f, 0, 1}, {3.5f, 0, 2}, {2.5f, 0, 1}, {3.5f, 0, 2}, {2.5f, 0, 2}}) {  // bottom
+    for (const Vec3& p : std::vector<Vec3>{// top
+                                           {2.5f, 1, 1},
+                                           {2.5f, 1, 2},
+                                           {3.5f, 1, 2},
+                                           {2.5f, 1, 1},
+                                           {3.5f, 1, 2},
+                                           {3.5f, 1, 1},
+                                           // -x
+                                           {2.5f, 0, 1},
+                                           {2.5f, 0, 2},
+                                           {2.5f, 1, 2},
+                                           {2.5f, 0, 1},
+                                           {2.5f, 1, 2},
+                                           {2.5f, 1, 1},
+                                           // +x
+                                           {3.5f, 0, 1},
+                                           {3.5f, 1, 1},
+                                           {3.5f, 1, 2},
+                                           {3.5f, 0, 1},
+                                           {3.5f, 1, 2},
+                                           {3.5f, 0, 2},
+                                           // -z
+                                           {2.5f, 0, 1},
+                                           {2.5f, 1, 1},
+                                           {3.5f, 1, 1},
+                                           {2.5f, 0, 1},
+                                           {3.5f, 1, 1},
+                                           {3.5f, 0, 1},
+                                           // +z
+                                           {2.5f, 0, 2},
+                                           {3.5f, 0, 2},
+                                           {3.5f, 1, 2},
+                                           {2.5f, 0, 2},
+                                           {3.5f, 1, 2},
+                                           {2.5f, 1, 2},
+                                           // bottom
+                                           {2.5f, 0, 1},
+                                           {3.5f, 0, 1},
+                                           {3.5f, 0, 2},
+                                           {2.5f, 0, 1},
+                                           {3.5f, 0, 2},
+                                           {2.5f, 0, 2}}) {
       box.push_back(p);
     }
     b.addMesh("box", box, wall);
@@ -478,13 +544,17 @@ TEST(Coincident, ClosedBoxStandingOnTheFloorLeaksThroughItsBottom) {
     // Stiffer rooms take ~1/(1 - rho) rays per emitted one: fewer of those.
     auto solved = rho > 0.99f ? solveScene(scene, 1024, 2) : solveScene(scene);
     ASSERT_TRUE(solved->solver);
-    for (const Rgb& e : solved->solver->triangleIrradiance(true)) ASSERT_TRUE(test::finiteNonNegative(e));
-    const double balance = absorbedFlux(*solved->solver, solved->geometry) / emittedFlux(scene, solved->geometry) - 1.0;
+    for (const Rgb& e : solved->solver->triangleIrradiance(true))
+      ASSERT_TRUE(test::finiteNonNegative(e));
+    const double balance =
+        absorbedFlux(*solved->solver, solved->geometry) / emittedFlux(scene, solved->geometry) -
+        1.0;
     char tag_text[32];
     std::snprintf(tag_text, sizeof tag_text, "albedo %g", double(rho));
     const std::string tag = tag_text;
     reportFigure(tag + ": absorbed / emitted flux - 1", balance);
-    reportFigure(tag + ": captured fraction of surface rays", solved->solver->stats().captured_fraction);
+    reportFigure(tag + ": captured fraction of surface rays",
+                 solved->solver->stats().captured_fraction);
     // A KNOWN LEAK, measured, not fixed. The loss per bounce is ~1e-4 of
     // the reflected flux, amplified ~1/(1 - rho): measured -0.009% at
     // albedo 0.5, -0.14% at 0.9 (2^14 rays, 3 passes) and -19% at 0.999
@@ -518,7 +588,8 @@ TEST(ManyEmitters, OneHundredThousandTinyEmittersInOneCeiling) {
     for (int k = 0; k < kNz; ++k) {
       const float x = 0.5f + 0.012f * float(i), z = 0.5f + 0.01f * float(k);
       // Counter-clockwise seen from below: faces -y.
-      corners.insert(corners.end(), {{x, kHeight, z}, {x + kLeg, kHeight, z}, {x, kHeight, z + kLeg}});
+      corners.insert(corners.end(),
+                     {{x, kHeight, z}, {x + kLeg, kHeight, z}, {x, kHeight, z + kLeg}});
     }
   }
   b.addMesh("leds", corners, led);
@@ -528,7 +599,8 @@ TEST(ManyEmitters, OneHundredThousandTinyEmittersInOneCeiling) {
   settings.first_pass_rays = 1u << 14;
   auto solved = test::prepareSolver(scene, settings);
   ASSERT_TRUE(solved->solver);
-  const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
+  const double build_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
   StopRule stop;
   stop.max_passes = 3;
   ASSERT_TRUE(solved->solver->improve(stop).ok());
@@ -567,7 +639,8 @@ TEST(ManyEmitters, OneHundredThousandTinyEmittersInOneCeiling) {
   }
   TexelLightingSettings lighting;
   lighting.gather_rays = 0;
-  Expected<std::vector<TexelIrradiance>> lit = lightTexels(scene, g, *solved->caster, solver, texels, lighting);
+  Expected<std::vector<TexelIrradiance>> lit =
+      lightTexels(scene, g, *solved->caster, solver, texels, lighting);
   ASSERT_TRUE(lit.ok()) << lit.status().message();
   double sum_got = 0, sum_exact = 0, sq = 0;
   const size_t first_led = 12;
@@ -587,7 +660,8 @@ TEST(ManyEmitters, OneHundredThousandTinyEmittersInOneCeiling) {
     sum_exact += exact;
     sq += (got / exact - 1.0) * (got / exact - 1.0);
   }
-  const double mean_error = sum_got / sum_exact - 1.0, rms = std::sqrt(sq / double(texels.samples.size()));
+  const double mean_error = sum_got / sum_exact - 1.0,
+               rms = std::sqrt(sq / double(texels.samples.size()));
   reportFigure("floor direct light, mean of 1024 points vs exact - 1", mean_error);
   reportFigure("floor direct light, per-point RMS rel. error (16 samples)", rms);
   // 16 picks among emitters of equal flux whose contribution to a point
@@ -609,7 +683,8 @@ TEST(ManyEmitters, OneHundredThousandPointLights) {
   const int grey = b.material({0.5f, 0.5f, 0.5f});
   b.addRoom("room", {0, 0, 0}, {4, 3, 5}, grey);
   for (int i = 0; i < kNx; ++i) {
-    for (int k = 0; k < kNz; ++k) b.addPointLight({0.5f + 0.012f * float(i), kHeight, 0.5f + 0.01f * float(k)}, kCandela);
+    for (int k = 0; k < kNz; ++k)
+      b.addPointLight({0.5f + 0.012f * float(i), kHeight, 0.5f + 0.01f * float(k)}, kCandela);
   }
   const Scene& scene = b.scene();
   RadiositySettings settings;
@@ -620,7 +695,8 @@ TEST(ManyEmitters, OneHundredThousandPointLights) {
   stop.max_passes = 3;
   ASSERT_TRUE(solved->solver->improve(stop).ok());
   const BakeGeometry& g = solved->geometry;
-  for (const Rgb& e : solved->solver->triangleIrradiance(true)) ASSERT_TRUE(test::finiteNonNegative(e));
+  for (const Rgb& e : solved->solver->triangleIrradiance(true))
+    ASSERT_TRUE(test::finiteNonNegative(e));
   const double emitted = emittedFlux(scene, g);
   const double balance = absorbedFlux(*solved->solver, g) / emitted - 1.0;
   reportFigure("emitted flux, lm (exact 12566.4)", emitted);
@@ -654,7 +730,8 @@ TEST(ManyEmitters, OneHundredThousandPointLights) {
     const Vec3& p = texels.samples[i].position;
     double exact = 0;
     for (const Light& light : scene.lights) {
-      const double dx = light.position.x - p.x, dy = light.position.y - p.y, dz = light.position.z - p.z;
+      const double dx = light.position.x - p.x, dy = light.position.y - p.y,
+                   dz = light.position.z - p.z;
       const double d2 = dx * dx + dy * dy + dz * dz;
       exact += double(light.intensity) * dy / (std::sqrt(d2) * d2);
     }
@@ -664,7 +741,8 @@ TEST(ManyEmitters, OneHundredThousandPointLights) {
     sum_exact += exact;
     sq += (got / exact - 1.0) * (got / exact - 1.0);
   }
-  const double mean_error = sum_got / sum_exact - 1.0, rms = std::sqrt(sq / double(texels.samples.size()));
+  const double mean_error = sum_got / sum_exact - 1.0,
+               rms = std::sqrt(sq / double(texels.samples.size()));
   reportFigure("floor direct light, mean of 256 points vs exact - 1", mean_error);
   reportFigure("floor direct light, per-point RMS rel. error (16 of 100,000 lights)", rms);
   // Importance sampling by exact unshadowed irradiance: with nothing in the

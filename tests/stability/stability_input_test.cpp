@@ -30,8 +30,10 @@ using test::SceneBuilder;
 
 bool contains(const std::string& haystack, const std::string& needle) {
   std::string h = haystack, n = needle;
-  std::transform(h.begin(), h.end(), h.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  std::transform(h.begin(), h.end(), h.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  std::transform(n.begin(), n.end(), n.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
   return h.find(n) != std::string::npos;
 }
 
@@ -50,7 +52,8 @@ const BadFile kBadFiles[] = {
     {"overflow_emissive_factor.gltf", "material 'Glow': emissiveFactor[0]"},
     // The loader multiplies two finite doubles into an infinite float; the
     // baker's boundary catches it (named by mesh, triangle and material).
-    {"overflow_emissive_strength.gltf", "mesh 'Quad' primitive 0 triangle 0 (material 'Glow'): emitted luminance"},
+    {"overflow_emissive_strength.gltf",
+     "mesh 'Quad' primitive 0 triangle 0 (material 'Glow'): emitted luminance"},
     {"overflow_translation.gltf", "node 'Quad': world transform"},
     {"overflow_scale.gltf", "node 'Quad': world transform"},
     {"overflow_matrix.gltf", "node 'Quad': world transform"},
@@ -140,12 +143,18 @@ TEST(NonFiniteInput, ScenesBuiltInCodeAreRejectedAtTheBakersBoundary) {
     const char* element;
   };
   const std::vector<Case> cases = {
-      {"NaN position", [&](Scene& s) { s.meshes[2].positions[1].y = nan; }, "mesh 'room -x' primitive 0 triangle 0: corner 1"},
-      {"Inf world transform", [&](Scene& s) { s.instances[3].world_from_object.m[12] = inf; }, "mesh 'room +x'"},
-      {"NaN albedo", [&](Scene& s) { s.meshes[0].triangle_albedo[1].g = nan; }, "mesh 'room floor' primitive 0 triangle 1 (material 'material 0'): albedo"},
-      {"Inf emission", [&](Scene& s) { s.meshes[1].triangle_emission[0].r = inf; }, "mesh 'room ceiling' primitive 0 triangle 0 (material 'material 0'): emitted luminance"},
-      {"NaN light position", [&](Scene& s) { s.lights[0].position.x = nan; }, "light 'point 0': position"},
-      {"Inf light intensity", [&](Scene& s) { s.lights[0].intensity = inf; }, "light 'point 0': intensity"},
+      {"NaN position", [&](Scene& s) { s.meshes[2].positions[1].y = nan; },
+       "mesh 'room -x' primitive 0 triangle 0: corner 1"},
+      {"Inf world transform", [&](Scene& s) { s.instances[3].world_from_object.m[12] = inf; },
+       "mesh 'room +x'"},
+      {"NaN albedo", [&](Scene& s) { s.meshes[0].triangle_albedo[1].g = nan; },
+       "mesh 'room floor' primitive 0 triangle 1 (material 'material 0'): albedo"},
+      {"Inf emission", [&](Scene& s) { s.meshes[1].triangle_emission[0].r = inf; },
+       "mesh 'room ceiling' primitive 0 triangle 0 (material 'material 0'): emitted luminance"},
+      {"NaN light position", [&](Scene& s) { s.lights[0].position.x = nan; },
+       "light 'point 0': position"},
+      {"Inf light intensity", [&](Scene& s) { s.lights[0].intensity = inf; },
+       "light 'point 0': intensity"},
       {"NaN sun direction",
        [&](Scene& s) {
          s.sun.enabled = true;
@@ -166,7 +175,8 @@ TEST(NonFiniteInput, ScenesBuiltInCodeAreRejectedAtTheBakersBoundary) {
     std::printf("%s -> %s\n", c.what, status.message().c_str());
     EXPECT_EQ(status.code(), StatusCode::kInvalidInput) << c.what << ": " << status.message();
     EXPECT_TRUE(contains(status.message(), "code.gltf")) << c.what << ": " << status.message();
-    EXPECT_TRUE(contains(status.message(), c.element)) << c.what << ": " << status.message() << "\n  wanted: " << c.element;
+    EXPECT_TRUE(contains(status.message(), c.element))
+        << c.what << ": " << status.message() << "\n  wanted: " << c.element;
     rejected += status.code() == StatusCode::kInvalidInput ? 1 : 0;
   }
   reportFigure("cases rejected with a named element", rejected);

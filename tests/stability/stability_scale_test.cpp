@@ -62,7 +62,8 @@ std::vector<Rgb> pointsOf(const RadiositySolver& solver, size_t triangles) {
 
 std::vector<float> pointAreas(const std::vector<float>& triangle_areas) {
   std::vector<float> out;
-  for (float a : triangle_areas) out.insert(out.end(), kPointsPerTriangle, a / float(kPointsPerTriangle));
+  for (float a : triangle_areas)
+    out.insert(out.end(), kPointsPerTriangle, a / float(kPointsPerTriangle));
   return out;
 }
 
@@ -105,12 +106,14 @@ Lightmap lightmapOf(const Answer& a, const Scene& scene, double scale) {
   TexelLightingSettings lighting;
   lighting.area_light_samples = 4;
   lighting.gather_rays = 16;
-  Expected<std::vector<TexelIrradiance>> lit = lightTexels(scene, g, *a.solved->caster, *a.solved->solver, *texels, lighting);
+  Expected<std::vector<TexelIrradiance>> lit =
+      lightTexels(scene, g, *a.solved->caster, *a.solved->solver, *texels, lighting);
   EXPECT_TRUE(lit.ok()) << lit.status().message();
   if (!lit.ok()) return out;
   out.texels = texels->samples.size();
   for (const TexelIrradiance& t : *lit) {
-    out.irradiance.push_back({t.direct.r + t.indirect.r, t.direct.g + t.indirect.g, t.direct.b + t.indirect.b});
+    out.irradiance.push_back(
+        {t.direct.r + t.indirect.r, t.direct.g + t.indirect.g, t.direct.b + t.indirect.b});
   }
   return out;
 }
@@ -181,13 +184,16 @@ TEST(Scale, PowerOfTwoScalesFromOneMillimetreToOneHundredKilometresAreExact) {
     spec.scale = std::ldexp(1.0, exponent);
     const Answer scaled = solve(spec, kExactRays, kPasses);
     ASSERT_TRUE(scaled.solved->solver);
-    const Difference tri = compare(scaled.triangles, unit.triangles, unit.solved->geometry.areas_m2);
-    const Difference pts = compare(scaled.points, unit.points, pointAreas(unit.solved->geometry.areas_m2));
+    const Difference tri =
+        compare(scaled.triangles, unit.triangles, unit.solved->geometry.areas_m2);
+    const Difference pts =
+        compare(scaled.points, unit.points, pointAreas(unit.solved->geometry.areas_m2));
     const std::string tag = "scale 2^" + std::to_string(exponent);
     reportFigure(tag + ": max rel. difference, triangle irradiance", tri.max_rel);
     reportFigure(tag + ": max rel. difference, interpolated irradiance", pts.max_rel);
     const Lightmap map = lightmapOf(scaled, test::testLevel(spec), spec.scale);
-    reportFigure(tag + ": lightmap texels (unit scale: " + std::to_string(unit_map.texels) + ")", double(map.texels));
+    reportFigure(tag + ": lightmap texels (unit scale: " + std::to_string(unit_map.texels) + ")",
+                 double(map.texels));
     EXPECT_EQ(scaled.solved->solver->stats().rays, unit.solved->solver->stats().rays) << tag;
     EXPECT_EQ(scaled.solved->solver->stats().leaves, unit.solved->solver->stats().leaves) << tag;
     // Exact scaling: the same decisions and the same numbers (measured: 0).
@@ -218,7 +224,8 @@ TEST(Scale, DecimalScalesOneMillimetreAndOneHundredKilometresAgreeWithinOnePerce
     const Answer scaled = solve(spec, kStatisticalRays, kPasses);
     ASSERT_TRUE(scaled.solved->solver);
     const ObjectDifference d = compareObjects(scaled, unit);
-    const Difference tri = compare(scaled.triangles, unit.triangles, unit.solved->geometry.areas_m2);
+    const Difference tri =
+        compare(scaled.triangles, unit.triangles, unit.solved->geometry.areas_m2);
     const std::string tag = scale < 1 ? "scale 1e-3" : "scale 1e5";
     reportFigure(tag + ": max rel. difference, large objects", d.large_max);
     reportFigure(tag + ": rel. difference, box", d.box);
@@ -277,10 +284,12 @@ TEST(Emitters, ResultIsLinearFromOneMicroToOneGigaCandelaPerSquareMetre) {
     spec.point_cd = float(0.5 * k);
     const Answer scaled = solve(spec, kExactRays, kPasses);
     ASSERT_TRUE(scaled.solved->solver);
-    const Difference tri = compare(scaled.triangles, unit.triangles, unit.solved->geometry.areas_m2, 1.0 / k);
-    const Difference pts = compare(scaled.points, unit.points, pointAreas(unit.solved->geometry.areas_m2), 1.0 / k);
-    const double estimate_ratio =
-        scaled.solved->solver->estimatedRelativeError() / unit.solved->solver->estimatedRelativeError();
+    const Difference tri =
+        compare(scaled.triangles, unit.triangles, unit.solved->geometry.areas_m2, 1.0 / k);
+    const Difference pts =
+        compare(scaled.points, unit.points, pointAreas(unit.solved->geometry.areas_m2), 1.0 / k);
+    const double estimate_ratio = scaled.solved->solver->estimatedRelativeError() /
+                                  unit.solved->solver->estimatedRelativeError();
     const std::string tag = k < 1 ? "1e-6 cd/m2" : "1e9 cd/m2";
     reportFigure(tag + ": max rel. difference of irradiance / L, triangles", tri.max_rel);
     reportFigure(tag + ": max rel. difference of irradiance / L, interpolated", pts.max_rel);

@@ -45,9 +45,11 @@ double absorbedFlux(const RadiositySolver& solver, const BakeGeometry& g) {
 double emittedFlux(const Scene& scene, const BakeGeometry& g) {
   double emitted = 0;
   for (size_t t = 0; t < g.triangleCount(); ++t) {
-    emitted += kPi * double(luminance(g.emission[t])) * g.areas_m2[t] * (g.double_sided[t] ? 2.0 : 1.0);
+    emitted +=
+        kPi * double(luminance(g.emission[t])) * g.areas_m2[t] * (g.double_sided[t] ? 2.0 : 1.0);
   }
-  for (const Light& light : scene.lights) emitted += 4.0 * kPi * double(light.intensity) * double(luminance(light.color));
+  for (const Light& light : scene.lights)
+    emitted += 4.0 * kPi * double(light.intensity) * double(luminance(light.color));
   return emitted;
 }
 
@@ -60,11 +62,12 @@ Scene stiffRoom(float rho) {
   const int wall = b.material({rho, rho, rho});
   const int panel = b.material({rho, rho, rho}, {20, 20, 20}, true);
   b.addRoom("room", {0, 0, 0}, {4, 3, 5}, wall);
-  b.addMesh("box", {{2.5f, 1, 1}, {2.5f, 1, 2}, {3.5f, 1, 2}, {2.5f, 1, 1}, {3.5f, 1, 2}, {3.5f, 1, 1},
-                    {2.5f, 0, 1}, {2.5f, 0, 2}, {2.5f, 1, 2}, {2.5f, 0, 1}, {2.5f, 1, 2}, {2.5f, 1, 1},
-                    {3.5f, 0, 1}, {3.5f, 1, 1}, {3.5f, 1, 2}, {3.5f, 0, 1}, {3.5f, 1, 2}, {3.5f, 0, 2},
-                    {2.5f, 0, 1}, {2.5f, 1, 1}, {3.5f, 1, 1}, {2.5f, 0, 1}, {3.5f, 1, 1}, {3.5f, 0, 1},
-                    {2.5f, 0, 2}, {3.5f, 0, 2}, {3.5f, 1, 2}, {2.5f, 0, 2}, {3.5f, 1, 2}, {2.5f, 1, 2}},
+  b.addMesh("box",
+            {{2.5f, 1, 1}, {2.5f, 1, 2}, {3.5f, 1, 2}, {2.5f, 1, 1}, {3.5f, 1, 2}, {3.5f, 1, 1},
+             {2.5f, 0, 1}, {2.5f, 0, 2}, {2.5f, 1, 2}, {2.5f, 0, 1}, {2.5f, 1, 2}, {2.5f, 1, 1},
+             {3.5f, 0, 1}, {3.5f, 1, 1}, {3.5f, 1, 2}, {3.5f, 0, 1}, {3.5f, 1, 2}, {3.5f, 0, 2},
+             {2.5f, 0, 1}, {2.5f, 1, 1}, {3.5f, 1, 1}, {2.5f, 0, 1}, {3.5f, 1, 1}, {3.5f, 0, 1},
+             {2.5f, 0, 2}, {3.5f, 0, 2}, {3.5f, 1, 2}, {2.5f, 0, 2}, {3.5f, 1, 2}, {2.5f, 1, 2}},
             wall);
   b.addQuad("panel", {1.5f, 2.5f, 2}, {2.5f, 2.5f, 2}, {2.5f, 2.5f, 3}, {1.5f, 2.5f, 3}, panel);
   b.addPointLight({1.0f, 2.0f, 4.0f}, 10.0f);
@@ -91,8 +94,10 @@ TEST(Stiff, ClosedRoomWithABoxOnTheFloorConservesFluxAtAlbedo0p999) {
   for (uint32_t t = 0; t < g.triangleCount(); ++t) {
     for (int i = 0; i < 16; ++i) {
       const double u = 0.5 * rng.uniformDouble(), v = 0.5 * rng.uniformDouble();
-      ASSERT_TRUE(test::finiteNonNegative(solver.irradianceAt(t, true, u, v, InterpolationMode::kVertex)));
-      ASSERT_TRUE(test::finiteNonNegative(solver.irradianceAt(t, true, u, v, InterpolationMode::kElementCentre)));
+      ASSERT_TRUE(
+          test::finiteNonNegative(solver.irradianceAt(t, true, u, v, InterpolationMode::kVertex)));
+      ASSERT_TRUE(test::finiteNonNegative(
+          solver.irradianceAt(t, true, u, v, InterpolationMode::kElementCentre)));
     }
   }
   const double emitted = emittedFlux(scene, g), absorbed = absorbedFlux(solver, g);
@@ -100,7 +105,8 @@ TEST(Stiff, ClosedRoomWithABoxOnTheFloorConservesFluxAtAlbedo0p999) {
   const double balance = absorbed / emitted - 1.0;
   reportFigure("absorbed / emitted flux - 1", balance);
   reportFigure("rays", double(stats.rays));
-  reportFigure("reflected rays found starting inside the box (shot again)", double(stats.inside_origin_rays));
+  reportFigure("reflected rays found starting inside the box (shot again)",
+               double(stats.inside_origin_rays));
   reportFigure("rays absorbed by back faces", double(stats.back_absorbed));
   reportFigure("captured fraction of surface rays", stats.captured_fraction);
   reportFigure("estimated rel. error", solver.estimatedRelativeError());
@@ -162,11 +168,12 @@ double checkEstimateAtEveryStop(RadiositySolver& solver, const std::function<dou
     const double truth = true_error();
     const double estimate = solver.estimatedRelativeError();
     const SolverStats stats = solver.stats();
-    std::printf("%10llu rays, %u passes: estimate %.5f, true error %.5f\n", (unsigned long long)stats.rays,
-                stats.passes_completed, estimate, truth);
+    std::printf("%10llu rays, %u passes: estimate %.5f, true error %.5f\n",
+                (unsigned long long)stats.rays, stats.passes_completed, estimate, truth);
     EXPECT_TRUE(std::isfinite(estimate));
     EXPECT_LE(estimate, 1.0);
-    EXPECT_GE(estimate + slack, truth) << stats.rays << " rays, " << stats.passes_completed << " passes";
+    EXPECT_GE(estimate + slack, truth)
+        << stats.rays << " rays, " << stats.passes_completed << " passes";
     worst_ratio = std::min(worst_ratio, estimate / truth);
     ++*stops;
   }
@@ -209,7 +216,9 @@ TEST(Stiff, EstimatedErrorIsNeverBelowTheTrueErrorOfTheRoomWithABox) {
     total_area += sides * g.areas_m2[t];
     // The floor's second triangle (0,0)-(4,5)-(4,0) holds the box's 1 m2
     // footprint (x 2.5-3.5, z 1-2 lies below z = 1.25 x).
-    visible[t] = (g.instance[t] == 0 && g.mesh_triangle[t] == 1) ? (g.areas_m2[t] - 1.0) / g.areas_m2[t] : 1.0;
+    visible[t] = (g.instance[t] == 0 && g.mesh_triangle[t] == 1)
+                     ? (g.areas_m2[t] - 1.0) / g.areas_m2[t]
+                     : 1.0;
   }
   const double e_visible = emittedFlux(scene, g) / ((1.0 - double(kRho)) * (total_area - 1.0));
   auto true_error = [&] {

@@ -43,17 +43,20 @@ class StabilityTimer {
   StabilityTimer() : start_(std::chrono::steady_clock::now()) {}
   ~StabilityTimer() {
     const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::printf("[timing] %s.%s: %.3f s\n", info ? info->test_suite_name() : "?", info ? info->name() : "?",
-                seconds());
+    std::printf("[timing] %s.%s: %.3f s\n", info ? info->test_suite_name() : "?",
+                info ? info->name() : "?", seconds());
   }
-  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+  double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
 
  private:
   std::chrono::steady_clock::time_point start_;
 };
 
 inline bool finiteNonNegative(const Rgb& c) {
-  return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b) && c.r >= 0 && c.g >= 0 && c.b >= 0;
+  return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b) && c.r >= 0 && c.g >= 0 &&
+         c.b >= 0;
 }
 
 /// The test level: a closed 4 x 3 x 5 m room (walls grey 0.6, one red wall),
@@ -72,7 +75,8 @@ struct LevelSpec {
 inline Scene testLevel(const LevelSpec& spec) {
   SceneBuilder b;
   auto at = [&](float x, float y, float z) -> Vec3 {
-    return {float(double(x) * spec.scale + spec.offset_m.x), float(double(y) * spec.scale + spec.offset_m.y),
+    return {float(double(x) * spec.scale + spec.offset_m.x),
+            float(double(y) * spec.scale + spec.offset_m.y),
             float(double(z) * spec.scale + spec.offset_m.z)};
   };
   const int grey = b.material({0.6f, 0.6f, 0.6f});
@@ -90,14 +94,25 @@ inline Scene testLevel(const LevelSpec& spec) {
   // Box [2.5,3.5] x [0,1] x [1,2], faces outwards, as one object.
   const float x0 = 2.5f, x1 = 3.5f, y0 = 0.0f, y1 = 1.0f, z0 = 1.0f, z1 = 2.0f;
   b.addMesh("box",
-            {at(x0, y1, z0), at(x0, y1, z1), at(x1, y1, z1), at(x0, y1, z0), at(x1, y1, z1), at(x1, y1, z0),   // top
-             at(x0, y0, z0), at(x0, y0, z1), at(x0, y1, z1), at(x0, y0, z0), at(x0, y1, z1), at(x0, y1, z0),   // -x
-             at(x1, y0, z0), at(x1, y1, z0), at(x1, y1, z1), at(x1, y0, z0), at(x1, y1, z1), at(x1, y0, z1),   // +x
-             at(x0, y0, z0), at(x0, y1, z0), at(x1, y1, z0), at(x0, y0, z0), at(x1, y1, z0), at(x1, y0, z0),   // -z
-             at(x0, y0, z1), at(x1, y0, z1), at(x1, y1, z1), at(x0, y0, z1), at(x1, y1, z1), at(x0, y1, z1)},  // +z
+            // top
+            {at(x0, y1, z0), at(x0, y1, z1), at(x1, y1, z1), at(x0, y1, z0), at(x1, y1, z1),
+             at(x1, y1, z0),
+             // -x
+             at(x0, y0, z0), at(x0, y0, z1), at(x0, y1, z1), at(x0, y0, z0), at(x0, y1, z1),
+             at(x0, y1, z0),
+             // +x
+             at(x1, y0, z0), at(x1, y1, z0), at(x1, y1, z1), at(x1, y0, z0), at(x1, y1, z1),
+             at(x1, y0, z1),
+             // -z
+             at(x0, y0, z0), at(x0, y1, z0), at(x1, y1, z0), at(x0, y0, z0), at(x1, y1, z0),
+             at(x1, y0, z0),
+             // +z
+             at(x0, y0, z1), at(x1, y0, z1), at(x1, y1, z1), at(x0, y0, z1), at(x1, y1, z1),
+             at(x0, y1, z1)},
             box);
   // Panel [1.5,2.5] x 2.99 x [2,3], facing down.
-  b.addQuad("panel", at(1.5f, 2.99f, 2), at(2.5f, 2.99f, 2), at(2.5f, 2.99f, 3), at(1.5f, 2.99f, 3), lamp);
+  b.addQuad("panel", at(1.5f, 2.99f, 2), at(2.5f, 2.99f, 2), at(2.5f, 2.99f, 3), at(1.5f, 2.99f, 3),
+            lamp);
   if (spec.point_cd > 0) {
     b.addPointLight(at(1.0f, 2.0f, 4.0f), float(double(spec.point_cd) * spec.scale * spec.scale));
   }
@@ -114,8 +129,8 @@ struct Difference {
   double max_rel = 0;
 };
 
-inline Difference compare(const std::vector<Rgb>& a, const std::vector<Rgb>& b, const std::vector<float>& areas_m2,
-                          double a_scale = 1.0) {
+inline Difference compare(const std::vector<Rgb>& a, const std::vector<Rgb>& b,
+                          const std::vector<float>& areas_m2, double a_scale = 1.0) {
   double area = 0, sum_b = 0;
   for (size_t t = 0; t < b.size(); ++t) {
     area += areas_m2[t];

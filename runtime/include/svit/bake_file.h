@@ -31,18 +31,18 @@ struct BakeTriangleUv {
   uint32_t instance = 0;       ///< index into Scene::instances
   uint32_t mesh_triangle = 0;  ///< triangle within that instance's mesh
   uint32_t page = 0;
-  Vec2 uv[3];                  ///< page coordinates in [0, 1], v down the rows
+  Vec2 uv[3];  ///< page coordinates in [0, 1], v down the rows
 };
 
 /// A patch: a cluster-tree node of bounded area and similar normal, the unit
 /// the runtime tracks radiosity deltas for.
 struct BakePatch {
   Vec3 centroid;
-  Vec3 normal;          ///< unit, area-weighted
+  Vec3 normal;  ///< unit, area-weighted
   float area_m2 = 0;
-  Rgb albedo;           ///< area-weighted mean
-  Rgb emission;         ///< exitance of its own emission, lm/m2
-  Rgb radiosity;        ///< static baseline exitance, lm/m2 (emission + albedo * irradiance)
+  Rgb albedo;                  ///< area-weighted mean
+  Rgb emission;                ///< exitance of its own emission, lm/m2
+  Rgb radiosity;               ///< static baseline exitance, lm/m2 (emission + albedo * irradiance)
   uint32_t first_element = 0;  ///< into BakeData::patch_elements
   uint32_t element_count = 0;
 };
@@ -60,8 +60,8 @@ struct BakeClusterNode {
 struct BakeEmitter {
   enum class Kind : uint32_t { kLight = 0, kPatch = 1, kSun = 2, kSky = 3 };
   Kind kind = Kind::kLight;
-  uint32_t index = 0;  ///< Scene::lights index (kLight) or patch (kPatch)
-  Rgb flux;            ///< lm per channel
+  uint32_t index = 0;             ///< Scene::lights index (kLight) or patch (kPatch)
+  Rgb flux;                       ///< lm per channel
   std::vector<uint32_t> patches;  ///< lit patches, ascending
   std::vector<float> factors;     ///< share of the emitter's flux each receives, same length
 };

@@ -46,7 +46,8 @@ class BakedSurfaces {
   /// The nearest point on a triangle side whose normal is within
   /// acos(cos_limit) of `normal` (need not be unit); nullopt when none faces
   /// it. Brute force over the triangles: O(triangles) per query.
-  std::optional<SurfaceHit> nearest(const Vec3& point, const Vec3& normal, double cos_limit = 0.5) const;
+  std::optional<SurfaceHit> nearest(const Vec3& point, const Vec3& normal,
+                                    double cos_limit = 0.5) const;
 
  private:
   std::vector<Vec3> positions_;
@@ -70,6 +71,7 @@ struct ProbePoint {
 Expected<std::vector<ProbePoint>> readProbePoints(const std::string& path);
 
 /// Reads every lightmap page of a bake from `bake_dir`. Errors name the file.
-Expected<std::vector<LightmapImage>> readLightmapPages(const BakeData& bake, const std::string& bake_dir);
+Expected<std::vector<LightmapImage>> readLightmapPages(const BakeData& bake,
+                                                       const std::string& bake_dir);
 
 }  // namespace svit

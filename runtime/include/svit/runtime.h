@@ -53,9 +53,10 @@ struct RuntimeSettings {
   /// the long tail of dim ones at one sample each, many times the emitters
   /// on a large level (docs/performance.md has the figures).
   double secondary_emitter_share = 0.99;
-  int max_bounces = 4;                ///< rounds of delta bounces per update, >= 0
-  double bounce_stop_share = 0.005;   ///< stop bouncing below this share of the first round's |delta|
-  bool ambient_compensation = true;   ///< unshot delta energy as ambient (thesis 5.5)
+  int max_bounces = 4;  ///< rounds of delta bounces per update, >= 0
+  /// stop bouncing below this share of the first round's |delta|
+  double bounce_stop_share = 0.005;
+  bool ambient_compensation = true;  ///< unshot delta energy as ambient (thesis 5.5)
   /// Temporal smoothing of the displayed deltas (thesis 4.2.5): each frame
   /// moves this share of the way to the new value; 1 = off. In (0, 1].
   float temporal_blend = 1.0f;
@@ -76,7 +77,7 @@ struct RuntimeSettings {
   /// occlusion culling): same result, and from inside a room the rest of
   /// a closed level is not drawn. Off: everything in the map's frustum.
   bool occlusion_culling = true;
-  uint64_t seed = 1;            ///< sample placement; same seed, same result
+  uint64_t seed = 1;  ///< sample placement; same seed, same result
 
   /// Importance caching (thesis 5.9-5.10), used while a view is set
   /// (setView): an id pass from the camera counts the pixels of every
@@ -86,8 +87,8 @@ struct RuntimeSettings {
   /// refresh most important first, the rest at intervals that double as
   /// their importance halves. Off (or no view): brightest first.
   bool importance_caching = true;
-  int view_pass_width = 128;     ///< id pass pixels across (height by aspect), 16..1024
-  int max_refresh_interval = 32; ///< frames an unimportant out-of-date emitter may wait, 1..1024
+  int view_pass_width = 128;      ///< id pass pixels across (height by aspect), 16..1024
+  int max_refresh_interval = 32;  ///< frames an unimportant out-of-date emitter may wait, 1..1024
   /// A budget in point samples (one map each) per update, 0 = none; unlike
   /// milliseconds it gives the same schedule on every machine.
   int max_samples_per_frame = 0;
@@ -107,11 +108,11 @@ struct RuntimeSettings {
 /// A dynamic object the game adds at run time (the level's own dynamic nodes
 /// are added by create()).
 struct DynamicMesh {
-  std::string name;                ///< for messages and statistics
-  std::vector<Vec3> positions;     ///< object space, metres
-  std::vector<uint32_t> indices;   ///< 3 per triangle, CCW front
-  Rgb albedo{0.5f, 0.5f, 0.5f};    ///< diffuse reflectance, each in [0, 1)
-  Rgb emission{0, 0, 0};           ///< emitted luminance, cd/m2 (>= 0)
+  std::string name;               ///< for messages and statistics
+  std::vector<Vec3> positions;    ///< object space, metres
+  std::vector<uint32_t> indices;  ///< 3 per triangle, CCW front
+  Rgb albedo{0.5f, 0.5f, 0.5f};   ///< diffuse reflectance, each in [0, 1)
+  Rgb emission{0, 0, 0};          ///< emitted luminance, cd/m2 (>= 0)
   bool double_sided = false;
 };
 
@@ -132,22 +133,24 @@ struct RuntimeView {
 /// Why an emitter's maps were rendered in an update.
 enum class RefreshReason : uint32_t {
   kImportant = 0,  ///< out of date and among the important ones (refreshes every frame)
-  kPromoted = 1,   ///< its importance rose since it went out of date (a door opened, the view turned)
-  kRoundRobin = 2, ///< out of date and unimportant: its interval ran out
-  kLightChanged = 3, ///< dimmed or switched without cached shares to scale
-  kBounce = 4,     ///< a new secondary emitter a bounce needed
-  kRefreshAll = 5, ///< RuntimeSettings::refresh_all
-  kNoView = 6,     ///< no view set (or caching off): brightest first
+  /// its importance rose since it went out of date (a door opened, the view turned)
+  kPromoted = 1,
+  kRoundRobin = 2,    ///< out of date and unimportant: its interval ran out
+  kLightChanged = 3,  ///< dimmed or switched without cached shares to scale
+  kBounce = 4,        ///< a new secondary emitter a bounce needed
+  kRefreshAll = 5,    ///< RuntimeSettings::refresh_all
+  kNoView = 6,        ///< no view set (or caching off): brightest first
 };
 const char* refreshReasonName(RefreshReason reason);
 
 /// What kind of light an emitter is (EmitterState).
 enum class EmitterType : uint32_t {
-  kBakedLight = 0, ///< a static light of the bake
+  kBakedLight = 0,  ///< a static light of the bake
   kSun = 1,
   kSky = 2,
-  kStaticPatch = 3,   ///< a group of static patches: a lamp's emissive surface or a bright secondary emitter
-  kDynamicObject = 4, ///< one facing of a dynamic object (emissive, or reflecting a bounce)
+  /// a group of static patches: a lamp's emissive surface or a bright secondary emitter
+  kStaticPatch = 3,
+  kDynamicObject = 4,  ///< one facing of a dynamic object (emissive, or reflecting a bounce)
   kRuntimeLight = 5,
 };
 
@@ -156,10 +159,11 @@ struct EmitterState {
   EmitterType type = EmitterType::kBakedLight;
   uint32_t bake_emitter = kInvalidId;  ///< BakeData::emitters index, or kInvalidId
   uint32_t light = kInvalidId;         ///< LightId of a runtime light, or kInvalidId
-  double importance = 0;    ///< for the current view: lux x pixels it accounts for (0 without a view)
-  uint32_t interval = 1;    ///< frames it may wait while out of date, by importance
-  bool out_of_date = false; ///< something moved in its reach since its last refresh
-  bool has_maps = false;    ///< cached shares exist
+  /// for the current view: lux x pixels it accounts for (0 without a view)
+  double importance = 0;
+  uint32_t interval = 1;         ///< frames it may wait while out of date, by importance
+  bool out_of_date = false;      ///< something moved in its reach since its last refresh
+  bool has_maps = false;         ///< cached shares exist
   uint64_t refreshed_frame = 0;  ///< update() count of its last refresh, 0 = never
   uint32_t samples = 0;
 };
@@ -179,22 +183,22 @@ struct FrameStats {
   double bounce_ms = 0;     ///< CPU: the emitters' deltas summed, bounce rounds and ambient
   double upload_ms = 0;     ///< delta buffer upload for shading
   double total_ms = 0;
-  uint32_t emitters_refreshed = 0;   ///< emitters whose maps were rendered this frame
-  uint32_t emitters_pending = 0;     ///< emitters still out of date (budget ran out)
-  uint32_t samples_rendered = 0;     ///< point samples (one map each)
-  uint32_t faces_rendered = 0;       ///< raster passes (a cube map is 6)
-  uint64_t triangles_drawn = 0;      ///< triangles the raster passes submitted (after culling)
-  uint64_t triangles_hidden = 0;     ///< triangles occlusion culling found hidden and left out
+  uint32_t emitters_refreshed = 0;  ///< emitters whose maps were rendered this frame
+  uint32_t emitters_pending = 0;    ///< emitters still out of date (budget ran out)
+  uint32_t samples_rendered = 0;    ///< point samples (one map each)
+  uint32_t faces_rendered = 0;      ///< raster passes (a cube map is 6)
+  uint64_t triangles_drawn = 0;     ///< triangles the raster passes submitted (after culling)
+  uint64_t triangles_hidden = 0;    ///< triangles occlusion culling found hidden and left out
   uint64_t texels_reduced = 0;
-  uint32_t fallback_triangles = 0;   ///< small polygons credited by vertex visibility
+  uint32_t fallback_triangles = 0;  ///< small polygons credited by vertex visibility
   uint32_t bounce_rounds = 0;
-  double unshot_share = 0;           ///< delta energy compensated as ambient / total |delta|
-  uint32_t gl_objects_created = 0;   ///< buffers/textures allocated during this update
-  double view_ms = 0;                ///< camera id pass and importance (0 without a view)
-  uint32_t visible_patches = 0;      ///< patches the view pass saw
+  double unshot_share = 0;                ///< delta energy compensated as ambient / total |delta|
+  uint32_t gl_objects_created = 0;        ///< buffers/textures allocated during this update
+  double view_ms = 0;                     ///< camera id pass and importance (0 without a view)
+  uint32_t visible_patches = 0;           ///< patches the view pass saw
   std::vector<EmitterRefresh> refreshes;  ///< which emitters refreshed and why, in order
-  bool idle = false;                 ///< nothing to do: no dynamic content changed
-  std::string error;                 ///< empty, or why the update could not finish (a GL failure)
+  bool idle = false;                      ///< nothing to do: no dynamic content changed
+  std::string error;  ///< empty, or why the update could not finish (a GL failure)
 };
 
 /// What the host binds to shade static geometry (shadingSources()).
@@ -232,31 +236,31 @@ struct ShadingResources {
 /// The runtime's view of one dynamic object.
 struct ObjectInfo {
   std::string name;
-  int instance = -1;         ///< Scene::instances index, -1 for addObject objects
+  int instance = -1;  ///< Scene::instances index, -1 for addObject objects
   Mat4 world_from_object;
   uint32_t first_patch = 0;  ///< its patches (one per triangle) in patchDeltas()
   uint32_t patch_count = 0;
   bool visible = true;
-  std::vector<Vec3> world_positions;  ///< current, 3 per triangle (unshared), metres
-  std::vector<Rgb> triangle_albedo;   ///< per triangle
-  std::vector<Rgb> triangle_emission; ///< per triangle, cd/m2
+  std::vector<Vec3> world_positions;   ///< current, 3 per triangle (unshared), metres
+  std::vector<Rgb> triangle_albedo;    ///< per triangle
+  std::vector<Rgb> triangle_emission;  ///< per triangle, cd/m2
 };
 
 /// A runtime patch of static geometry (what patchDeltas() indexes, before
 /// the dynamic objects' patches).
 struct PatchInfo {
-  Vec3 centroid;               ///< world, metres
-  Vec3 normal;                 ///< unit
+  Vec3 centroid;  ///< world, metres
+  Vec3 normal;    ///< unit
   float area_m2 = 0;
   Rgb albedo;
-  Rgb baseline_exitance;       ///< baked exitance under it, lm/m2 (emission + albedo x lightmap)
-  uint32_t bake_patch = 0;     ///< the bake patch (cluster-tree node) it was cut from
-  std::vector<Vec3> triangles; ///< its sub-triangles, 3 corners each, world metres
+  Rgb baseline_exitance;        ///< baked exitance under it, lm/m2 (emission + albedo x lightmap)
+  uint32_t bake_patch = 0;      ///< the bake patch (cluster-tree node) it was cut from
+  std::vector<Vec3> triangles;  ///< its sub-triangles, 3 corners each, world metres
 };
 
 /// A runtime light as the game last set it.
 struct RuntimeLightInfo {
-  Light light;       ///< position, direction, colour, intensity (before the dimmer), cone
+  Light light;  ///< position, direction, colour, intensity (before the dimmer), cone
   bool enabled = true;
   float dimmer = 1;  ///< multiplies intensity
 };

@@ -67,13 +67,14 @@ struct TriangleSource {
 /// positive area and finite data; degenerate ones were skipped at import.
 struct Mesh {
   std::string name;
-  std::vector<Vec3> positions;  ///< object space, metres
-  std::vector<Vec3> normals;    ///< unit length, one per position
-  std::vector<Vec2> uv0;        ///< TEXCOORD_0, empty when no primitive has it
-  std::vector<Vec2> uv1;        ///< TEXCOORD_1 (authored lightmap UVs), empty when absent
-  std::vector<uint32_t> indices;                ///< 3 per triangle, front face counter-clockwise
-  std::vector<uint32_t> triangle_material;      ///< per triangle, index into Scene::materials
-  std::vector<Rgb> triangle_albedo;             ///< per triangle: base colour x mean texture over the triangle
+  std::vector<Vec3> positions;    ///< object space, metres
+  std::vector<Vec3> normals;      ///< unit length, one per position
+  std::vector<Vec2> uv0;          ///< TEXCOORD_0, empty when no primitive has it
+  std::vector<Vec2> uv1;          ///< TEXCOORD_1 (authored lightmap UVs), empty when absent
+  std::vector<uint32_t> indices;  ///< 3 per triangle, front face counter-clockwise
+  std::vector<uint32_t> triangle_material;  ///< per triangle, index into Scene::materials
+  /// per triangle: base colour x mean texture over the triangle
+  std::vector<Rgb> triangle_albedo;
   std::vector<Rgb> triangle_emission;           ///< per triangle: mean emitted luminance, cd/m2
   std::vector<TriangleSource> triangle_source;  ///< per triangle
   size_t triangleCount() const { return indices.size() / 3; }
@@ -93,7 +94,8 @@ struct Node {
   bool has_trs = true;  ///< false when the glTF gave a matrix
   Mat4 parent_from_node;
   Mat4 world_from_node;
-  bool dynamic = false;   ///< moves at run time (extras.svit.dynamic or level.json, inherited by children)
+  /// moves at run time (extras.svit.dynamic or level.json, inherited by children)
+  bool dynamic = false;
   bool animated = false;  ///< a glTF animation channel targets this node or an ancestor
 };
 
@@ -111,12 +113,12 @@ enum class LightType { kPoint, kSpot, kDirectional };
 struct Light {
   std::string name;
   LightType type = LightType::kPoint;
-  Rgb color{1, 1, 1};   ///< linear, multiplies intensity
-  float intensity = 0;  ///< candela (point, spot) or lux (directional); >= 0
-  float range_m = 0;    ///< 0 = unlimited
-  float inner_cone_rad = 0;                      ///< spot: full intensity inside
+  Rgb color{1, 1, 1};        ///< linear, multiplies intensity
+  float intensity = 0;       ///< candela (point, spot) or lux (directional); >= 0
+  float range_m = 0;         ///< 0 = unlimited
+  float inner_cone_rad = 0;  ///< spot: full intensity inside
   float outer_cone_rad = 0.78539816339744831f;  ///< spot: zero outside; inner < outer <= pi/2
-  Vec3 position{0, 0, 0};    ///< world, metres (point, spot)
+  Vec3 position{0, 0, 0};                       ///< world, metres (point, spot)
   Vec3 direction{0, 0, -1};  ///< world, unit, the way light travels (spot, directional)
   int node = -1;             ///< node it hangs on, -1 for level.json lights
   bool dynamic = false;      ///< a runtime light (moved/switched by the game), not baked
@@ -125,8 +127,8 @@ struct Light {
 /// The sun: a directional light with an angular radius (soft shadows).
 struct Sun {
   bool enabled = false;
-  Vec3 direction_to_sun{0, 1, 0};  ///< world, unit, from the scene towards the sun
-  float illuminance_lux = 0;       ///< on a surface facing the sun
+  Vec3 direction_to_sun{0, 1, 0};       ///< world, unit, from the scene towards the sun
+  float illuminance_lux = 0;            ///< on a surface facing the sun
   float angular_radius_rad = 0.00465f;  ///< the real sun's
   Rgb color{1, 1, 1};
 };
@@ -194,12 +196,12 @@ struct CameraPath {
 /// Counters of what import skipped or repaired; each also has a line in
 /// Scene::warnings naming the element.
 struct ImportCounters {
-  size_t zero_area_triangles = 0;        ///< skipped
+  size_t zero_area_triangles = 0;  ///< skipped
   size_t skipped_point_line_primitives = 0;
-  size_t missing_textures = 0;           ///< the material's factor is used alone
+  size_t missing_textures = 0;  ///< the material's factor is used alone
   size_t meshes_with_generated_normals = 0;
-  size_t repaired_normals = 0;           ///< zero-length normals replaced by the face normal
-  size_t degenerate_instances = 0;       ///< singular world transform: skipped
+  size_t repaired_normals = 0;      ///< zero-length normals replaced by the face normal
+  size_t degenerate_instances = 0;  ///< singular world transform: skipped
 };
 
 /// A loaded level: the glTF plus what level.json adds.

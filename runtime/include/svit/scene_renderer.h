@@ -59,7 +59,7 @@ struct SceneRendererSettings {
 
 /// Per-frame draw statistics.
 struct RenderStats {
-  double shading_ms = 0;    ///< CPU wall time incl. glFinish
+  double shading_ms = 0;  ///< CPU wall time incl. glFinish
   uint32_t draw_calls = 0;
   uint32_t shadow_maps_rendered = 0;
 };
@@ -70,9 +70,9 @@ class SceneRenderer {
   /// and lightmap pages (read from `bake_dir`). `runtime` may be null (baked
   /// only); when given it must outlive the renderer. Errors: no GL 4.5
   /// context, unreadable lightmap page, bake/scene mismatch (triangle count).
-  static Expected<std::unique_ptr<SceneRenderer>> create(const Scene& scene, const BakeData& bake,
-                                                         const std::string& bake_dir, const Runtime* runtime,
-                                                         const SceneRendererSettings& settings = {});
+  static Expected<std::unique_ptr<SceneRenderer>> create(
+      const Scene& scene, const BakeData& bake, const std::string& bake_dir, const Runtime* runtime,
+      const SceneRendererSettings& settings = {});
   ~SceneRenderer();
 
   /// Renders one frame into the offscreen target (or, with
@@ -81,7 +81,8 @@ class SceneRenderer {
   /// has no radiance attachment: after such a frame readRadiance() and
   /// writeExr() (like readPixels() and writePng()) still give the previous
   /// offscreen frame, or nothing when there was none.
-  Expected<RenderStats> render(const Camera& camera, ShadingView view, bool to_default_framebuffer = false);
+  Expected<RenderStats> render(const Camera& camera, ShadingView view,
+                               bool to_default_framebuffer = false);
 
   /// Scales what frames show of a baked emitter (BakeData::emitters index),
   /// to match Runtime::setBakedEmitterScale with the same arguments (the

@@ -10,8 +10,8 @@
 namespace svit::gl {
 
 inline bool overlaps(const Aabb& a, const Aabb& b) {
-  return !a.empty() && !b.empty() && a.min.x <= b.max.x && b.min.x <= a.max.x && a.min.y <= b.max.y &&
-         b.min.y <= a.max.y && a.min.z <= b.max.z && b.min.z <= a.max.z;
+  return !a.empty() && !b.empty() && a.min.x <= b.max.x && b.min.x <= a.max.x &&
+         a.min.y <= b.max.y && b.min.y <= a.max.y && a.min.z <= b.max.z && b.min.z <= a.max.z;
 }
 
 inline void grow(Aabb& box, const Vec3& p) {

@@ -44,9 +44,11 @@ void SparseShares::indexBlocks() {
 }
 
 size_t BounceSolver::bytes() const {
-  size_t vectors = first_.capacity() + delta_in_.capacity() + next_in_.capacity() + delta_group_.capacity();
+  size_t vectors =
+      first_.capacity() + delta_in_.capacity() + next_in_.capacity() + delta_group_.capacity();
   for (const Round& round : rounds_) {
-    vectors += round.in.capacity() + round.out.capacity() + round.group_out.capacity() + round.shot.capacity();
+    vectors += round.in.capacity() + round.out.capacity() + round.group_out.capacity() +
+               round.shot.capacity();
   }
   size_t bytes = vectors * sizeof(glm::dvec3) + terms_.capacity() * sizeof(ReceiverTerms);
   for (const SparseShares& s : shot_with_) bytes += s.bytes();
@@ -100,16 +102,20 @@ void BounceSolver::grow(size_t receivers, size_t groups) {
   result_.wanted.resize(groups, 0.0);
 }
 
-const BounceResult& BounceSolver::solve(const std::vector<Receiver>& receivers, const std::vector<glm::dvec3>& first,
+const BounceResult& BounceSolver::solve(const std::vector<Receiver>& receivers,
+                                        const std::vector<glm::dvec3>& first,
                                         const std::vector<int32_t>& group_of,
                                         const std::vector<const SparseShares*>& group_shares,
-                                        const std::vector<uint64_t>& group_revisions, const BounceSettings& settings) {
+                                        const std::vector<uint64_t>& group_revisions,
+                                        const BounceSettings& settings) {
   const size_t n = receivers.size(), groups = group_shares.size();
   // Nothing differs from the bake: solve that from nothing, exactly zero
   // (instead of the residues of taking every delta back).
-  const bool none = std::all_of(first.begin(), first.end(), [](const glm::dvec3& f) { return f == glm::dvec3(0.0); });
+  const bool none = std::all_of(first.begin(), first.end(),
+                                [](const glm::dvec3& f) { return f == glm::dvec3(0.0); });
   from_nothing_ = none || rounds_.empty() || n < first_.size() || groups < shot_none_.size() ||
-                  settings.max_bounces != settings_.max_bounces || settings.stop_share != settings_.stop_share ||
+                  settings.max_bounces != settings_.max_bounces ||
+                  settings.stop_share != settings_.stop_share ||
                   settings.min_shot_share != settings_.min_shot_share;
   settings_ = settings;
   work_ = 0;
@@ -145,9 +151,11 @@ std::vector<uint32_t> BounceSolver::changedReceivers(const SolveInputs& in) cons
   for (size_t r = 0; r < in.receivers.size(); ++r) {
     const ReceiverTerms now = termsOf(in, r);
     const ReceiverTerms& was = terms_[r];
-    const bool same_albedo = !now.takes_part || (now.albedo.r == was.albedo.r && now.albedo.g == was.albedo.g &&
-                                                  now.albedo.b == was.albedo.b);
-    if (now.takes_part != was.takes_part || now.group != was.group || !same_albedo) changed.push_back(uint32_t(r));
+    const bool same_albedo =
+        !now.takes_part || (now.albedo.r == was.albedo.r && now.albedo.g == was.albedo.g &&
+                            now.albedo.b == was.albedo.b);
+    if (now.takes_part != was.takes_part || now.group != was.group || !same_albedo)
+      changed.push_back(uint32_t(r));
   }
   return changed;
 }
@@ -180,7 +188,8 @@ void BounceSolver::appendRound(size_t receivers, size_t groups) {
 
 // Receive the change, reflect anew; what a receiver reflected before
 // leaves its old group, what it reflects now joins its new one.
-void BounceSolver::reflectRound(Round& round, const std::vector<uint32_t>& changed, const SolveInputs& in) {
+void BounceSolver::reflectRound(Round& round, const std::vector<uint32_t>& changed,
+                                const SolveInputs& in) {
   for (uint32_t r : changed) mark(r, in_mark_, in_list_);
   std::sort(in_list_.begin(), in_list_.end());
   for (uint32_t r : in_list_) {
@@ -188,8 +197,9 @@ void BounceSolver::reflectRound(Round& round, const std::vector<uint32_t>& chang
     round.in[r] += delta_in_[r];
     delta_in_[r] = glm::dvec3(0.0);
     const ReceiverTerms now = termsOf(in, r);
-    const glm::dvec3 out =
-        now.takes_part ? round.in[r] * glm::dvec3(now.albedo.r, now.albedo.g, now.albedo.b) : glm::dvec3(0.0);
+    const glm::dvec3 out = now.takes_part
+                               ? round.in[r] * glm::dvec3(now.albedo.r, now.albedo.g, now.albedo.b)
+                               : glm::dvec3(0.0);
     const glm::dvec3 old_out = round.out[r];
     const int32_t old_group = terms_[r].group;
     if (out == old_out && now.group == old_group) continue;
@@ -215,7 +225,8 @@ void BounceSolver::reflectRound(Round& round, const std::vector<uint32_t>& chang
 // group and goes unshot until it adds up, so a room's change does not
 // ripple through every doorway of the level at a vanishing share of its
 // size. In the dense solver's order (ascending groups).
-void BounceSolver::shootRound(Round& round, const std::vector<uint32_t>& reshot, bool last, const SolveInputs& in) {
+void BounceSolver::shootRound(Round& round, const std::vector<uint32_t>& reshot, bool last,
+                              const SolveInputs& in) {
   const double min_shot = settings_.min_shot_share * rounds_[0].abs_out;
   for (uint32_t g : reshot) mark(g, group_mark_, group_list_);
   std::sort(group_list_.begin(), group_list_.end());
@@ -246,8 +257,8 @@ void BounceSolver::shootRound(Round& round, const std::vector<uint32_t>& reshot,
 }
 
 // Keeps what this solve was solved for, for the next to compare with.
-void BounceSolver::keepSolved(const std::vector<uint32_t>& changed, const std::vector<uint32_t>& reshot,
-                              const SolveInputs& in) {
+void BounceSolver::keepSolved(const std::vector<uint32_t>& changed,
+                              const std::vector<uint32_t>& reshot, const SolveInputs& in) {
   for (uint32_t r : changed) terms_[r] = termsOf(in, r);
   for (uint32_t g : reshot) {
     const SparseShares* now = in.group_shares[g];
@@ -258,8 +269,10 @@ void BounceSolver::keepSolved(const std::vector<uint32_t>& changed, const std::v
   }
 }
 
-bool BounceSolver::resolve(const std::vector<Receiver>& receivers, const std::vector<glm::dvec3>& first,
-                           const std::vector<int32_t>& group_of, const std::vector<const SparseShares*>& group_shares,
+bool BounceSolver::resolve(const std::vector<Receiver>& receivers,
+                           const std::vector<glm::dvec3>& first,
+                           const std::vector<int32_t>& group_of,
+                           const std::vector<const SparseShares*>& group_shares,
                            const std::vector<uint64_t>& group_revisions) {
   const size_t n = receivers.size(), groups = group_shares.size();
   const SolveInputs in{receivers, group_of, group_shares, group_revisions};
@@ -271,7 +284,8 @@ bool BounceSolver::resolve(const std::vector<Receiver>& receivers, const std::ve
     if (k == rounds_.size()) appendRound(n, groups);
     Round& round = rounds_[k];
     reflectRound(round, changed, in);
-    const bool last = int(k) >= settings_.max_bounces || round.abs_out <= settings_.stop_share * rounds_[0].abs_out ||
+    const bool last = int(k) >= settings_.max_bounces ||
+                      round.abs_out <= settings_.stop_share * rounds_[0].abs_out ||
                       !(round.abs_out > 0);
     if (k < kept_rounds && last != round.last) return false;
     round.last = last;
@@ -299,7 +313,8 @@ void BounceSolver::shoot(const SparseShares& shares, const glm::dvec3& flux) {
   work_ += shares.receivers.size();
 }
 
-void BounceSolver::finish(const std::vector<Receiver>& receivers, const std::vector<const SparseShares*>& group_shares) {
+void BounceSolver::finish(const std::vector<Receiver>& receivers,
+                          const std::vector<const SparseShares*>& group_shares) {
   const size_t n = receivers.size();
   const double residue = kResidueShare * largest_first_round_;
   for (uint32_t g : wanted_list_) {
@@ -332,14 +347,17 @@ void BounceSolver::finish(const std::vector<Receiver>& receivers, const std::vec
     if (area > 0) {
       const double mean_albedo = std::min(albedo_area / area, 0.999);
       const glm::dvec3 irradiance = unshot_ / area / (1 - mean_albedo);
-      for (size_t r = 0; r < n; ++r) result_.received[r] += irradiance * double(receivers[r].area_m2);
+      for (size_t r = 0; r < n; ++r)
+        result_.received[r] += irradiance * double(receivers[r].area_m2);
     }
   }
 }
 
-BounceResult bounceDeltas(const std::vector<Receiver>& receivers, const std::vector<glm::dvec3>& first,
+BounceResult bounceDeltas(const std::vector<Receiver>& receivers,
+                          const std::vector<glm::dvec3>& first,
                           const std::vector<int32_t>& group_of,
-                          const std::vector<const SparseShares*>& group_shares, const BounceSettings& settings) {
+                          const std::vector<const SparseShares*>& group_shares,
+                          const BounceSettings& settings) {
   BounceSolver solver;
   return solver.solve(receivers, first, group_of, group_shares,
                       std::vector<uint64_t>(group_shares.size(), 0), settings);

@@ -53,7 +53,8 @@ struct BounceSettings {
 };
 
 struct BounceResult {
-  std::vector<glm::dvec3> received;  ///< per receiver: delta flux received, all rounds + ambient, lm
+  /// per receiver: delta flux received, all rounds + ambient, lm
+  std::vector<glm::dvec3> received;
   /// Per group: |reflected delta flux| (luminance) it could not shoot for
   /// lack of cached shares; the caller refreshes the largest.
   std::vector<double> wanted;
@@ -78,9 +79,12 @@ struct BounceResult {
 /// Thread-safe: no.
 class BounceSolver {
  public:
-  const BounceResult& solve(const std::vector<Receiver>& receivers, const std::vector<glm::dvec3>& first,
-                            const std::vector<int32_t>& group_of, const std::vector<const SparseShares*>& group_shares,
-                            const std::vector<uint64_t>& group_revisions, const BounceSettings& settings);
+  const BounceResult& solve(const std::vector<Receiver>& receivers,
+                            const std::vector<glm::dvec3>& first,
+                            const std::vector<int32_t>& group_of,
+                            const std::vector<const SparseShares*>& group_shares,
+                            const std::vector<uint64_t>& group_revisions,
+                            const BounceSettings& settings);
 
   /// Receivers touched plus shares shot by the last solve: its work.
   size_t lastWork() const { return work_; }
@@ -91,11 +95,11 @@ class BounceSolver {
 
  private:
   struct Round {
-    std::vector<glm::dvec3> in, out;  ///< per receiver: received, reflected
+    std::vector<glm::dvec3> in, out;    ///< per receiver: received, reflected
     std::vector<glm::dvec3> group_out;  ///< per group: reflected by its members
     std::vector<glm::dvec3> shot;       ///< per group: what of it went through its shares
-    double abs_out = 0;  ///< sum of |out| (luminance)
-    bool last = false;   ///< everything reflected goes unshot
+    double abs_out = 0;                 ///< sum of |out| (luminance)
+    bool last = false;                  ///< everything reflected goes unshot
   };
   struct ReceiverTerms {  ///< what a receiver's reflection depends on besides what it received
     bool takes_part = false;
@@ -118,7 +122,8 @@ class BounceSolver {
   /// shares changed, the first bounce's change seeded, then per round the
   /// change received and reflected, then shot; last, what was solved for kept.
   bool resolve(const std::vector<Receiver>& receivers, const std::vector<glm::dvec3>& first,
-               const std::vector<int32_t>& group_of, const std::vector<const SparseShares*>& group_shares,
+               const std::vector<int32_t>& group_of,
+               const std::vector<const SparseShares*>& group_shares,
                const std::vector<uint64_t>& group_revisions);
   static ReceiverTerms termsOf(const SolveInputs& in, size_t r);
   bool sharesChanged(const SolveInputs& in, size_t g) const;
@@ -127,20 +132,24 @@ class BounceSolver {
   void seedFirstDeltas(const std::vector<glm::dvec3>& first, size_t receivers);
   void appendRound(size_t receivers, size_t groups);
   void reflectRound(Round& round, const std::vector<uint32_t>& changed, const SolveInputs& in);
-  void shootRound(Round& round, const std::vector<uint32_t>& reshot, bool last, const SolveInputs& in);
-  void keepSolved(const std::vector<uint32_t>& changed, const std::vector<uint32_t>& reshot, const SolveInputs& in);
+  void shootRound(Round& round, const std::vector<uint32_t>& reshot, bool last,
+                  const SolveInputs& in);
+  void keepSolved(const std::vector<uint32_t>& changed, const std::vector<uint32_t>& reshot,
+                  const SolveInputs& in);
   void shoot(const SparseShares& shares, const glm::dvec3& flux);
-  void finish(const std::vector<Receiver>& receivers, const std::vector<const SparseShares*>& group_shares);
+  void finish(const std::vector<Receiver>& receivers,
+              const std::vector<const SparseShares*>& group_shares);
 
   BounceSettings settings_;
   std::vector<Round> rounds_;
-  std::vector<glm::dvec3> first_;       ///< the last solve's first
-  std::vector<ReceiverTerms> terms_;    ///< per receiver, as last solved
-  std::vector<SparseShares> shot_with_; ///< per group: the shares last shot with
-  std::vector<char> shot_none_;         ///< per group: it had no shares
-  std::vector<uint64_t> revision_;      ///< per group: of shot_with_
+  std::vector<glm::dvec3> first_;        ///< the last solve's first
+  std::vector<ReceiverTerms> terms_;     ///< per receiver, as last solved
+  std::vector<SparseShares> shot_with_;  ///< per group: the shares last shot with
+  std::vector<char> shot_none_;          ///< per group: it had no shares
+  std::vector<uint64_t> revision_;       ///< per group: of shot_with_
   glm::dvec3 unshot_{0.0};
-  double largest_first_round_ = 0;  ///< since the last solve from nothing: the scale of rounding residues
+  /// since the last solve from nothing: the scale of rounding residues
+  double largest_first_round_ = 0;
   // Scratch of one round: the next round's incoming deltas (zero outside
   // `next_list_`), the groups' reflected deltas (zero outside their list).
   std::vector<glm::dvec3> delta_in_, next_in_, delta_group_;
@@ -153,8 +162,10 @@ class BounceSolver {
 };
 
 /// One solve from nothing (tests, tools).
-BounceResult bounceDeltas(const std::vector<Receiver>& receivers, const std::vector<glm::dvec3>& first,
+BounceResult bounceDeltas(const std::vector<Receiver>& receivers,
+                          const std::vector<glm::dvec3>& first,
                           const std::vector<int32_t>& group_of,
-                          const std::vector<const SparseShares*>& group_shares, const BounceSettings& settings);
+                          const std::vector<const SparseShares*>& group_shares,
+                          const BounceSettings& settings);
 
 }  // namespace svit::gl

@@ -21,7 +21,9 @@ struct ChangeTracker {
   void noteBox(const Aabb& box) {
     if (!box.empty()) moved_boxes.push_back(box);
   }
-  bool anythingChanged() const { return dynamic_geometry_changed || lighting_changed || pending_wanted; }
+  bool anythingChanged() const {
+    return dynamic_geometry_changed || lighting_changed || pending_wanted;
+  }
 };
 
 }  // namespace svit::gl

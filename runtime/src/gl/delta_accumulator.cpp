@@ -7,7 +7,8 @@ namespace {
 
 void addShares(std::vector<glm::dvec3>& to, const SparseShares& shares, const glm::dvec3& flux) {
   if (flux == glm::dvec3(0.0)) return;
-  for (size_t i = 0; i < shares.receivers.size(); ++i) to[shares.receivers[i]] += flux * double(shares.shares[i]);
+  for (size_t i = 0; i < shares.receivers.size(); ++i)
+    to[shares.receivers[i]] += flux * double(shares.shares[i]);
 }
 
 }  // namespace

@@ -18,8 +18,10 @@ namespace svit::gl {
 class DeltaAccumulator {
  public:
   /// Per receiver: the sum of every emitter's DeltaTerms over its shares.
-  const std::vector<glm::dvec3>& firstFlux() const { return first_flux_; }    ///< the bounce's first round, lm
-  const std::vector<glm::dvec3>& directFlux() const { return direct_flux_; }  ///< runtime lights' direct flux, lm
+  /// the bounce's first round, lm
+  const std::vector<glm::dvec3>& firstFlux() const { return first_flux_; }
+  /// runtime lights' direct flux, lm
+  const std::vector<glm::dvec3>& directFlux() const { return direct_flux_; }
   /// Counts every setting of an Emitter::current.
   uint64_t revisions() const { return revisions_; }
 

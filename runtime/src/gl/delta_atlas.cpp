@@ -5,7 +5,8 @@
 
 namespace svit::gl {
 
-std::vector<DeltaPage> rasteriseDeltas(const RuntimePatches& patches, const std::vector<glm::dvec3>& vertex_values,
+std::vector<DeltaPage> rasteriseDeltas(const RuntimePatches& patches,
+                                       const std::vector<glm::dvec3>& vertex_values,
                                        const std::vector<glm::dvec3>& scale_minus_one,
                                        const std::vector<std::pair<int, int>>& page_sizes) {
   std::vector<DeltaPage> pages(page_sizes.size());
@@ -39,9 +40,11 @@ std::vector<DeltaPage> rasteriseDeltas(const RuntimePatches& patches, const std:
       if (std::abs(det) < 1e-12) continue;
       const double grow = pass == 0 ? 0.0 : 1.0;
       const int x0 = std::max(0, int(std::floor(std::min({uv[0].x, uv[1].x, uv[2].x}) - grow)));
-      const int x1 = std::min(out.width - 1, int(std::ceil(std::max({uv[0].x, uv[1].x, uv[2].x}) + grow)));
+      const int x1 =
+          std::min(out.width - 1, int(std::ceil(std::max({uv[0].x, uv[1].x, uv[2].x}) + grow)));
       const int y0 = std::max(0, int(std::floor(std::min({uv[0].y, uv[1].y, uv[2].y}) - grow)));
-      const int y1 = std::min(out.height - 1, int(std::ceil(std::max({uv[0].y, uv[1].y, uv[2].y}) + grow)));
+      const int y1 =
+          std::min(out.height - 1, int(std::ceil(std::max({uv[0].y, uv[1].y, uv[2].y}) + grow)));
       for (int y = y0; y <= y1; ++y) {
         for (int x = x0; x <= x1; ++x) {
           const size_t texel = size_t(y) * size_t(out.width) + size_t(x);

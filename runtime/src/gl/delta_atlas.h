@@ -24,7 +24,8 @@ struct DeltaPage {
 /// Rasterises `vertex_values` (per welded vertex, lux) and the x of
 /// `scale_minus_one` (per welded vertex; empty: 0 everywhere) over the sub-triangles into pages
 /// of half the lightmap pages' sizes (at least 1 texel).
-std::vector<DeltaPage> rasteriseDeltas(const RuntimePatches& patches, const std::vector<glm::dvec3>& vertex_values,
+std::vector<DeltaPage> rasteriseDeltas(const RuntimePatches& patches,
+                                       const std::vector<glm::dvec3>& vertex_values,
                                        const std::vector<glm::dvec3>& scale_minus_one,
                                        const std::vector<std::pair<int, int>>& page_sizes);
 

@@ -26,7 +26,8 @@ std::vector<uint32_t> slotTable(const RuntimePatches& patches) {
   for (size_t s = 0; s < patches.slots.size(); ++s) {
     const uint32_t sub = patches.slots[s];
     if (sub == kNoReceiver) continue;
-    for (size_t k = 0; k < 3; ++k) table[s * 4 + k] = patches.triangle_vertices[size_t(sub) * 3 + k];
+    for (size_t k = 0; k < 3; ++k)
+      table[s * 4 + k] = patches.triangle_vertices[size_t(sub) * 3 + k];
     table[s * 4 + 3] = 1;
   }
   return table;
@@ -50,8 +51,8 @@ DeltaSurfaceBuffers DeltaSurfaceBuffers::create(const RuntimePatches& patches) {
   out.vertex_count_ = patches.vertex_count;
   const std::vector<float> zeros(std::max<size_t>(patches.vertex_count, 1) * 4, 0.0f);
   out.vertex_deltas_ = createGlBuffer();
-  glNamedBufferStorage(out.vertex_deltas_.id(), GLsizeiptr(zeros.size() * sizeof(float)), zeros.data(),
-                       GL_DYNAMIC_STORAGE_BIT);
+  glNamedBufferStorage(out.vertex_deltas_.id(), GLsizeiptr(zeros.size() * sizeof(float)),
+                       zeros.data(), GL_DYNAMIC_STORAGE_BIT);
   return out;
 }
 
@@ -65,10 +66,13 @@ void DeltaSurfaceBuffers::upload(const std::vector<glm::dvec3>& vertex_values,
     packed[v * 4 + 2] = float(vertex_values[v].z);
     if (v < scale_minus_one.size()) packed[v * 4 + 3] = float(scale_minus_one[v].x);
   }
-  glNamedBufferSubData(vertex_deltas_.id(), 0, GLsizeiptr(packed.size() * sizeof(float)), packed.data());
+  glNamedBufferSubData(vertex_deltas_.id(), 0, GLsizeiptr(packed.size() * sizeof(float)),
+                       packed.data());
 }
 
-DeltaSurfaceBuffers::DeltaSurfaceBuffers(DeltaSurfaceBuffers&& other) noexcept { *this = std::move(other); }
+DeltaSurfaceBuffers::DeltaSurfaceBuffers(DeltaSurfaceBuffers&& other) noexcept {
+  *this = std::move(other);
+}
 
 DeltaSurfaceBuffers& DeltaSurfaceBuffers::operator=(DeltaSurfaceBuffers&& other) noexcept {
   if (this != &other) {

@@ -36,14 +36,16 @@ class DeltaSurfaceBuffers {
 
   /// Replaces the per-welded-vertex deltas (lux) and light scales minus 1
   /// (the x of `scale_minus_one`; empty: 0), `patches.vertex_count` of each.
-  void upload(const std::vector<glm::dvec3>& vertex_values, const std::vector<glm::dvec3>& scale_minus_one);
+  void upload(const std::vector<glm::dvec3>& vertex_values,
+              const std::vector<glm::dvec3>& scale_minus_one);
 
   bool allocated() const { return bool(vertex_deltas_); }
   uint32_t elementBuffer() const { return elements_.id(); }
   uint32_t slotBuffer() const { return slots_.id(); }
   uint32_t vertexDeltaBuffer() const { return vertex_deltas_.id(); }
   std::vector<GlObject> glObjects() const {
-    return {glBufferObject(elements_.id()), glBufferObject(slots_.id()), glBufferObject(vertex_deltas_.id())};
+    return {glBufferObject(elements_.id()), glBufferObject(slots_.id()),
+            glBufferObject(vertex_deltas_.id())};
   }
 
  private:

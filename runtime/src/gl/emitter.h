@@ -18,12 +18,14 @@
 namespace svit::gl {
 
 enum class EmitterKind {  // same order as svit::EmitterType
-  kBakedLight,     ///< a static light of the bake (BakeData emitter index)
-  kSun,            ///< the baked sun
-  kSky,            ///< the baked sky
-  kStaticPatch,    ///< a shooter (runtime patches within one bake patch): re-shoots its baseline (bright) and deltas
-  kDynamicObject,  ///< one facing of a dynamic object (kObjectShooters per object): emits and reflects
-  kRuntimeLight,   ///< a light the game moves
+  kBakedLight,            ///< a static light of the bake (BakeData emitter index)
+  kSun,                   ///< the baked sun
+  kSky,                   ///< the baked sky
+  /// a shooter (runtime patches within one bake patch): re-shoots its baseline (bright) and deltas
+  kStaticPatch,
+  /// one facing of a dynamic object (kObjectShooters per object): emits and reflects
+  kDynamicObject,
+  kRuntimeLight,  ///< a light the game moves
 };
 
 /// The state of an emitter's `current` shares.
@@ -53,8 +55,9 @@ struct DeltaTerms {
 
 /// Where an emitter's light goes, as boxes: what object moves can change it.
 struct EmitterReach {
-  Aabb region;                ///< samples and everything its shares light
-  bool region_known = false;  ///< from its maps or the bake's factors; unknown = anything may matter
+  Aabb region;  ///< samples and everything its shares light
+  /// from its maps or the bake's factors; unknown = anything may matter
+  bool region_known = false;
   Aabb source_box;            ///< where its light leaves from (samples, lamp, shooter patches)
   bool touched = false;       ///< a dynamic object in its reach (computed once per update)
   bool touched_dirty = true;  ///< `touched` needs recomputing: invalidated, or its reach changed
@@ -73,7 +76,8 @@ struct EmitterQueue {
 
 struct Emitter {
   EmitterKind kind = EmitterKind::kBakedLight;
-  uint32_t index = 0;  ///< bake emitter (lights, sun, sky), shooter, object * kObjectShooters + bin, light id
+  /// bake emitter (lights, sun, sky), shooter, object * kObjectShooters + bin, light id
+  uint32_t index = 0;
   uint32_t bake_emitter = kInvalidId;  ///< BakeData::emitters index when the bake lists it
   /// Baked emitters and bright patches: their delta is current minus
   /// baseline (the static level's shares), so they need both.
@@ -83,7 +87,8 @@ struct Emitter {
   glm::dvec3 flux{0.0};  ///< lm: the flux its shares distribute (patches: baseline B x A)
   int sample_count = 1;
   std::vector<PointSample> samples;
-  bool samples_stale = true;  ///< the emitter itself moved: its samples are remade before its next maps
+  /// the emitter itself moved: its samples are remade before its next maps
+  bool samples_stale = true;
 
   SparseShares current, baseline;
   bool has_baseline = false;
@@ -103,7 +108,9 @@ struct Emitter {
   EmitterQueue queue;
 
   SharesState state() const { return state_; }
-  bool hasCurrent() const { return state_ == SharesState::kStale || state_ == SharesState::kCurrent; }
+  bool hasCurrent() const {
+    return state_ == SharesState::kStale || state_ == SharesState::kCurrent;
+  }
   /// Its current shares (or their absence) no longer hold.
   bool isStale() const { return state_ == SharesState::kNone || state_ == SharesState::kStale; }
   /// Something moved where it reaches, or it moved.

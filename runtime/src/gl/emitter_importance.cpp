@@ -42,7 +42,8 @@ std::vector<char> blocksWhere(size_t receivers, Holds holds) {
 }
 
 /// sum s_r w_r, over the weighted blocks only (elsewhere w_r = 0).
-double weighted(const SparseShares& s, const std::vector<double>& weight, const std::vector<char>& weighted_blocks) {
+double weighted(const SparseShares& s, const std::vector<double>& weight,
+                const std::vector<char>& weighted_blocks) {
   double sum = 0;
   forEachMarked(s, weighted_blocks, [&](size_t i) {
     if (s.receivers[i] < weight.size()) sum += double(s.shares[i]) * weight[s.receivers[i]];
@@ -87,7 +88,8 @@ struct Borrowers {
 
 // The groups lit by a set of non-zero direct view (`direct`, per set of
 // the queries) on a receiver that reflects: the only ones that borrow.
-std::vector<char> borrowingGroups(const ViewWeights& view, const std::vector<ImportanceQuery>& queries,
+std::vector<char> borrowingGroups(const ViewWeights& view,
+                                  const std::vector<ImportanceQuery>& queries,
                                   const std::vector<double>& direct, const Borrowers& borrowers) {
   std::vector<char> borrows(borrowers.has_own.size(), 0);
   size_t k = 0;
@@ -96,7 +98,8 @@ std::vector<char> borrowingGroups(const ViewWeights& view, const std::vector<Imp
       if (direct[k++] == 0 || q.flux == 0) continue;
       for (uint32_t r : s->receivers) {
         const int32_t g = borrowers.of(r);
-        if (g >= 0 && r < view.reflectance.size() && view.reflectance[r] != 0) borrows[size_t(g)] = 1;
+        if (g >= 0 && r < view.reflectance.size() && view.reflectance[r] != 0)
+          borrows[size_t(g)] = 1;
       }
     }
   }
@@ -108,8 +111,8 @@ std::vector<char> borrowingGroups(const ViewWeights& view, const std::vector<Imp
 // borrowing groups' receivers are visited (for the mean's weights, in
 // query order).
 void borrowViews(const ViewWeights& view, const std::vector<ImportanceQuery>& queries,
-                 const std::vector<double>& direct, const Borrowers& borrowers, const std::vector<char>& borrows,
-                 std::vector<double>& per_lumen) {
+                 const std::vector<double>& direct, const Borrowers& borrowers,
+                 const std::vector<char>& borrows, std::vector<double>& per_lumen) {
   const size_t groups = borrows.size();
   const std::vector<char> borrowing_blocks = blocksWhere(view.weight.size(), [&](size_t r) {
     const int32_t g = borrowers.of(uint32_t(r));
@@ -132,7 +135,8 @@ void borrowViews(const ViewWeights& view, const std::vector<ImportanceQuery>& qu
     }
   }
   for (size_t g = 0; g < groups; ++g) {
-    if (!borrowers.has_own[g] && borrowed_weight[g] > 0) per_lumen[g] = borrowed[g] / borrowed_weight[g];
+    if (!borrowers.has_own[g] && borrowed_weight[g] > 0)
+      per_lumen[g] = borrowed[g] / borrowed_weight[g];
   }
 }
 
@@ -142,7 +146,8 @@ void reflectedView(const ViewWeights& view, GroupView& out) {
   out.reflected.assign(n, 0.0);
   for (size_t r = 0; r < n && r < view.group_of.size(); ++r) {
     const int32_t g = view.group_of[r];
-    if (g >= 0 && size_t(g) < groups) out.reflected[r] = view.reflectance[r] * out.per_lumen[size_t(g)];
+    if (g >= 0 && size_t(g) < groups)
+      out.reflected[r] = view.reflectance[r] * out.per_lumen[size_t(g)];
   }
   out.reflected_blocks = blocksWhere(n, [&](size_t r) { return out.reflected[r] != 0; });
 }
@@ -199,9 +204,11 @@ double importanceWith(const GroupView& group_view, const ImportanceQuery& q, Dir
     if (s == nullptr) continue;
     any = true;
     // Direct, and through the groups it lights.
-    best = std::max(best, direct(k, *s) + weighted(*s, group_view.reflected, group_view.reflected_blocks));
+    best = std::max(
+        best, direct(k, *s) + weighted(*s, group_view.reflected, group_view.reflected_blocks));
   }
-  if (!any && q.own_group >= 0 && size_t(q.own_group) < groups) best = group_view.per_lumen[size_t(q.own_group)];
+  if (!any && q.own_group >= 0 && size_t(q.own_group) < groups)
+    best = group_view.per_lumen[size_t(q.own_group)];
   return q.flux * best;
 }
 
@@ -213,22 +220,25 @@ double importanceOf(const GroupView& group_view, const ImportanceQuery& q) {
   });
 }
 
-std::vector<double> importanceOfAll(const GroupView& group_view, const std::vector<ImportanceQuery>& queries) {
+std::vector<double> importanceOfAll(const GroupView& group_view,
+                                    const std::vector<ImportanceQuery>& queries) {
   std::vector<double> importance(queries.size(), 0.0);
   size_t first = 0;  // the query's first set in group_view.direct
   for (size_t i = 0; i < queries.size(); ++i) {
     if (first + queries[i].shares.size() > group_view.direct.size()) {
       importance[i] = importanceOf(group_view, queries[i]);  // not the queries groupView had
     } else {
-      importance[i] = importanceWith(group_view, queries[i],
-                                     [&](size_t k, const SparseShares&) { return group_view.direct[first + k]; });
+      importance[i] = importanceWith(group_view, queries[i], [&](size_t k, const SparseShares&) {
+        return group_view.direct[first + k];
+      });
     }
     first += queries[i].shares.size();
   }
   return importance;
 }
 
-std::vector<double> emitterImportance(const ViewWeights& view, const std::vector<ImportanceQuery>& queries) {
+std::vector<double> emitterImportance(const ViewWeights& view,
+                                      const std::vector<ImportanceQuery>& queries) {
   return importanceOfAll(groupView(view, queries), queries);
 }
 

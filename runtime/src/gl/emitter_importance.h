@@ -43,8 +43,9 @@ struct ImportanceQuery {
 /// in no such block add exactly zero and are skipped, so a view costs what
 /// it sees, not the level.
 struct GroupView {
-  std::vector<double> per_lumen;      ///< per group: what its light shows per lumen
-  std::vector<double> weight;         ///< per receiver: ViewWeights::weight (a lumen there, seen directly)
+  std::vector<double> per_lumen;  ///< per group: what its light shows per lumen
+  /// per receiver: ViewWeights::weight (a lumen there, seen directly)
+  std::vector<double> weight;
   std::vector<char> weighted_blocks;  ///< per block: holds a receiver of view weight != 0
   /// Per receiver: what a lumen arriving there shows once reflected through
   /// its group (reflectance x per_lumen).
@@ -66,9 +67,11 @@ double importanceOf(const GroupView& group_view, const ImportanceQuery& query);
 
 /// importanceOf for each of the queries groupView() was given, in order
 /// (their direct views taken from it, not summed again).
-std::vector<double> importanceOfAll(const GroupView& group_view, const std::vector<ImportanceQuery>& queries);
+std::vector<double> importanceOfAll(const GroupView& group_view,
+                                    const std::vector<ImportanceQuery>& queries);
 
 /// Importance of each query, in order (groupView + importanceOfAll).
-std::vector<double> emitterImportance(const ViewWeights& view, const std::vector<ImportanceQuery>& queries);
+std::vector<double> emitterImportance(const ViewWeights& view,
+                                      const std::vector<ImportanceQuery>& queries);
 
 }  // namespace svit::gl

@@ -16,7 +16,8 @@ float roll(uint64_t seed, uint64_t stream, uint64_t index, bool jitter) {
   return jitter ? float(2 * kPi) * uniform01(seed, stream ^ 0x726f6c6cull, index) : 0.0f;
 }
 
-PointSample parallelSample(const glm::vec3& travel, const ParallelWindow& window, float weight, float roll_rad) {
+PointSample parallelSample(const glm::vec3& travel, const ParallelWindow& window, float weight,
+                           float roll_rad) {
   PointSample s;
   // The window sits upwind, just outside the bounding sphere.
   s.position = fromGlm(toGlm(window.centre) - travel * (window.radius_m * 1.01f));
@@ -40,11 +41,13 @@ double lightLobeSolidAngle(const Light& light) {
   if (light.type != LightType::kSpot) return 4 * kPi;
   // 2 pi * integral of t(c)^2 dc over [cos_outer, cos_inner], plus the full
   // cap inside the inner cone: t linear in c gives (ci - co) / 3.
-  const double ci = std::cos(double(light.inner_cone_rad)), co = std::cos(double(light.outer_cone_rad));
+  const double ci = std::cos(double(light.inner_cone_rad)),
+               co = std::cos(double(light.outer_cone_rad));
   return 2 * kPi * ((1 - ci) + (ci - co) / 3);
 }
 
-std::vector<PointSample> lightSamples(const Light& light, int count, uint64_t seed, uint64_t stream, bool jitter_roll) {
+std::vector<PointSample> lightSamples(const Light& light, int count, uint64_t seed, uint64_t stream,
+                                      bool jitter_roll) {
   std::vector<PointSample> out;
   for (int i = 0; i < count; ++i) {
     PointSample s;
@@ -65,23 +68,26 @@ std::vector<PointSample> lightSamples(const Light& light, int count, uint64_t se
   return out;
 }
 
-std::vector<PointSample> sunSamples(const Sun& sun, const ParallelWindow& window, int count, uint64_t seed,
-                                    bool jitter_roll) {
+std::vector<PointSample> sunSamples(const Sun& sun, const ParallelWindow& window, int count,
+                                    uint64_t seed, bool jitter_roll) {
   const glm::vec3 to_sun = glm::normalize(toGlm(sun.direction_to_sun));
   const glm::vec3 u = perpendicular(to_sun), v = glm::cross(to_sun, u);
   std::vector<PointSample> out;
   for (int i = 0; i < count; ++i) {
     // Directions on the disk: a sunflower spiral (even area coverage).
-    const float r = count > 1 ? sun.angular_radius_rad * std::sqrt((float(i) + 0.5f) / float(count)) : 0.0f;
+    const float r =
+        count > 1 ? sun.angular_radius_rad * std::sqrt((float(i) + 0.5f) / float(count)) : 0.0f;
     const float phi = float(i) * 2.39996323f;  // golden angle
-    const glm::vec3 d = glm::normalize(to_sun + std::tan(r) * (std::cos(phi) * u + std::sin(phi) * v));
-    out.push_back(parallelSample(-d, window, 1.0f / float(count), roll(seed, 0x73756eull, uint64_t(i), jitter_roll)));
+    const glm::vec3 d =
+        glm::normalize(to_sun + std::tan(r) * (std::cos(phi) * u + std::sin(phi) * v));
+    out.push_back(parallelSample(-d, window, 1.0f / float(count),
+                                 roll(seed, 0x73756eull, uint64_t(i), jitter_roll)));
   }
   return out;
 }
 
-std::vector<PointSample> skySamples(const Sky& sky, const ParallelWindow& window, int count, uint64_t seed,
-                                    bool jitter_roll, Rgb& flux_out) {
+std::vector<PointSample> skySamples(const Sky& sky, const ParallelWindow& window, int count,
+                                    uint64_t seed, bool jitter_roll, Rgb& flux_out) {
   const bool ground = sky.model == SkyModel::kGradient && luminance(sky.ground_luminance) > 0;
   const int hemispheres = ground ? 2 : 1;
   // Strata equal in solid angle: rings of equal height in cos(theta) (Archimedes), sectors in phi.
@@ -104,8 +110,10 @@ std::vector<PointSample> skySamples(const Sky& sky, const ParallelWindow& window
         if (h == 1) {
           l = glm::dvec3(sky.ground_luminance.r, sky.ground_luminance.g, sky.ground_luminance.b);
         } else if (sky.model == SkyModel::kGradient) {
-          const glm::dvec3 zenith(sky.zenith_luminance.r, sky.zenith_luminance.g, sky.zenith_luminance.b);
-          const glm::dvec3 horizon(sky.horizon_luminance.r, sky.horizon_luminance.g, sky.horizon_luminance.b);
+          const glm::dvec3 zenith(sky.zenith_luminance.r, sky.zenith_luminance.g,
+                                  sky.zenith_luminance.b);
+          const glm::dvec3 horizon(sky.horizon_luminance.r, sky.horizon_luminance.g,
+                                   sky.horizon_luminance.b);
           l = horizon + (zenith - horizon) * mu;  // as the baker's gradient
         } else {
           l = glm::dvec3(sky.zenith_luminance.r, sky.zenith_luminance.g, sky.zenith_luminance.b);
@@ -122,34 +130,43 @@ std::vector<PointSample> skySamples(const Sky& sky, const ParallelWindow& window
   }
   double total = 0;
   for (double w : weights) total += w;
-  for (size_t i = 0; i < out.size(); ++i) out[i].weight = total > 0 ? float(weights[i] / total) : 0.0f;
+  for (size_t i = 0; i < out.size(); ++i)
+    out[i].weight = total > 0 ? float(weights[i] / total) : 0.0f;
   flux_out = {float(flux.x), float(flux.y), float(flux.z)};
   return out;
 }
 
 std::vector<PointSample> surfaceSamples(const MapTriangles& map, uint32_t triangle_base,
-                                        const std::vector<uint32_t>& triangles, const std::vector<double>& density,
-                                        int count, float offset_m, uint64_t seed, uint64_t stream, bool jitter_roll) {
+                                        const std::vector<uint32_t>& triangles,
+                                        const std::vector<double>& density, int count,
+                                        float offset_m, uint64_t seed, uint64_t stream,
+                                        bool jitter_roll) {
   // Cumulative area of the triangles, in double for long lists.
   std::vector<double> cumulative;
   double total = 0;
   for (size_t k = 0; k < triangles.size(); ++k) {
     const uint32_t t = triangles[k];
-    const glm::vec3 a = toGlm(map.positions[size_t(t) * 3]), b = toGlm(map.positions[size_t(t) * 3 + 1]),
+    const glm::vec3 a = toGlm(map.positions[size_t(t) * 3]),
+                    b = toGlm(map.positions[size_t(t) * 3 + 1]),
                     c = toGlm(map.positions[size_t(t) * 3 + 2]);
-    total += 0.5 * double(glm::length(glm::cross(b - a, c - a))) * (density.empty() ? 1.0 : std::max(density[k], 0.0));
+    total += 0.5 * double(glm::length(glm::cross(b - a, c - a))) *
+             (density.empty() ? 1.0 : std::max(density[k], 0.0));
     cumulative.push_back(total);
   }
   std::vector<PointSample> out;
   if (!(total > 0) || count <= 0) return out;
   for (int i = 0; i < count; ++i) {
     // Stratified over the area: sample i picks from the i-th 1/count of it.
-    const double target = total * (double(i) + double(uniform01(seed, stream, uint64_t(i) * 3))) / count;
-    const size_t k = size_t(std::lower_bound(cumulative.begin(), cumulative.end(), target) - cumulative.begin());
+    const double target =
+        total * (double(i) + double(uniform01(seed, stream, uint64_t(i) * 3))) / count;
+    const size_t k =
+        size_t(std::lower_bound(cumulative.begin(), cumulative.end(), target) - cumulative.begin());
     const uint32_t t = triangles[std::min(k, triangles.size() - 1)];
-    const glm::vec3 a = toGlm(map.positions[size_t(t) * 3]), b = toGlm(map.positions[size_t(t) * 3 + 1]),
+    const glm::vec3 a = toGlm(map.positions[size_t(t) * 3]),
+                    b = toGlm(map.positions[size_t(t) * 3 + 1]),
                     c = toGlm(map.positions[size_t(t) * 3 + 2]);
-    float u = uniform01(seed, stream, uint64_t(i) * 3 + 1), v = uniform01(seed, stream, uint64_t(i) * 3 + 2);
+    float u = uniform01(seed, stream, uint64_t(i) * 3 + 1),
+          v = uniform01(seed, stream, uint64_t(i) * 3 + 2);
     if (u + v > 1) {
       u = 1 - u;
       v = 1 - v;

@@ -21,7 +21,8 @@ struct ParallelWindow {
 
 /// Samples of a point or spot light; `roll_seed` varies the map frames.
 /// Weights sum to 1.
-std::vector<PointSample> lightSamples(const Light& light, int count, uint64_t seed, uint64_t stream, bool jitter_roll);
+std::vector<PointSample> lightSamples(const Light& light, int count, uint64_t seed, uint64_t stream,
+                                      bool jitter_roll);
 
 /// Spot profile the maps use (glTF's smooth falloff as the baker has it):
 /// t^2, t = clamp((cos - cos_outer) / (cos_inner - cos_outer), 0, 1).
@@ -30,15 +31,15 @@ double lightLobeSolidAngle(const Light& light);
 
 /// Sun samples: `count` directions spread over the sun's disk, parallel
 /// through `window`; weights sum to 1. Flux of the sun = E x (2 r)^2.
-std::vector<PointSample> sunSamples(const Sun& sun, const ParallelWindow& window, int count, uint64_t seed,
-                                    bool jitter_roll);
+std::vector<PointSample> sunSamples(const Sun& sun, const ParallelWindow& window, int count,
+                                    uint64_t seed, bool jitter_roll);
 
 /// Sky samples: `count` (>= 4) directions stratified over the upper
 /// hemisphere (and the lower one when the gradient sky has a ground), each
 /// weighted by its luminance x solid angle; weights sum to 1. `flux_out`
 /// gets the sky's flux through the window (lm per channel).
-std::vector<PointSample> skySamples(const Sky& sky, const ParallelWindow& window, int count, uint64_t seed,
-                                    bool jitter_roll, Rgb& flux_out);
+std::vector<PointSample> skySamples(const Sky& sky, const ParallelWindow& window, int count,
+                                    uint64_t seed, bool jitter_roll, Rgb& flux_out);
 
 /// Samples stratified over the map triangles `triangles` (indices into
 /// `map`) in proportion to area x `density` (per listed triangle; empty =
@@ -47,7 +48,9 @@ std::vector<PointSample> skySamples(const Sky& sky, const ParallelWindow& window
 /// keeps it from lighting its own triangle. Weights sum to 1. Empty when
 /// nothing has weight.
 std::vector<PointSample> surfaceSamples(const MapTriangles& map, uint32_t triangle_base,
-                                        const std::vector<uint32_t>& triangles, const std::vector<double>& density,
-                                        int count, float offset_m, uint64_t seed, uint64_t stream, bool jitter_roll);
+                                        const std::vector<uint32_t>& triangles,
+                                        const std::vector<double>& density, int count,
+                                        float offset_m, uint64_t seed, uint64_t stream,
+                                        bool jitter_roll);
 
 }  // namespace svit::gl

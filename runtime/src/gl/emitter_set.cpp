@@ -34,8 +34,9 @@ std::vector<std::pair<double, uint32_t>> brightestGroups(const std::vector<doubl
   for (uint32_t g = 0; g < group_flux.size(); ++g) {
     if (group_flux[g] > 0) bright.push_back({group_flux[g], g});
   }
-  std::sort(bright.begin(), bright.end(),
-            [](auto& a, auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
+  std::sort(bright.begin(), bright.end(), [](auto& a, auto& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  });
   return bright;
 }
 
@@ -95,8 +96,8 @@ void addBakedEmitters(EmitterSet& set, const EmitterContext& c) {
   addLampPatches(set, c, group_flux, max_flux);
 }
 
-uint32_t addGroupEmitter(EmitterSet& set, const EmitterContext& c, uint32_t group, bool bright, double wanted_flux,
-                         double max_flux) {
+uint32_t addGroupEmitter(EmitterSet& set, const EmitterContext& c, uint32_t group, bool bright,
+                         double wanted_flux, double max_flux) {
   const StaticLevel& level = c.level;
   const bool static_group = group < level.static_groups;
   if (set.group_emitter[group] != kInvalidId) {
@@ -165,7 +166,8 @@ void initBakeShares(Emitter& e, const EmitterContext& c) {
     return;
   }
   const RuntimePatches& patches = c.level.patches;
-  if (be.kind == BakeEmitter::Kind::kLight) grow(e.reach.source_box, c.level.scene.lights[be.index].position);
+  if (be.kind == BakeEmitter::Kind::kLight)
+    grow(e.reach.source_box, c.level.scene.lights[be.index].position);
   if (e.kind == EmitterKind::kStaticPatch) {
     for (uint32_t r : patches.shooter_members[e.index]) grow(e.reach.source_box, patches.bounds[r]);
   }

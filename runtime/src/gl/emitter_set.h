@@ -38,8 +38,8 @@ void addBakedEmitters(EmitterSet& set, const EmitterContext& context);
 /// object facing), made when it has none: with samples for `wanted_flux`
 /// against the brightest `max_flux`; `bright` patches also shoot their
 /// baseline.
-uint32_t addGroupEmitter(EmitterSet& set, const EmitterContext& context, uint32_t group, bool bright,
-                         double wanted_flux, double max_flux);
+uint32_t addGroupEmitter(EmitterSet& set, const EmitterContext& context, uint32_t group,
+                         bool bright, double wanted_flux, double max_flux);
 
 /// A baked emitter's bake factors spread over the runtime patches
 /// (Emitter::bake_shares), and its reach from them.

@@ -38,10 +38,10 @@ Expected<GlContextInfo> checkGlContext() {
   info.renderer = renderer ? renderer : "";
   info.version = version ? version : "";
   if (info.major < 4 || (info.major == 4 && info.minor < 5)) {
-    return Status(StatusCode::kUnsupported,
-                  "svit runtime: OpenGL " + std::to_string(info.major) + "." +
-                      std::to_string(info.minor) + " (" + info.renderer +
-                      ") is current; svit needs OpenGL 4.5");
+    return Status(StatusCode::kUnsupported, "svit runtime: OpenGL " + std::to_string(info.major) +
+                                                "." + std::to_string(info.minor) + " (" +
+                                                info.renderer +
+                                                ") is current; svit needs OpenGL 4.5");
   }
   return info;
 }

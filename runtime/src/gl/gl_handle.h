@@ -9,7 +9,16 @@
 
 namespace svit::gl {
 
-enum class GlKind { kBuffer, kTexture, kFramebuffer, kRenderbuffer, kVertexArray, kQuery, kShader, kProgram };
+enum class GlKind {
+  kBuffer,
+  kTexture,
+  kFramebuffer,
+  kRenderbuffer,
+  kVertexArray,
+  kQuery,
+  kShader,
+  kProgram
+};
 
 /// Deletes `name` (non-zero) of `kind`: gl_handle.cpp, the one place that does.
 void deleteGlName(GlKind kind, uint32_t name);

@@ -11,8 +11,9 @@ namespace {
 /// reports per component (works for every uncompressed internal format).
 template <typename Query>
 uint64_t bitsPerTexel(Query query) {
-  const GLenum components[] = {GL_TEXTURE_RED_SIZE,   GL_TEXTURE_GREEN_SIZE, GL_TEXTURE_BLUE_SIZE,
-                               GL_TEXTURE_ALPHA_SIZE, GL_TEXTURE_DEPTH_SIZE, GL_TEXTURE_STENCIL_SIZE};
+  const GLenum components[] = {GL_TEXTURE_RED_SIZE,   GL_TEXTURE_GREEN_SIZE,
+                               GL_TEXTURE_BLUE_SIZE,  GL_TEXTURE_ALPHA_SIZE,
+                               GL_TEXTURE_DEPTH_SIZE, GL_TEXTURE_STENCIL_SIZE};
   uint64_t bits = 0;
   for (GLenum c : components) bits += uint64_t(query(c));
   return bits;
@@ -49,13 +50,14 @@ uint64_t renderbufferBytes(GLuint renderbuffer) {
     glGetNamedRenderbufferParameteriv(renderbuffer, pname, &v);
     return v;
   };
-  const GLenum components[] = {GL_RENDERBUFFER_RED_SIZE,   GL_RENDERBUFFER_GREEN_SIZE, GL_RENDERBUFFER_BLUE_SIZE,
-                               GL_RENDERBUFFER_ALPHA_SIZE, GL_RENDERBUFFER_DEPTH_SIZE, GL_RENDERBUFFER_STENCIL_SIZE};
+  const GLenum components[] = {GL_RENDERBUFFER_RED_SIZE,   GL_RENDERBUFFER_GREEN_SIZE,
+                               GL_RENDERBUFFER_BLUE_SIZE,  GL_RENDERBUFFER_ALPHA_SIZE,
+                               GL_RENDERBUFFER_DEPTH_SIZE, GL_RENDERBUFFER_STENCIL_SIZE};
   uint64_t bits = 0;
   for (GLenum c : components) bits += uint64_t(query(c));
   const GLint samples = query(GL_RENDERBUFFER_SAMPLES);
-  return uint64_t(query(GL_RENDERBUFFER_WIDTH)) * uint64_t(query(GL_RENDERBUFFER_HEIGHT)) * bits / 8 *
-         uint64_t(samples > 0 ? samples : 1);
+  return uint64_t(query(GL_RENDERBUFFER_WIDTH)) * uint64_t(query(GL_RENDERBUFFER_HEIGHT)) * bits /
+         8 * uint64_t(samples > 0 ? samples : 1);
 }
 
 }  // namespace
@@ -68,10 +70,8 @@ uint64_t glObjectBytes(const GlObject& object) {
       glGetNamedBufferParameteri64v(object.name, GL_BUFFER_SIZE, &size);
       return size > 0 ? uint64_t(size) : 0;
     }
-    case GlObject::Kind::kTexture:
-      return textureBytes(object.name);
-    case GlObject::Kind::kRenderbuffer:
-      return renderbufferBytes(object.name);
+    case GlObject::Kind::kTexture: return textureBytes(object.name);
+    case GlObject::Kind::kRenderbuffer: return renderbufferBytes(object.name);
   }
   return 0;
 }

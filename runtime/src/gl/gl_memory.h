@@ -20,7 +20,9 @@ struct GlObject {
 
 inline GlObject glBufferObject(uint32_t name) { return {GlObject::Kind::kBuffer, name}; }
 inline GlObject glTextureObject(uint32_t name) { return {GlObject::Kind::kTexture, name}; }
-inline GlObject glRenderbufferObject(uint32_t name) { return {GlObject::Kind::kRenderbuffer, name}; }
+inline GlObject glRenderbufferObject(uint32_t name) {
+  return {GlObject::Kind::kRenderbuffer, name};
+}
 
 /// Bytes of storage behind `object`: a buffer's size; a texture's texels
 /// over all its levels, layers and cube faces times the bits of its

@@ -18,7 +18,8 @@ Expected<GLenum> stageOf(std::string_view file) {
   if (ends(".geom")) return GLenum(GL_GEOMETRY_SHADER);
   if (ends(".frag")) return GLenum(GL_FRAGMENT_SHADER);
   if (ends(".comp")) return GLenum(GL_COMPUTE_SHADER);
-  return Status(StatusCode::kInternal, "shader '" + std::string(file) + "': unknown stage (extension)");
+  return Status(StatusCode::kInternal,
+                "shader '" + std::string(file) + "': unknown stage (extension)");
 }
 
 // Inserts the defines after the first line (#version).
@@ -61,7 +62,8 @@ Expected<GlProgram> linkProgram(std::initializer_list<std::string_view> files,
     GLint ok = 0;
     glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
     if (!ok) {
-      return Status(StatusCode::kInternal, "shader '" + std::string(file) + "' does not compile: " + shaderLog(shader));
+      return Status(StatusCode::kInternal,
+                    "shader '" + std::string(file) + "' does not compile: " + shaderLog(shader));
     }
     glAttachShader(program.id(), shader);
   }
@@ -84,8 +86,7 @@ Expected<GlProgram> linkProgram(std::initializer_list<std::string_view> files,
 Status checkGlError(const char* where) {
   GLenum first = glGetError();
   if (first == GL_NO_ERROR) return Status();
-  while (glGetError() != GL_NO_ERROR) {
-  }
+  while (glGetError() != GL_NO_ERROR) {}
   char code[16];
   std::snprintf(code, sizeof code, "0x%04x", unsigned(first));
   return Status(StatusCode::kInternal, std::string("OpenGL error ") + code + " in " + where);

@@ -14,8 +14,8 @@ namespace svit::gl {
 
 /// Links a program (an owning GlProgram of gl_handle.h) from shader files of
 /// shaders/ (stage from the extension: .vert .geom .frag .comp). `defines`
-/// lines ("NAME VALUE") are inserted after the #version line. Errors: unknown file, compile or link failure,
-/// with the file name and the driver's log.
+/// lines ("NAME VALUE") are inserted after the #version line. Errors: unknown file, compile or link
+/// failure, with the file name and the driver's log.
 Expected<GlProgram> linkProgram(std::initializer_list<std::string_view> files,
                                 std::initializer_list<std::string_view> defines = {});
 

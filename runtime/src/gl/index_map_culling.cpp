@@ -15,7 +15,8 @@ void appendChunks(std::span<const float> positions, uint32_t first_triangle, boo
   size_t next_part = 0;  // the first part start after `begin`
   for (uint32_t begin = 0; begin < triangles;) {
     while (next_part < part_starts.size() && part_starts[next_part] <= begin) ++next_part;
-    const uint32_t part_end = next_part < part_starts.size() ? std::min(part_starts[next_part], triangles) : triangles;
+    const uint32_t part_end =
+        next_part < part_starts.size() ? std::min(part_starts[next_part], triangles) : triangles;
     TriangleChunk c;
     c.first = first_triangle + begin;
     c.count = std::min(kChunkTriangles, part_end - begin);
@@ -42,7 +43,8 @@ std::vector<uint32_t> spatialRunOrder(std::span<const glm::vec3> centroids) {
     const auto [begin, end] = todo.back();
     todo.pop_back();
     if (end - begin <= kChunkTriangles) {
-      std::sort(order.begin() + ptrdiff_t(begin), order.begin() + ptrdiff_t(end));  // a leaf: index order
+      // a leaf: index order
+      std::sort(order.begin() + ptrdiff_t(begin), order.begin() + ptrdiff_t(end));
       continue;
     }
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
@@ -51,7 +53,8 @@ std::vector<uint32_t> spatialRunOrder(std::span<const glm::vec3> centroids) {
       hi = glm::max(hi, centroids[order[i]]);
     }
     const glm::vec3 extent = hi - lo;
-    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    const int axis =
+        extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
     const size_t runs = (end - begin + kChunkTriangles - 1) / kChunkTriangles;
     const size_t middle = begin + (runs / 2) * kChunkTriangles;
     std::nth_element(order.begin() + ptrdiff_t(begin), order.begin() + ptrdiff_t(middle),
@@ -65,8 +68,9 @@ std::vector<uint32_t> spatialRunOrder(std::span<const glm::vec3> centroids) {
   return order;
 }
 
-Frustum faceFrustum(const glm::dvec3& eye, const glm::dvec3& right, const glm::dvec3& up, const glm::dvec3& forward,
-                    double near_m, bool half_face, bool parallel, double half_extent_m, double far_m) {
+Frustum faceFrustum(const glm::dvec3& eye, const glm::dvec3& right, const glm::dvec3& up,
+                    const glm::dvec3& forward, double near_m, bool half_face, bool parallel,
+                    double half_extent_m, double far_m) {
   Frustum f;
   f.eye = eye;
   auto add = [&](const glm::dvec3& n, double offset) {
@@ -123,24 +127,27 @@ bool chunkInSet(const TriangleChunk& c, const TriangleBits* static_set) {
   return false;
 }
 
-void candidateChunks(std::span<const TriangleChunk> chunks, const Frustum& frustum, const glm::dvec3& reach_lo,
-                     const glm::dvec3& reach_hi, const TriangleBits* static_set, std::vector<uint32_t>& out) {
+void candidateChunks(std::span<const TriangleChunk> chunks, const Frustum& frustum,
+                     const glm::dvec3& reach_lo, const glm::dvec3& reach_hi,
+                     const TriangleBits* static_set, std::vector<uint32_t>& out) {
   out.clear();
   for (uint32_t i = 0; i < chunks.size(); ++i) {
     const TriangleChunk& c = chunks[i];
-    if (chunkInSet(c, static_set) && mayMeet(c, frustum) && chunkMeetsBox(c, reach_lo, reach_hi)) out.push_back(i);
+    if (chunkInSet(c, static_set) && mayMeet(c, frustum) && chunkMeetsBox(c, reach_lo, reach_hi))
+      out.push_back(i);
   }
 }
 
-void keepDynamicBeforeSet(std::span<const TriangleChunk> chunks, const glm::dvec3& eye, std::span<const Box> seen,
-                          std::vector<uint32_t>& face_chunks) {
+void keepDynamicBeforeSet(std::span<const TriangleChunk> chunks, const glm::dvec3& eye,
+                          std::span<const Box> seen, std::vector<uint32_t>& face_chunks) {
   // Every (dynamic chunk, seen box) pair: a face meets a few dozen of each,
   // which costs less than drawing one chunk.
   std::erase_if(face_chunks, [&](uint32_t i) {
     const TriangleChunk& c = chunks[i];
     if (!c.dynamic) return false;
     for (const Box& b : seen) {
-      if (chunkMeetsBox(c, glm::min(eye, b.lo), glm::max(eye, b.hi))) return false;  // never empty: holds the eye
+      // never empty: holds the eye
+      if (chunkMeetsBox(c, glm::min(eye, b.lo), glm::max(eye, b.hi))) return false;
     }
     return true;
   });
@@ -180,14 +187,15 @@ bool triangleMayMeet(const float* corners, const Frustum& frustum) {
     const glm::dvec3& n = frustum.normal[size_t(i)];
     // The same margin as a box's (mayMeet).
     const double limit = frustum.offset[size_t(i)] - 1e-6 * reach * glm::length(n);
-    if (glm::dot(n, d[0]) < limit && glm::dot(n, d[1]) < limit && glm::dot(n, d[2]) < limit) return false;
+    if (glm::dot(n, d[0]) < limit && glm::dot(n, d[1]) < limit && glm::dot(n, d[2]) < limit)
+      return false;
   }
   return true;
 }
 
-uint64_t appendSetIndices(const TriangleChunk& c, std::span<const float> static_positions, const Frustum& frustum,
-                          uint32_t skip, const TriangleBits& static_set, std::vector<uint32_t>& indices,
-                          Box* static_box) {
+uint64_t appendSetIndices(const TriangleChunk& c, std::span<const float> static_positions,
+                          const Frustum& frustum, uint32_t skip, const TriangleBits& static_set,
+                          std::vector<uint32_t>& indices, Box* static_box) {
   uint64_t triangles = 0;
   for (uint32_t t = c.first; t < c.first + c.count; ++t) {
     if (t == skip) continue;

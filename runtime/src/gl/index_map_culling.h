@@ -45,7 +45,8 @@ struct TriangleChunk {
 /// box (everything meets it).
 inline bool chunkMeetsBox(const TriangleChunk& c, const glm::dvec3& lo, const glm::dvec3& hi) {
   if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) return true;
-  return !(c.hi.x < lo.x || c.lo.x > hi.x || c.hi.y < lo.y || c.lo.y > hi.y || c.hi.z < lo.z || c.lo.z > hi.z);
+  return !(c.hi.x < lo.x || c.lo.x > hi.x || c.hi.y < lo.y || c.lo.y > hi.y || c.hi.z < lo.z ||
+           c.lo.z > hi.z);
 }
 
 /// A set of static triangles: bit t % 32 of word t / 32 (PointSample::
@@ -81,14 +82,16 @@ struct Frustum {
 /// >= near, and up >= 0 for a half face) or, when `parallel`, the window
 /// |right|, |up| <= half_extent with near <= forward <= far. Directions are
 /// unit world vectors.
-Frustum faceFrustum(const glm::dvec3& eye, const glm::dvec3& right, const glm::dvec3& up, const glm::dvec3& forward,
-                    double near_m, bool half_face, bool parallel, double half_extent_m, double far_m);
+Frustum faceFrustum(const glm::dvec3& eye, const glm::dvec3& right, const glm::dvec3& up,
+                    const glm::dvec3& forward, double near_m, bool half_face, bool parallel,
+                    double half_extent_m, double far_m);
 
 /// Indices of the chunks that may meet `frustum` and the box [reach_lo,
 /// reach_hi] (lo > hi on an axis: no box) and hold a triangle of
 /// `static_set` (null: all), in index order.
-void candidateChunks(std::span<const TriangleChunk> chunks, const Frustum& frustum, const glm::dvec3& reach_lo,
-                     const glm::dvec3& reach_hi, const TriangleBits* static_set, std::vector<uint32_t>& out);
+void candidateChunks(std::span<const TriangleChunk> chunks, const Frustum& frustum,
+                     const glm::dvec3& reach_lo, const glm::dvec3& reach_hi,
+                     const TriangleBits* static_set, std::vector<uint32_t>& out);
 
 /// A world box, lo <= hi on every axis (or lo > hi: empty).
 struct Box {
@@ -105,8 +108,8 @@ struct Box {
 /// sample house doors and tables were four fifths of what set samples drew:
 /// every one in the emitter's reach and the face's frustum, behind walls or
 /// not.
-void keepDynamicBeforeSet(std::span<const TriangleChunk> chunks, const glm::dvec3& eye, std::span<const Box> seen,
-                          std::vector<uint32_t>& face_chunks);
+void keepDynamicBeforeSet(std::span<const TriangleChunk> chunks, const glm::dvec3& eye,
+                          std::span<const Box> seen, std::vector<uint32_t>& face_chunks);
 
 /// Appends chunk `c`'s vertex ranges to `firsts`/`counts` (merged with the
 /// last where adjacent), triangle `skip` left out (any value outside the
@@ -124,8 +127,8 @@ bool triangleMayMeet(const float* corners, const Frustum& frustum);
 /// floats per static triangle); of a dynamic chunk all of them. Returns
 /// the number of triangles appended; grows `static_box` (if given) by the
 /// static ones.
-uint64_t appendSetIndices(const TriangleChunk& c, std::span<const float> static_positions, const Frustum& frustum,
-                          uint32_t skip, const TriangleBits& static_set, std::vector<uint32_t>& indices,
-                          Box* static_box = nullptr);
+uint64_t appendSetIndices(const TriangleChunk& c, std::span<const float> static_positions,
+                          const Frustum& frustum, uint32_t skip, const TriangleBits& static_set,
+                          std::vector<uint32_t>& indices, Box* static_box = nullptr);
 
 }  // namespace svit::gl

@@ -23,8 +23,8 @@ glm::dvec3 perpendicular(const glm::dvec3& n) {
 }  // namespace
 
 FaceBasis cubeFaceBasis(int face) {
-  static const glm::dvec3 kForward[kCubeFaceCount] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
-                                                      {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  static const glm::dvec3 kForward[kCubeFaceCount] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                                      {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   static const glm::dvec3 kUp[kCubeFaceCount] = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1},
                                                  {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
   FaceBasis b;
@@ -37,14 +37,10 @@ FaceBasis cubeFaceBasis(int face) {
 LayoutFaces layoutFaces(MapLayout layout) {
   switch (layout) {
     case MapLayout::kSingle:
-    case MapLayout::kParallel:
-      return {1, {kPosZ}};
-    case MapLayout::kTriple:
-      return {3, {kPosX, kPosY, kPosZ}};
-    case MapLayout::kHemicube:
-      return {5, {kPosZ, kPosX, kNegX, kPosY, kNegY}};
-    case MapLayout::kCube:
-      return {6, {kPosX, kNegX, kPosY, kNegY, kPosZ, kNegZ}};
+    case MapLayout::kParallel: return {1, {kPosZ}};
+    case MapLayout::kTriple: return {3, {kPosX, kPosY, kPosZ}};
+    case MapLayout::kHemicube: return {5, {kPosZ, kPosX, kNegX, kPosY, kNegY}};
+    case MapLayout::kCube: return {6, {kPosX, kNegX, kPosY, kNegY, kPosZ, kNegZ}};
   }
   return {};
 }
@@ -56,20 +52,21 @@ uint32_t layoutFaceMask(MapLayout layout) {
   return mask;
 }
 
-bool isHalfFace(MapLayout layout, int face) { return layout == MapLayout::kHemicube && face != kPosZ; }
+bool isHalfFace(MapLayout layout, int face) {
+  return layout == MapLayout::kHemicube && face != kPosZ;
+}
 
-int firstRow(MapLayout layout, int face, int resolution) { return isHalfFace(layout, face) ? resolution / 2 : 0; }
+int firstRow(MapLayout layout, int face, int resolution) {
+  return isHalfFace(layout, face) ? resolution / 2 : 0;
+}
 
 double faceArea(MapLayout layout) {
   switch (layout) {
     case MapLayout::kSingle:
-    case MapLayout::kParallel:
-      return 1;
+    case MapLayout::kParallel: return 1;
     case MapLayout::kTriple:
-    case MapLayout::kHemicube:
-      return 3;
-    case MapLayout::kCube:
-      return 6;
+    case MapLayout::kHemicube: return 3;
+    case MapLayout::kCube: return 6;
   }
   return 0;
 }
@@ -101,34 +98,28 @@ glm::dvec3 cubeAxis(MapLayout layout) {
 
 double lobeProfile(Lobe lobe, double cos_inner, double cos_outer, double cos_theta) {
   switch (lobe) {
-    case Lobe::kCosine:
-      return std::max(cos_theta, 0.0);
-    case Lobe::kIsotropic:
-      return 1.0;
+    case Lobe::kCosine: return std::max(cos_theta, 0.0);
+    case Lobe::kIsotropic: return 1.0;
     case Lobe::kSpot: {
       if (cos_inner <= cos_outer) return cos_theta >= cos_outer ? 1.0 : 0.0;
       const double t = std::clamp((cos_theta - cos_outer) / (cos_inner - cos_outer), 0.0, 1.0);
       return t * t;
     }
-    case Lobe::kParallel:
-      return 0.0;
+    case Lobe::kParallel: return 0.0;
   }
   return 0.0;
 }
 
 double lobeIntegral(Lobe lobe, double cos_inner, double cos_outer) {
   switch (lobe) {
-    case Lobe::kCosine:
-      return kPi;
-    case Lobe::kIsotropic:
-      return 4 * kPi;
+    case Lobe::kCosine: return kPi;
+    case Lobe::kIsotropic: return 4 * kPi;
     case Lobe::kSpot:
       // 2 pi * (integral of t(c)^2 dc): the full cap inside the inner cone
       // plus (ci - co) / 3 for t linear in c over [co, ci].
       if (cos_inner <= cos_outer) return 2 * kPi * (1 - cos_outer);
       return 2 * kPi * ((1 - cos_inner) + (cos_inner - cos_outer) / 3);
-    case Lobe::kParallel:
-      return 0.0;
+    case Lobe::kParallel: return 0.0;
   }
   return 0.0;
 }
@@ -183,9 +174,10 @@ LobeCoverage lobeCoverage(Lobe lobe, double cos_inner, double cos_outer, int res
     return total[o] > 0 ? std::clamp(1.0 - covered / total[o], 0.0, 1.0) : 1.0;
   };
   out.missed[size_t(MapLayout::kSingle)] = missed(0, full[0][kPosZ]);
-  out.missed[size_t(MapLayout::kTriple)] = missed(1, full[1][kPosX] + full[1][kPosY] + full[1][kPosZ]);
-  out.missed[size_t(MapLayout::kHemicube)] =
-      missed(0, full[0][kPosZ] + upper[0][kPosX] + upper[0][kNegX] + upper[0][kPosY] + upper[0][kNegY]);
+  out.missed[size_t(MapLayout::kTriple)] =
+      missed(1, full[1][kPosX] + full[1][kPosY] + full[1][kPosZ]);
+  out.missed[size_t(MapLayout::kHemicube)] = missed(
+      0, full[0][kPosZ] + upper[0][kPosX] + upper[0][kNegX] + upper[0][kPosY] + upper[0][kNegY]);
   out.missed[size_t(MapLayout::kCube)] = missed(0, total[0]);
   out.missed[size_t(MapLayout::kParallel)] = 1.0;
   return out;

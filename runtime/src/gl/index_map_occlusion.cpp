@@ -17,7 +17,8 @@ constexpr double kHiddenMargin = 1e-4;
 
 }  // namespace
 
-void buildDepthPyramid(std::span<const float> depth, int width, int height, int first_row, DepthPyramid& out) {
+void buildDepthPyramid(std::span<const float> depth, int width, int height, int first_row,
+                       DepthPyramid& out) {
   out.widths.assign(1, width);
   out.heights.assign(1, height);
   out.levels.resize(1);
@@ -25,7 +26,8 @@ void buildDepthPyramid(std::span<const float> depth, int width, int height, int 
   base.assign(depth.begin(), depth.begin() + size_t(width) * size_t(height));
   const float nearest = std::numeric_limits<float>::infinity();
   for (int y = 0; y < std::min(first_row, height); ++y) {
-    std::fill(base.begin() + size_t(y) * size_t(width), base.begin() + size_t(y + 1) * size_t(width), nearest);
+    std::fill(base.begin() + size_t(y) * size_t(width),
+              base.begin() + size_t(y + 1) * size_t(width), nearest);
   }
   while (out.widths.back() > 1 || out.heights.back() > 1) {
     const int w = out.widths.back(), h = out.heights.back();
@@ -40,7 +42,8 @@ void buildDepthPyramid(std::span<const float> depth, int width, int height, int 
         for (int dy = 0; dy < 2; ++dy) {
           for (int dx = 0; dx < 2; ++dx) {
             const int fx = 2 * x + dx, fy = 2 * y + dy;
-            if (fx < w && fy < h) farthest = std::min(farthest, fine[size_t(fy) * size_t(w) + size_t(fx)]);
+            if (fx < w && fy < h)
+              farthest = std::min(farthest, fine[size_t(fy) * size_t(w) + size_t(fx)]);
           }
         }
         coarse[size_t(y) * size_t(nw) + size_t(x)] = farthest;
@@ -51,7 +54,8 @@ void buildDepthPyramid(std::span<const float> depth, int width, int height, int 
   }
 }
 
-bool chunkHidden(const TriangleChunk& chunk, const FaceProjection& face, const DepthPyramid& pyramid) {
+bool chunkHidden(const TriangleChunk& chunk, const FaceProjection& face,
+                 const DepthPyramid& pyramid) {
   if (pyramid.levels.empty()) return false;
   const int width = pyramid.widths[0], height = pyramid.heights[0];
   double nearest_m = std::numeric_limits<double>::infinity();
@@ -72,8 +76,10 @@ bool chunkHidden(const TriangleChunk& chunk, const FaceProjection& face, const D
     v_hi = std::max(v_hi, v);
   }
   // Texels the box covers, a texel more each way, clamped to the face.
-  const double x0 = std::max(0.0, std::floor(u_lo) - 1), x1 = std::min(width - 1.0, std::floor(u_hi) + 1);
-  const double y0 = std::max(0.0, std::floor(v_lo) - 1), y1 = std::min(height - 1.0, std::floor(v_hi) + 1);
+  const double x0 = std::max(0.0, std::floor(u_lo) - 1),
+               x1 = std::min(width - 1.0, std::floor(u_hi) + 1);
+  const double y0 = std::max(0.0, std::floor(v_lo) - 1),
+               y1 = std::min(height - 1.0, std::floor(v_hi) + 1);
   if (x0 > x1 || y0 > y1) return true;  // beside the face: lands on no texel of it
   const float threshold = float(face.near_m / (nearest_m * (1 - kHiddenMargin)));
   // The finest level where the rectangle spans at most 4 x 4 blocks.
@@ -98,8 +104,9 @@ double boxDistance(const TriangleChunk& chunk, const glm::dvec3& eye) {
   return glm::length(outside);
 }
 
-void splitNearest(std::span<const TriangleChunk> chunks, std::span<const uint32_t> candidates, const glm::dvec3& eye,
-                  uint64_t first_triangles, std::vector<uint32_t>& first, std::vector<uint32_t>& rest) {
+void splitNearest(std::span<const TriangleChunk> chunks, std::span<const uint32_t> candidates,
+                  const glm::dvec3& eye, uint64_t first_triangles, std::vector<uint32_t>& first,
+                  std::vector<uint32_t>& rest) {
   first.clear();
   rest.clear();
   std::vector<std::pair<double, uint32_t>> by_distance;

@@ -29,7 +29,8 @@ struct DepthPyramid {
 /// Builds the pyramid of a width x height depth image (rows bottom up).
 /// Rows below `first_row` (a half face's, never drawn into) count as
 /// nearest: nothing there is ever drawn or reduced.
-void buildDepthPyramid(std::span<const float> depth, int width, int height, int first_row, DepthPyramid& out);
+void buildDepthPyramid(std::span<const float> depth, int width, int height, int first_row,
+                       DepthPyramid& out);
 
 /// A perspective face: a point at d = p - eye lands at texel
 /// ((right.d / forward.d * scale_x + 1) / 2 * width, same for up) with
@@ -43,7 +44,8 @@ struct FaceProjection {
 /// surface of `pyramid` over the texels the box covers (grown by a texel
 /// each way: the fallback's edge taps look half a texel beside a vertex),
 /// by a relative margin above depth precision and the fallback's slack.
-bool chunkHidden(const TriangleChunk& chunk, const FaceProjection& face, const DepthPyramid& pyramid);
+bool chunkHidden(const TriangleChunk& chunk, const FaceProjection& face,
+                 const DepthPyramid& pyramid);
 
 /// Distance from `eye` to the chunk's box (0 inside it), m.
 double boxDistance(const TriangleChunk& chunk, const glm::dvec3& eye);
@@ -51,7 +53,8 @@ double boxDistance(const TriangleChunk& chunk, const glm::dvec3& eye);
 /// Splits `candidates` (indices into `chunks`) into the nearest to `eye`,
 /// nearest first until they hold `first_triangles` (one chunk at least),
 /// and the rest; both in index order.
-void splitNearest(std::span<const TriangleChunk> chunks, std::span<const uint32_t> candidates, const glm::dvec3& eye,
-                  uint64_t first_triangles, std::vector<uint32_t>& first, std::vector<uint32_t>& rest);
+void splitNearest(std::span<const TriangleChunk> chunks, std::span<const uint32_t> candidates,
+                  const glm::dvec3& eye, uint64_t first_triangles, std::vector<uint32_t>& first,
+                  std::vector<uint32_t>& rest);
 
 }  // namespace svit::gl

@@ -20,8 +20,9 @@ FaceSetup faceSetup(const PreparedSample& s, int face) {
   f.rows[1] = s.world_from_cube * basis.up;
   f.rows[2] = s.world_from_cube * basis.forward;
   f.eye = glm::dvec3(s.gpu.position_near[0], s.gpu.position_near[1], s.gpu.position_near[2]);
-  f.frustum = faceFrustum(f.eye, f.rows[0], f.rows[1], f.rows[2], s.gpu.position_near[3], isHalfFace(s.layout, face),
-                          s.layout == MapLayout::kParallel, s.gpu.cube_y_half[3], s.gpu.cube_x_far[3]);
+  f.frustum = faceFrustum(f.eye, f.rows[0], f.rows[1], f.rows[2], s.gpu.position_near[3],
+                          isHalfFace(s.layout, face), s.layout == MapLayout::kParallel,
+                          s.gpu.cube_y_half[3], s.gpu.cube_x_far[3]);
   return f;
 }
 
@@ -47,7 +48,8 @@ void IndexMapRenderer::Impl::bindRasterTarget() const {
 
 void IndexMapRenderer::Impl::useSample(const PreparedSample& s) const {
   const GLuint program = raster.id();
-  glProgramUniform3f(program, 0, s.gpu.position_near[0], s.gpu.position_near[1], s.gpu.position_near[2]);
+  glProgramUniform3f(program, 0, s.gpu.position_near[0], s.gpu.position_near[1],
+                     s.gpu.position_near[2]);
   glProgramUniform1i(program, 2, s.layout == MapLayout::kParallel ? 1 : 0);
   glProgramUniform1f(program, 3, s.gpu.position_near[3]);
   glProgramUniform1f(program, 4, s.gpu.cube_x_far[3]);
@@ -68,7 +70,8 @@ void IndexMapRenderer::Impl::drawForSample(std::span<const PreparedSample> batch
   stats.triangles_drawn += drawChunks(list, batch[b].gpu.info[3]);
 }
 
-void IndexMapRenderer::Impl::buildSetIndices(std::span<const PreparedSample> batch, GatherStats& stats) {
+void IndexMapRenderer::Impl::buildSetIndices(std::span<const PreparedSample> batch,
+                                             GatherStats& stats) {
   batch_indices.clear();
   face_index_ranges.assign(batch.size() * kCubeFaceCount, {0u, 0u});
   for (size_t b = 0; b < batch.size(); ++b) {
@@ -94,23 +97,28 @@ void IndexMapRenderer::Impl::buildSetIndices(std::span<const PreparedSample> bat
         stats.triangles_drawn += drawn;
         seen_boxes.push_back(box);
       }
-      if (s.layout != MapLayout::kParallel) keepDynamicBeforeSet(chunks, setup.eye, seen_boxes, face_chunks);
+      if (s.layout != MapLayout::kParallel)
+        keepDynamicBeforeSet(chunks, setup.eye, seen_boxes, face_chunks);
       for (uint32_t c : face_chunks) {
         if (!chunks[c].dynamic) continue;
         batch_drawn[b * chunks.size() + c] = 1;
         stats.triangles_drawn +=
-            appendSetIndices(chunks[c], static_positions, frustum, s.gpu.info[3], *s.static_triangles, batch_indices);
+            appendSetIndices(chunks[c], static_positions, frustum, s.gpu.info[3],
+                             *s.static_triangles, batch_indices);
       }
-      face_index_ranges[b * kCubeFaceCount + size_t(face)] = {uint32_t(first), uint32_t(batch_indices.size() - first)};
+      face_index_ranges[b * kCubeFaceCount + size_t(face)] = {
+          uint32_t(first), uint32_t(batch_indices.size() - first)};
     }
   }
   if (!batch_indices.empty()) {
     reserveUints(set_indices, set_indices_capacity, batch_indices.size());
-    glNamedBufferSubData(set_indices.id(), 0, GLsizeiptr(batch_indices.size() * sizeof(uint32_t)), batch_indices.data());
+    glNamedBufferSubData(set_indices.id(), 0, GLsizeiptr(batch_indices.size() * sizeof(uint32_t)),
+                         batch_indices.data());
   }
 }
 
-void IndexMapRenderer::Impl::rasterFaces(std::span<const PreparedSample> batch, GatherStats& stats) {
+void IndexMapRenderer::Impl::rasterFaces(std::span<const PreparedSample> batch,
+                                         GatherStats& stats) {
   const int res = settings.resolution;
   const GLuint program = raster.id();
   const GLuint clear_id[4] = {kNoReceiver, kNoTriangle, 0, 0};
@@ -132,9 +140,11 @@ void IndexMapRenderer::Impl::rasterFaces(std::span<const PreparedSample> batch, 
       const glm::dvec3& eye = setup.eye;
       PendingFace pending;
       for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) pending.view_from_world[size_t(r * 3 + c)] = GLfloat(rows[r][c]);
+        for (int c = 0; c < 3; ++c)
+          pending.view_from_world[size_t(r * 3 + c)] = GLfloat(rows[r][c]);
       }
-      glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, pending.view_from_world.data());  // row-major rows
+      // row-major rows
+      glProgramUniformMatrix3fv(program, 1, 1, GL_TRUE, pending.view_from_world.data());
       if (s.static_triangles) {
         // Its index list, from buildSetIndices: only what the sample saw.
         const auto [first, count] = face_index_ranges[b * kCubeFaceCount + size_t(face)];
@@ -147,8 +157,8 @@ void IndexMapRenderer::Impl::rasterFaces(std::span<const PreparedSample> batch, 
         // Occlusion culling where it can spare much: perspective faces
         // drawing many chunks.
         if (settings.occlusion_culling && !parallel && face_chunks.size() >= kOcclusionMinChunks) {
-          splitNearest(chunks, face_chunks, eye, occlusionFirstTriangles(chunks, face_chunks), near_chunks,
-                       pending.rest);
+          splitNearest(chunks, face_chunks, eye, occlusionFirstTriangles(chunks, face_chunks),
+                       near_chunks, pending.rest);
           drawForSample(batch, b, near_chunks, stats);
           pending.sample = b;
           pending.layer = layer;
@@ -169,7 +179,8 @@ void IndexMapRenderer::Impl::rasterFaces(std::span<const PreparedSample> batch, 
 // Rounds: each reads back the faces' depth (one sync per batch, not per
 // face), leaves out what it hides, and draws the nearest of the rest (the
 // last round: all of it), so the occluders build up front to back.
-void IndexMapRenderer::Impl::rasterOcclusionRounds(std::span<const PreparedSample> batch, GatherStats& stats) {
+void IndexMapRenderer::Impl::rasterOcclusionRounds(std::span<const PreparedSample> batch,
+                                                   GatherStats& stats) {
   const int res = settings.resolution;
   const GLuint program = raster.id();
   depth_scratch.resize(size_t(res) * size_t(res));
@@ -178,15 +189,17 @@ void IndexMapRenderer::Impl::rasterOcclusionRounds(std::span<const PreparedSampl
     // Every face's test first, then every face's draw: a read-back after a
     // draw would wait for it, face by face.
     for (PendingFace& p : pending_faces) {
-      glGetTextureSubImage(depth_map.id(), 0, 0, 0, p.layer, res, res, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
-                           GLsizei(depth_scratch.size() * sizeof(float)), depth_scratch.data());
+      glGetTextureSubImage(depth_map.id(), 0, 0, 0, p.layer, res, res, 1, GL_DEPTH_COMPONENT,
+                           GL_FLOAT, GLsizei(depth_scratch.size() * sizeof(float)),
+                           depth_scratch.data());
       buildDepthPyramid(depth_scratch, res, res, p.first_row, pyramid);
       stats.triangles_hidden += keepUnhidden(p.rest, p.face, face_chunks);
       if (round == kOcclusionRounds) {
         p.rest.clear();
         p.next.swap(face_chunks);
       } else {
-        splitNearest(chunks, face_chunks, p.face.eye, occlusionFirstTriangles(chunks, face_chunks), p.next, p.rest);
+        splitNearest(chunks, face_chunks, p.face.eye, occlusionFirstTriangles(chunks, face_chunks),
+                     p.next, p.rest);
       }
     }
     for (PendingFace& p : pending_faces) {

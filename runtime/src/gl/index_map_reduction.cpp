@@ -18,10 +18,13 @@ bool surelyNotSmall(const PreparedSample& s, const float* corners, int resolutio
   if (s.layout == MapLayout::kParallel) return false;
   const glm::dvec3 v0(corners[0], corners[1], corners[2]), v1(corners[3], corners[4], corners[5]),
       v2(corners[6], corners[7], corners[8]);
-  const glm::dvec3 d = (v0 + v1 + v2) / 3.0 - glm::dvec3(s.gpu.position_near[0], s.gpu.position_near[1], s.gpu.position_near[2]);
+  const glm::dvec3 d =
+      (v0 + v1 + v2) / 3.0 -
+      glm::dvec3(s.gpu.position_near[0], s.gpu.position_near[1], s.gpu.position_near[2]);
   const double dist = glm::length(d);
   if (!(dist > 0)) return false;
-  const double approx_sr = std::abs(glm::dot(glm::cross(v1 - v0, v2 - v0), d)) / (2.0 * dist * dist * dist);
+  const double approx_sr =
+      std::abs(glm::dot(glm::cross(v1 - v0, v2 - v0), d)) / (2.0 * dist * dist * dist);
   const double largest_texel_sr = 4.0 / (double(resolution) * double(resolution));
   return approx_sr >= 1.01 * double(kSmallTexels) * largest_texel_sr;
 }
@@ -79,8 +82,9 @@ void IndexMapRenderer::Impl::collectFallbackPairs(std::span<const PreparedSample
     for (size_t k = 0; k < chunks.size(); ++k) {
       if (batch_drawn[b * chunks.size() + k] == 0) continue;
       const TriangleChunk& c = chunks[k];
-      const float* corners = c.dynamic ? dynamic_positions.data() + size_t(c.first - staticTriangleCount()) * 9
-                                       : static_positions.data() + size_t(c.first) * 9;
+      const float* corners =
+          c.dynamic ? dynamic_positions.data() + size_t(c.first - staticTriangleCount()) * 9
+                    : static_positions.data() + size_t(c.first) * 9;
       for (uint32_t t = c.first; t < c.first + c.count; ++t, corners += 9) {
         if (t == own || (set && !c.dynamic && !triangleInSet(*set, t))) continue;
         if (surelyNotSmall(batch[b], corners, res)) continue;
@@ -94,7 +98,8 @@ void IndexMapRenderer::Impl::collectFallbackPairs(std::span<const PreparedSample
 void IndexMapRenderer::Impl::dispatchFallback() {
   reserveUints(pairs, pairs_capacity, batch_pairs.size());
   if (!batch_pairs.empty()) {
-    glNamedBufferSubData(pairs.id(), 0, GLsizeiptr(batch_pairs.size() * sizeof(uint32_t)), batch_pairs.data());
+    glNamedBufferSubData(pairs.id(), 0, GLsizeiptr(batch_pairs.size() * sizeof(uint32_t)),
+                         batch_pairs.data());
   }
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPairsBinding, pairs.id());
   const GLuint p = fallback.id();
@@ -143,8 +148,10 @@ void IndexMapRenderer::Impl::compactTouched(uint32_t listed, size_t cells) {
     const GLuint x = std::min<GLuint>(listed, kMaxGroups);
     glDispatchCompute(x, 1, (listed + x - 1) / x);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glGetNamedBufferSubData(touched_list.id(), 0, GLsizeiptr(listed * sizeof(uint32_t)), touched_blocks.data());
-    glGetNamedBufferSubData(packed.id(), 0, GLsizeiptr(readback.size() * sizeof(uint32_t)), readback.data());
+    glGetNamedBufferSubData(touched_list.id(), 0, GLsizeiptr(listed * sizeof(uint32_t)),
+                            touched_blocks.data());
+    glGetNamedBufferSubData(packed.id(), 0, GLsizeiptr(readback.size() * sizeof(uint32_t)),
+                            readback.data());
   }
   accumulators_zero = true;
 }

@@ -72,7 +72,9 @@ void setIdRasterState(bool scissor) {
 }
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 std::string str(double v) {
   char buf[32];
@@ -126,9 +128,9 @@ class StateGuard {
   StateGuard& operator=(const StateGuard&) = delete;
 
  private:
-  static constexpr std::array<GLenum, 8> kCaps = {GL_SCISSOR_TEST, GL_DEPTH_TEST,         GL_CULL_FACE,
-                                                  GL_BLEND,        GL_RASTERIZER_DISCARD, GL_POLYGON_OFFSET_FILL,
-                                                  GL_STENCIL_TEST, GL_DEPTH_CLAMP};
+  static constexpr std::array<GLenum, 8> kCaps = {
+      GL_SCISSOR_TEST,       GL_DEPTH_TEST,          GL_CULL_FACE,    GL_BLEND,
+      GL_RASTERIZER_DISCARD, GL_POLYGON_OFFSET_FILL, GL_STENCIL_TEST, GL_DEPTH_CLAMP};
   GLint draw_fbo_ = 0, read_fbo_ = 0, depth_func_ = GL_LESS, clip_origin_ = GL_LOWER_LEFT,
         clip_depth_ = GL_NEGATIVE_ONE_TO_ONE, front_face_ = GL_CCW, program_ = 0, vao_ = 0;
   std::array<GLint, 4> viewport_{}, scissor_{};
@@ -139,8 +141,10 @@ class StateGuard {
 
 }  // namespace
 
-void IndexMapRenderer::Impl::setTriangles(const MapTriangles& t, const char* which, std::vector<float>& positions_out,
-                                        std::vector<uint32_t>& receivers_out, Aabb& bounds, Status& pending) {
+void IndexMapRenderer::Impl::setTriangles(const MapTriangles& t, const char* which,
+                                          std::vector<float>& positions_out,
+                                          std::vector<uint32_t>& receivers_out, Aabb& bounds,
+                                          Status& pending) {
   pending = Status();
   const size_t n = t.triangleCount();
   positions_out.clear();
@@ -148,8 +152,9 @@ void IndexMapRenderer::Impl::setTriangles(const MapTriangles& t, const char* whi
   bounds = Aabb{};
   if (t.positions.size() != 3 * n || t.back_receiver.size() != n) {
     pending = Status(StatusCode::kInvalidInput,
-                     std::string("index map ") + which + " triangles: " + std::to_string(t.positions.size()) +
-                         " positions and " + std::to_string(t.back_receiver.size()) + " back receivers for " +
+                     std::string("index map ") + which +
+                         " triangles: " + std::to_string(t.positions.size()) + " positions and " +
+                         std::to_string(t.back_receiver.size()) + " back receivers for " +
                          std::to_string(n) + " triangles (need 3 and 1 per triangle)");
     return;
   }
@@ -158,19 +163,22 @@ void IndexMapRenderer::Impl::setTriangles(const MapTriangles& t, const char* whi
   for (size_t i = 0; i < 3 * n; ++i) {
     const Vec3& p = t.positions[i];
     if (!finite(p)) {
-      pending = Status(StatusCode::kInvalidInput, std::string("index map ") + which + " triangle " +
-                                                      std::to_string(i / 3) + ": corner " +
-                                                      std::to_string(i % 3) + " is not finite " + str(p));
+      pending = Status(StatusCode::kInvalidInput,
+                       std::string("index map ") + which + " triangle " + std::to_string(i / 3) +
+                           ": corner " + std::to_string(i % 3) + " is not finite " + str(p));
       positions_out.clear();
       receivers_out.clear();
       bounds = Aabb{};
       return;
     }
     positions_out.insert(positions_out.end(), {p.x, p.y, p.z});
-    bounds.min = {std::min(bounds.min.x, p.x), std::min(bounds.min.y, p.y), std::min(bounds.min.z, p.z)};
-    bounds.max = {std::max(bounds.max.x, p.x), std::max(bounds.max.y, p.y), std::max(bounds.max.z, p.z)};
+    bounds.min = {std::min(bounds.min.x, p.x), std::min(bounds.min.y, p.y),
+                  std::min(bounds.min.z, p.z)};
+    bounds.max = {std::max(bounds.max.x, p.x), std::max(bounds.max.y, p.y),
+                  std::max(bounds.max.z, p.z)};
   }
-  for (size_t i = 0; i < n; ++i) receivers_out.insert(receivers_out.end(), {t.front_receiver[i], t.back_receiver[i]});
+  for (size_t i = 0; i < n; ++i)
+    receivers_out.insert(receivers_out.end(), {t.front_receiver[i], t.back_receiver[i]});
 }
 
 IndexMapRenderer::IndexMapRenderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -187,12 +195,15 @@ Status validateSettings(const IndexMapSettings& settings) {
     return bad("resolution " + std::to_string(settings.resolution) + " is outside [8, 8192]");
   }
   if (settings.max_batch_samples < 1 || settings.max_batch_samples > 1024) {
-    return bad("max_batch_samples " + std::to_string(settings.max_batch_samples) + " is outside [1, 1024]");
+    return bad("max_batch_samples " + std::to_string(settings.max_batch_samples) +
+               " is outside [1, 1024]");
   }
   if (!(settings.layout_miss_tolerance >= 0 && settings.layout_miss_tolerance <= 1)) {
-    return bad("layout_miss_tolerance " + str(settings.layout_miss_tolerance) + " is outside [0, 1]");
+    return bad("layout_miss_tolerance " + str(settings.layout_miss_tolerance) +
+               " is outside [0, 1]");
   }
-  const double texels = double(settings.resolution) * settings.resolution * settings.max_batch_samples * kCubeFaceCount;
+  const double texels = double(settings.resolution) * settings.resolution *
+                        settings.max_batch_samples * kCubeFaceCount;
   const double map_bytes = texels * (8 + 4);  // RG32UI + DEPTH32F
   if (map_bytes > kMaxMapBytes) {
     return bad("resolution " + std::to_string(settings.resolution) + " with max_batch_samples " +
@@ -209,22 +220,23 @@ Status checkMapLimits(const IndexMapSettings& settings) {
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
   const int layer_count = settings.max_batch_samples * kCubeFaceCount;
   if (settings.resolution > max_size || layer_count > max_layers) {
-    return Status(StatusCode::kUnsupported, "IndexMapSettings: resolution " + std::to_string(settings.resolution) +
-                                                " x " + std::to_string(layer_count) + " layers exceed this GL's " +
-                                                std::to_string(max_size) + " x " + std::to_string(max_layers));
+    return Status(StatusCode::kUnsupported,
+                  "IndexMapSettings: resolution " + std::to_string(settings.resolution) + " x " +
+                      std::to_string(layer_count) + " layers exceed this GL's " +
+                      std::to_string(max_size) + " x " + std::to_string(max_layers));
   }
   return Status();
 }
 
 }  // namespace
 
-Expected<std::unique_ptr<IndexMapRenderer>> IndexMapRenderer::create(const IndexMapSettings& settings) {
+Expected<std::unique_ptr<IndexMapRenderer>> IndexMapRenderer::create(
+    const IndexMapSettings& settings) {
   if (Status s = validateSettings(settings); !s.ok()) return s;
   Expected<GlContextInfo> context = checkGlContext();
   if (!context.ok()) return context.status();
   // Errors the host left behind are not ours to report.
-  while (glGetError() != GL_NO_ERROR) {
-  }
+  while (glGetError() != GL_NO_ERROR) {}
   if (Status s = checkMapLimits(settings); !s.ok()) return s;
   auto impl = std::make_unique<Impl>();
   impl->settings = settings;
@@ -238,9 +250,11 @@ Expected<std::unique_ptr<IndexMapRenderer>> IndexMapRenderer::create(const Index
 Status IndexMapRenderer::Impl::linkPrograms() {
   Expected<GlProgram> linked_raster = linkProgram({"index_map.vert", "index_map.frag"});
   if (!linked_raster.ok()) return linked_raster.status();
-  Expected<GlProgram> linked_reduce = linkProgram({"index_map_reduce.comp", "index_map_common.comp"});
+  Expected<GlProgram> linked_reduce =
+      linkProgram({"index_map_reduce.comp", "index_map_common.comp"});
   if (!linked_reduce.ok()) return linked_reduce.status();
-  Expected<GlProgram> linked_fallback = linkProgram({"index_map_fallback.comp", "index_map_common.comp"});
+  Expected<GlProgram> linked_fallback =
+      linkProgram({"index_map_fallback.comp", "index_map_common.comp"});
   if (!linked_fallback.ok()) return linked_fallback.status();
   Expected<GlProgram> linked_compact = linkProgram({"index_map_compact.comp"});
   if (!linked_compact.ok()) return linked_compact.status();
@@ -255,8 +269,10 @@ Status IndexMapRenderer::Impl::createMaps() {
   const int layer_count = settings.max_batch_samples * kCubeFaceCount;
   id_map = createGlTexture(GL_TEXTURE_2D_ARRAY);
   depth_map = createGlTexture(GL_TEXTURE_2D_ARRAY);
-  glTextureStorage3D(id_map.id(), 1, GL_RG32UI, settings.resolution, settings.resolution, layer_count);
-  glTextureStorage3D(depth_map.id(), 1, GL_DEPTH_COMPONENT32F, settings.resolution, settings.resolution, layer_count);
+  glTextureStorage3D(id_map.id(), 1, GL_RG32UI, settings.resolution, settings.resolution,
+                     layer_count);
+  glTextureStorage3D(depth_map.id(), 1, GL_DEPTH_COMPONENT32F, settings.resolution,
+                     settings.resolution, layer_count);
   for (GLuint t : {id_map.id(), depth_map.id()}) {
     // Integer textures are incomplete with linear filters (texelFetch would read 0).
     glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -270,21 +286,27 @@ Status IndexMapRenderer::Impl::createMaps() {
   if (fbo_status != GL_FRAMEBUFFER_COMPLETE) {
     char code[16];
     std::snprintf(code, sizeof code, "0x%04x", unsigned(fbo_status));
-    return Status(StatusCode::kUnsupported, std::string("index map framebuffer (RG32UI + DEPTH32F array) is incomplete: ") + code);
+    return Status(
+        StatusCode::kUnsupported,
+        std::string("index map framebuffer (RG32UI + DEPTH32F array) is incomplete: ") + code);
   }
   return Status();
 }
 
 void IndexMapRenderer::Impl::createBuffers() {
   const int layer_count = settings.max_batch_samples * kCubeFaceCount;
-  GlBuffer* buffers[] = {&set_indices, &positions, &receivers, &accumulators, &samples, &layers,     &small_flags,
-                         &counter,     &pairs,     &seen,      &touched,      &touched_list, &packed};
+  GlBuffer* buffers[] = {&set_indices, &positions,    &receivers, &accumulators, &samples,
+                         &layers,      &small_flags,  &counter,   &pairs,        &seen,
+                         &touched,     &touched_list, &packed};
   for (GlBuffer* b : buffers) *b = createGlBuffer();
-  glNamedBufferData(samples.id(), GLsizeiptr(sizeof(SampleGpu) * size_t(settings.max_batch_samples)), nullptr,
+  glNamedBufferData(samples.id(),
+                    GLsizeiptr(sizeof(SampleGpu) * size_t(settings.max_batch_samples)), nullptr,
                     GL_DYNAMIC_DRAW);
-  glNamedBufferData(layers.id(), GLsizeiptr(4 * sizeof(uint32_t) * size_t(layer_count)), nullptr, GL_DYNAMIC_DRAW);
+  glNamedBufferData(layers.id(), GLsizeiptr(4 * sizeof(uint32_t) * size_t(layer_count)), nullptr,
+                    GL_DYNAMIC_DRAW);
   glNamedBufferData(counter.id(), 2 * sizeof(uint32_t), nullptr, GL_DYNAMIC_DRAW);
-  glNamedBufferData(seen.id(), sizeof(uint32_t), nullptr, GL_DYNAMIC_DRAW);  // bound even when unused
+  // bound even when unused
+  glNamedBufferData(seen.id(), sizeof(uint32_t), nullptr, GL_DYNAMIC_DRAW);
   vao = createGlVertexArray();
   glEnableVertexArrayAttrib(vao.id(), 0);
   glVertexArrayAttribFormat(vao.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
@@ -295,13 +317,19 @@ void IndexMapRenderer::Impl::createBuffers() {
 
 MapTriangles inRunOrder(const MapTriangles& triangles) {
   const size_t count = triangles.triangleCount();
-  if (triangles.positions.size() != 3 * count || triangles.back_receiver.size() != count) return triangles;  // as below
+  // as below
+  if (triangles.positions.size() != 3 * count || triangles.back_receiver.size() != count)
+    return triangles;
   std::vector<glm::vec3> centroids(count);
   for (size_t t = 0; t < count; ++t) {
     const Vec3* p = &triangles.positions[3 * t];
     centroids[t] = (glm::vec3(p[0].x, p[0].y, p[0].z) + glm::vec3(p[1].x, p[1].y, p[1].z) +
-                    glm::vec3(p[2].x, p[2].y, p[2].z)) / 3.0f;
-    if (!(std::isfinite(centroids[t].x) && std::isfinite(centroids[t].y) && std::isfinite(centroids[t].z))) return triangles;  // setStaticTriangles says which
+                    glm::vec3(p[2].x, p[2].y, p[2].z)) /
+                   3.0f;
+    // setStaticTriangles says which
+    if (!(std::isfinite(centroids[t].x) && std::isfinite(centroids[t].y) &&
+          std::isfinite(centroids[t].z)))
+      return triangles;
   }
   MapTriangles out;
   out.positions.reserve(triangles.positions.size());
@@ -318,20 +346,24 @@ MapTriangles inRunOrder(const MapTriangles& triangles) {
 
 void IndexMapRenderer::setStaticTriangles(const MapTriangles& triangles) {
   Impl& m = *impl_;
-  m.setTriangles(triangles, "static", m.static_positions, m.static_receivers, m.static_bounds, m.static_error);
+  m.setTriangles(triangles, "static", m.static_positions, m.static_receivers, m.static_bounds,
+                 m.static_error);
   m.uploadTriangles(true);
 }
 
 void IndexMapRenderer::setDynamicTriangles(const MapTriangles& triangles) {
   Impl& m = *impl_;
-  m.setTriangles(triangles, "dynamic", m.dynamic_positions, m.dynamic_receivers, m.dynamic_bounds, m.dynamic_error);
+  m.setTriangles(triangles, "dynamic", m.dynamic_positions, m.dynamic_receivers, m.dynamic_bounds,
+                 m.dynamic_error);
   m.dynamic_part_starts = m.dynamic_error.ok() ? triangles.part_starts : std::vector<uint32_t>{};
   m.uploadTriangles(false);
 }
 
 void IndexMapRenderer::setReceiverCount(uint32_t receivers) { impl_->receiver_count = receivers; }
 
-MapLayout IndexMapRenderer::chooseLayout(const PointSample& sample) const { return impl_->chooseLayout(sample); }
+MapLayout IndexMapRenderer::chooseLayout(const PointSample& sample) const {
+  return impl_->chooseLayout(sample);
+}
 
 double IndexMapRenderer::missedShare(MapLayout layout, const PointSample& sample) const {
   return impl_->coverage(sample).missed[size_t(layout)];
@@ -339,38 +371,46 @@ double IndexMapRenderer::missedShare(MapLayout layout, const PointSample& sample
 
 const IndexMapSettings& IndexMapRenderer::settings() const { return impl_->settings; }
 
-Status IndexMapRenderer::Impl::validate(std::span<const PointSample> list, uint32_t slot_count) const {
+Status IndexMapRenderer::Impl::validate(std::span<const PointSample> list,
+                                        uint32_t slot_count) const {
   const size_t static_words = triangleBitWords(staticTriangleCount());
   for (size_t i = 0; i < list.size(); ++i) {
     const PointSample& s = list[i];
     auto bad = [&](const std::string& what) {
-      return Status(StatusCode::kInvalidInput, "index map sample " + std::to_string(i) + ": " + what);
+      return Status(StatusCode::kInvalidInput,
+                    "index map sample " + std::to_string(i) + ": " + what);
     };
     if (!finite(s.position)) return bad("position " + str(s.position) + " is not finite");
-    const double len2 = double(s.axis.x) * s.axis.x + double(s.axis.y) * s.axis.y + double(s.axis.z) * s.axis.z;
-    if (!finite(s.axis) || !(len2 > 1e-24)) return bad("axis " + str(s.axis) + " is not a direction");
-    if (uint32_t(s.lobe) > uint32_t(Lobe::kParallel)) return bad("lobe " + std::to_string(uint32_t(s.lobe)) + " is unknown");
-    if (!(s.weight >= 0) || !std::isfinite(s.weight)) return bad("weight " + str(s.weight) + " is not finite and >= 0");
+    const double len2 =
+        double(s.axis.x) * s.axis.x + double(s.axis.y) * s.axis.y + double(s.axis.z) * s.axis.z;
+    if (!finite(s.axis) || !(len2 > 1e-24))
+      return bad("axis " + str(s.axis) + " is not a direction");
+    if (uint32_t(s.lobe) > uint32_t(Lobe::kParallel))
+      return bad("lobe " + std::to_string(uint32_t(s.lobe)) + " is unknown");
+    if (!(s.weight >= 0) || !std::isfinite(s.weight))
+      return bad("weight " + str(s.weight) + " is not finite and >= 0");
     if (!std::isfinite(s.roll_rad)) return bad("roll_rad " + str(s.roll_rad) + " is not finite");
     if (s.slot >= slot_count) {
       return bad("slot " + std::to_string(s.slot) + " >= slot count " + std::to_string(slot_count));
     }
-    if (s.lobe == Lobe::kSpot && !(s.cos_inner >= -1 && s.cos_inner <= 1 && s.cos_outer >= -1 && s.cos_outer <= 1)) {
-      return bad("spot cosines inner " + str(s.cos_inner) + ", outer " + str(s.cos_outer) + " are outside [-1, 1]");
+    if (s.lobe == Lobe::kSpot &&
+        !(s.cos_inner >= -1 && s.cos_inner <= 1 && s.cos_outer >= -1 && s.cos_outer <= 1)) {
+      return bad("spot cosines inner " + str(s.cos_inner) + ", outer " + str(s.cos_outer) +
+                 " are outside [-1, 1]");
     }
     if (s.lobe == Lobe::kParallel && !(s.half_extent_m > 0 && std::isfinite(s.half_extent_m))) {
       return bad("half_extent_m " + str(s.half_extent_m) + " is not a positive length");
     }
     if (s.static_triangles && s.static_triangles->size() != static_words) {
-      return bad("static_triangles has " + std::to_string(s.static_triangles->size()) + " words, the static set needs " +
-                 std::to_string(static_words));
+      return bad("static_triangles has " + std::to_string(s.static_triangles->size()) +
+                 " words, the static set needs " + std::to_string(static_words));
     }
   }
   return Status();
 }
 
-PreparedSample IndexMapRenderer::Impl::prepare(const PointSample& s, uint32_t batch_index, const Aabb& bounds,
-                                               double diagonal) const {
+PreparedSample IndexMapRenderer::Impl::prepare(const PointSample& s, uint32_t batch_index,
+                                               const Aabb& bounds, double diagonal) const {
   PreparedSample out{};
   out.layout = chooseLayout(s);
   const float inf = std::numeric_limits<float>::infinity();
@@ -391,7 +431,8 @@ PreparedSample IndexMapRenderer::Impl::prepare(const PointSample& s, uint32_t ba
   double far_m = 2 * near_m;
   const glm::dvec3 travel = out.world_from_cube[2];
   for (int k = 0; k < 8; ++k) {
-    const glm::dvec3 corner((k & 1) ? bounds.max.x : bounds.min.x, (k & 2) ? bounds.max.y : bounds.min.y,
+    const glm::dvec3 corner((k & 1) ? bounds.max.x : bounds.min.x,
+                            (k & 2) ? bounds.max.y : bounds.min.y,
                             (k & 4) ? bounds.max.z : bounds.min.z);
     far_m = std::max(far_m, glm::dot(corner - p, travel) * 1.001 + near_m);
   }
@@ -401,7 +442,8 @@ PreparedSample IndexMapRenderer::Impl::prepare(const PointSample& s, uint32_t ba
     scale = double(s.weight) * kFixedPoint / (res * res);
   } else {
     const LobeCoverage& c = coverage(s);
-    double normaliser = out.layout == MapLayout::kTriple ? c.normaliser_corner_axis : c.normaliser_face_axis;
+    double normaliser =
+        out.layout == MapLayout::kTriple ? c.normaliser_corner_axis : c.normaliser_face_axis;
     // A cone narrower than a texel has no discrete sum; the analytic one
     // still gives the right order of magnitude.
     if (!(normaliser > 0)) normaliser = lobeIntegral(s.lobe, s.cos_inner, s.cos_outer);
@@ -445,16 +487,18 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
   const size_t cells = size_t(slot_count) * m.receiver_count;
   // The accumulators are indexed with 32-bit uints (2 words per cell).
   if (cells > (size_t(1) << 30)) {
-    return Status(StatusCode::kInvalidInput, "index map gather: " + std::to_string(slot_count) + " slots x " +
-                                                 std::to_string(m.receiver_count) + " receivers exceed 2^30 sums");
+    return Status(StatusCode::kInvalidInput, "index map gather: " + std::to_string(slot_count) +
+                                                 " slots x " + std::to_string(m.receiver_count) +
+                                                 " receivers exceed 2^30 sums");
   }
   GatherStats stats;
   const uint32_t triangles = m.triangleCount();
   // The fallback's flags are indexed with 32-bit uints too.
   if (uint64_t(triangles) * uint64_t(m.settings.max_batch_samples) > (uint64_t(1) << 31)) {
-    return Status(StatusCode::kInvalidInput, "index map gather: " + std::to_string(triangles) + " triangles x " +
-                                                 std::to_string(m.settings.max_batch_samples) +
-                                                 " max_batch_samples exceed 2^31 (use proxies or smaller batches)");
+    return Status(StatusCode::kInvalidInput,
+                  "index map gather: " + std::to_string(triangles) + " triangles x " +
+                      std::to_string(m.settings.max_batch_samples) +
+                      " max_batch_samples exceed 2^31 (use proxies or smaller batches)");
   }
   m.seen_words = seen_out ? uint32_t(triangleBitWords(m.staticTriangleCount())) : 0u;
   const size_t seen_words = size_t(slot_count) * m.seen_words;
@@ -485,7 +529,9 @@ Status IndexMapRenderer::gather(std::span<const PointSample> sample_list, uint32
   }
   if (seen_out) {
     seen_out->resize(seen_words);
-    if (seen_words > 0) glGetNamedBufferSubData(m.seen.id(), 0, GLsizeiptr(seen_words * sizeof(uint32_t)), seen_out->data());
+    if (seen_words > 0)
+      glGetNamedBufferSubData(m.seen.id(), 0, GLsizeiptr(seen_words * sizeof(uint32_t)),
+                              seen_out->data());
   }
   m.unpackShares(listed, cells, shares);
   stats.readback_ms = msSince(readback_start);
@@ -510,7 +556,8 @@ void IndexMapRenderer::Impl::clearSums(size_t cells, size_t blocks, size_t seen_
   glClearNamedBufferData(counter.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   if (seen_word_count > 0) {
     reserveUints(seen, seen_capacity, seen_word_count);
-    glClearNamedBufferSubData(seen.id(), GL_R32UI, 0, GLsizeiptr(seen_word_count * sizeof(uint32_t)), GL_RED_INTEGER,
+    glClearNamedBufferSubData(seen.id(), GL_R32UI, 0,
+                              GLsizeiptr(seen_word_count * sizeof(uint32_t)), GL_RED_INTEGER,
                               GL_UNSIGNED_INT, &zero);
   }
 }
@@ -519,14 +566,17 @@ Aabb IndexMapRenderer::Impl::levelBounds() const {
   Aabb bounds = static_bounds;
   for (const Vec3& v : {dynamic_bounds.min, dynamic_bounds.max}) {
     if (dynamic_bounds.empty()) break;
-    bounds.min = {std::min(bounds.min.x, v.x), std::min(bounds.min.y, v.y), std::min(bounds.min.z, v.z)};
-    bounds.max = {std::max(bounds.max.x, v.x), std::max(bounds.max.y, v.y), std::max(bounds.max.z, v.z)};
+    bounds.min = {std::min(bounds.min.x, v.x), std::min(bounds.min.y, v.y),
+                  std::min(bounds.min.z, v.z)};
+    bounds.max = {std::max(bounds.max.x, v.x), std::max(bounds.max.y, v.y),
+                  std::max(bounds.max.z, v.z)};
   }
   return bounds;
 }
 
-void IndexMapRenderer::Impl::renderBatches(std::span<const PointSample> sample_list, const Aabb& bounds,
-                                           double diagonal, GatherStats& stats) {
+void IndexMapRenderer::Impl::renderBatches(std::span<const PointSample> sample_list,
+                                           const Aabb& bounds, double diagonal,
+                                           GatherStats& stats) {
   std::vector<PreparedSample> batch;
   batch.reserve(size_t(settings.max_batch_samples));
   const size_t batch_size = size_t(settings.max_batch_samples);
@@ -565,7 +615,8 @@ uint32_t IndexMapRenderer::Impl::compactSums(size_t blocks, size_t cells, Gather
   return listed;
 }
 
-void IndexMapRenderer::Impl::unpackShares(uint32_t listed, size_t cells, std::vector<float>& shares) const {
+void IndexMapRenderer::Impl::unpackShares(uint32_t listed, size_t cells,
+                                          std::vector<float>& shares) const {
   shares.assign(cells, 0.0f);
   for (size_t i = 0; i < listed; ++i) {
     const size_t first = size_t(touched_blocks[i]) * kCellBlock;
@@ -595,24 +646,29 @@ Frustum viewFrustum(const ViewFrame& view) {
 
 Status checkView(const ViewFrame& view, int width, int height) {
   if (width < 1 || height < 1 || width > 4096 || height > 4096) {
-    return Status(StatusCode::kInvalidInput, "index map view pass: " + std::to_string(width) + " x " +
-                                                 std::to_string(height) + " pixels is outside 1..4096");
+    return Status(StatusCode::kInvalidInput, "index map view pass: " + std::to_string(width) +
+                                                 " x " + std::to_string(height) +
+                                                 " pixels is outside 1..4096");
   }
-  const float values[] = {view.eye.x, view.eye.y, view.eye.z, view.right.x, view.right.y, view.right.z,
-                          view.up.x, view.up.y, view.up.z, view.forward.x, view.forward.y, view.forward.z,
+  const float values[] = {view.eye.x,      view.eye.y,      view.eye.z,     view.right.x,
+                          view.right.y,    view.right.z,    view.up.x,      view.up.y,
+                          view.up.z,       view.forward.x,  view.forward.y, view.forward.z,
                           view.tan_half_x, view.tan_half_y, view.near_m};
   for (float v : values) {
-    if (!std::isfinite(v)) return Status(StatusCode::kInvalidInput, "index map view pass: the view is not finite");
+    if (!std::isfinite(v))
+      return Status(StatusCode::kInvalidInput, "index map view pass: the view is not finite");
   }
   if (!(view.tan_half_x > 0 && view.tan_half_y > 0 && view.near_m > 0)) {
-    return Status(StatusCode::kInvalidInput, "index map view pass: field of view and near plane must be positive");
+    return Status(StatusCode::kInvalidInput,
+                  "index map view pass: field of view and near plane must be positive");
   }
   return Status();
 }
 
 }  // namespace
 
-Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int height, std::vector<uint32_t>& pixels) {
+Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int height,
+                                         std::vector<uint32_t>& pixels) {
   Impl& m = *impl_;
   if (!m.static_error.ok()) return m.static_error;
   if (!m.dynamic_error.ok()) return m.dynamic_error;
@@ -631,8 +687,8 @@ Status IndexMapRenderer::countViewPixels(const ViewFrame& view, int width, int h
   }
   const size_t count = size_t(width) * size_t(height);
   m.view_readback.resize(2 * count);
-  glGetTextureImage(m.view_ids.id(), 0, GL_RG_INTEGER, GL_UNSIGNED_INT, GLsizei(m.view_readback.size() * sizeof(uint32_t)),
-                    m.view_readback.data());
+  glGetTextureImage(m.view_ids.id(), 0, GL_RG_INTEGER, GL_UNSIGNED_INT,
+                    GLsizei(m.view_readback.size() * sizeof(uint32_t)), m.view_readback.data());
   pixels.assign(m.receiver_count, 0u);
   for (size_t i = 0; i < count; ++i) {
     const uint32_t r = m.view_readback[2 * i];
@@ -688,11 +744,12 @@ void IndexMapRenderer::Impl::rasterView(const ViewFrame& view, int width, int he
   }
   // As the maps' faces: the nearest chunks, then what they leave in view.
   std::vector<uint32_t> rest;
-  splitNearest(chunks, face_chunks, frustum.eye, occlusionFirstTriangles(chunks, face_chunks), near_chunks, rest);
+  splitNearest(chunks, face_chunks, frustum.eye, occlusionFirstTriangles(chunks, face_chunks),
+               near_chunks, rest);
   draw(near_chunks);
   depth_scratch.resize(size_t(width) * size_t(height));
-  glGetTextureImage(view_depth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(depth_scratch.size() * sizeof(float)),
-                    depth_scratch.data());
+  glGetTextureImage(view_depth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                    GLsizei(depth_scratch.size() * sizeof(float)), depth_scratch.data());
   buildDepthPyramid(depth_scratch, width, height, 0, pyramid);
   const glm::dvec3 r(view.right.x, view.right.y, view.right.z), u(view.up.x, view.up.y, view.up.z),
       f(view.forward.x, view.forward.y, view.forward.z);
@@ -705,8 +762,9 @@ void IndexMapRenderer::Impl::rasterView(const ViewFrame& view, int width, int he
 std::vector<GlObject> IndexMapRenderer::mapObjects() const {
   const Impl& m = *impl_;
   std::vector<GlObject> out = {glTextureObject(m.id_map.id()), glTextureObject(m.depth_map.id())};
-  for (const GlBuffer* b : {&m.positions, &m.receivers, &m.accumulators, &m.samples, &m.layers, &m.small_flags,
-                            &m.counter, &m.pairs, &m.seen, &m.set_indices, &m.touched, &m.touched_list, &m.packed}) {
+  for (const GlBuffer* b :
+       {&m.positions, &m.receivers, &m.accumulators, &m.samples, &m.layers, &m.small_flags,
+        &m.counter, &m.pairs, &m.seen, &m.set_indices, &m.touched, &m.touched_list, &m.packed}) {
     out.push_back(glBufferObject(b->id()));
   }
   return out;
@@ -721,9 +779,9 @@ uint64_t IndexMapRenderer::hostBytes() const {
   auto bytes = [](const auto& v) { return uint64_t(v.capacity()) * sizeof(v[0]); };
   return bytes(m.static_positions) + bytes(m.dynamic_positions) + bytes(m.static_receivers) +
          bytes(m.dynamic_receivers) + bytes(m.static_chunks) + bytes(m.chunks) + bytes(m.readback) +
-         bytes(m.view_readback) + bytes(m.batch_samples) + bytes(m.batch_layers) + bytes(m.batch_pairs) +
-         bytes(m.batch_indices) + bytes(m.face_index_ranges) + bytes(m.touched_blocks) + bytes(m.dynamic_part_starts) +
-         bytes(m.seen_boxes);
+         bytes(m.view_readback) + bytes(m.batch_samples) + bytes(m.batch_layers) +
+         bytes(m.batch_pairs) + bytes(m.batch_indices) + bytes(m.face_index_ranges) +
+         bytes(m.touched_blocks) + bytes(m.dynamic_part_starts) + bytes(m.seen_boxes);
 }
 
 }  // namespace svit::gl

@@ -57,21 +57,23 @@ enum class MapLayout : uint32_t {
 enum class Lobe : uint32_t {
   kCosine = 0,     ///< Lambertian surface: cos(theta)/pi about `axis`, front hemisphere
   kIsotropic = 1,  ///< point light: 1/(4 pi)
-  kSpot = 2,       ///< glTF spot: t^2, t = clamp((cos - cos_outer) / (cos_inner - cos_outer)), normalised
-                   ///< (the baker's spotFalloff; integral 2 pi ((1 - ci) + (ci - co) / 3))
-  kParallel = 3,   ///< parallel rays along `axis` through a square window
+  /// glTF spot: t^2, t = clamp((cos - cos_outer) / (cos_inner - cos_outer)), normalised
+  kSpot = 2,
+  ///< (the baker's spotFalloff; integral 2 pi ((1 - ci) + (ci - co) / 3))
+  kParallel = 3,  ///< parallel rays along `axis` through a square window
 };
 
 /// One point sample of an emitter.
 struct PointSample {
-  Vec3 position;   ///< world, metres; for kParallel the window centre, upwind of the scene
-  Vec3 axis;       ///< unit: surface normal, spot direction or travel direction of parallel light
+  Vec3 position;  ///< world, metres; for kParallel the window centre, upwind of the scene
+  Vec3 axis;      ///< unit: surface normal, spot direction or travel direction of parallel light
   Lobe lobe = Lobe::kCosine;
   float cos_inner = 1, cos_outer = 0;  ///< kSpot: full inside cos_inner, zero outside cos_outer
   float half_extent_m = 0;             ///< kParallel: half the window's side
   float roll_rad = 0;  ///< rotation of the map frame about `axis` (aliasing: vary per sample)
-  float weight = 1;    ///< share of its slot's flux this sample carries (a slot's weights sum to <= 1)
-  uint32_t slot = 0;   ///< accumulator row it adds into (one per emitter in a gather)
+  /// share of its slot's flux this sample carries (a slot's weights sum to <= 1)
+  float weight = 1;
+  uint32_t slot = 0;  ///< accumulator row it adds into (one per emitter in a gather)
   /// Triangle the sample sits on (its own surface), never counted as a
   /// receiver of its own light; kNoReceiver-like 0xffffffff when none.
   uint32_t own_triangle = 0xffffffffu;
@@ -92,16 +94,19 @@ struct PointSample {
 /// Switches for the artifact handling of thesis 5.2 (all on by default; the
 /// tests turn them off to show what each one fixes).
 struct IndexMapSettings {
-  int resolution = 128;               ///< texels per face edge (kParallel: per window edge)
-  int max_batch_samples = 32;         ///< samples rendered before one reduction
+  int resolution = 128;        ///< texels per face edge (kParallel: per window edge)
+  int max_batch_samples = 32;  ///< samples rendered before one reduction
   /// Triangles projecting to fewer than 4 texels are credited analytically
   /// (exact solid angle x lobe at the centroid x share of visible vertices)
   /// instead of by their texels, which hit or miss them all or nothing; the
   /// reduction skips their texels so nothing counts twice. Off: texels only.
   bool small_polygon_fallback = true;
-  bool edge_taps = true;              ///< vertex tests: half-texel shrink toward the centroid + 3x3 id taps
-  bool neighbour_ids = true;          ///< vertex tests: a tap showing a triangle sharing the vertex counts
-  double layout_miss_tolerance = 1e-3;  ///< chooseLayout: largest share of the lobe a layout may miss
+  /// vertex tests: half-texel shrink toward the centroid + 3x3 id taps
+  bool edge_taps = true;
+  /// vertex tests: a tap showing a triangle sharing the vertex counts
+  bool neighbour_ids = true;
+  /// chooseLayout: largest share of the lobe a layout may miss
+  double layout_miss_tolerance = 1e-3;
   /// Perspective faces draw their nearest chunks first and then only what
   /// those do not hide (index_map_occlusion.h): same maps and credits, far
   /// fewer triangles in a closed level. Off: every chunk in the frustum.
@@ -111,12 +116,13 @@ struct IndexMapSettings {
 /// What one gather did.
 struct GatherStats {
   uint32_t samples = 0;
-  uint32_t faces_rendered = 0;        ///< raster passes (a cube = 6)
-  uint64_t triangles_drawn = 0;       ///< triangles submitted over all faces (after culling)
-  uint64_t triangles_hidden = 0;      ///< triangles occlusion culling left out (whole chunks)
-  uint64_t texels = 0;                ///< texels reduced
-  uint32_t fallback_triangles = 0;    ///< (sample, triangle) pairs credited by vertex visibility
-  uint32_t buffer_allocations = 0;    ///< GL buffer (re)allocations since the previous gather (0 when steady)
+  uint32_t faces_rendered = 0;      ///< raster passes (a cube = 6)
+  uint64_t triangles_drawn = 0;     ///< triangles submitted over all faces (after culling)
+  uint64_t triangles_hidden = 0;    ///< triangles occlusion culling left out (whole chunks)
+  uint64_t texels = 0;              ///< texels reduced
+  uint32_t fallback_triangles = 0;  ///< (sample, triangle) pairs credited by vertex visibility
+  /// GL buffer (re)allocations since the previous gather (0 when steady)
+  uint32_t buffer_allocations = 0;
   double render_ms = 0, reduce_ms = 0, readback_ms = 0;  ///< CPU wall time incl. glFinish per stage
 };
 
@@ -184,8 +190,9 @@ class IndexMapRenderer {
   /// texel, or a vertex the fallback credited), ceil(static triangles / 32)
   /// words per slot, bit t % 32 of word t / 32: what a later gather of the
   /// same samples may pass as static_triangles.
-  Status gather(std::span<const PointSample> samples, uint32_t slot_count, std::vector<float>& shares,
-                GatherStats* stats = nullptr, std::vector<uint32_t>* seen = nullptr);
+  Status gather(std::span<const PointSample> samples, uint32_t slot_count,
+                std::vector<float>& shares, GatherStats* stats = nullptr,
+                std::vector<uint32_t>* seen = nullptr);
 
   /// The visible patches of a view (thesis 5.9): renders receiver ids from
   /// the camera into a width x height target (made on first use, remade
@@ -194,7 +201,8 @@ class IndexMapRenderer {
   /// showing no receiver (sky, black backs) count for none. Deterministic.
   /// Errors: width or height outside [1, 4096], non-finite frame, a bad
   /// triangle set. GL state: as gather().
-  Status countViewPixels(const ViewFrame& view, int width, int height, std::vector<uint32_t>& pixels);
+  Status countViewPixels(const ViewFrame& view, int width, int height,
+                         std::vector<uint32_t>& pixels);
 
   const IndexMapSettings& settings() const;
 

@@ -31,19 +31,21 @@ constexpr float kSmallTexels = 4.0f;
 // The id maps' triangle where nothing was drawn.
 constexpr uint32_t kNoTriangle = 0xffffffffu;
 // Shader storage and texture bindings (shaders/index_map_*.{frag,comp}).
-constexpr GLuint kReceiversBinding = 0, kSamplesBinding = 1, kLayersBinding = 2, kAccumulatorBinding = 3,
-                 kSmallFlagsBinding = 4, kPositionsBinding = 5, kCounterBinding = 6, kPairsBinding = 7,
-                 kSeenBinding = 8, kTouchedBinding = 9, kTouchedListBinding = 10, kPackedBinding = 11;
+constexpr GLuint kReceiversBinding = 0, kSamplesBinding = 1, kLayersBinding = 2,
+                 kAccumulatorBinding = 3, kSmallFlagsBinding = 4, kPositionsBinding = 5,
+                 kCounterBinding = 6, kPairsBinding = 7, kSeenBinding = 8, kTouchedBinding = 9,
+                 kTouchedListBinding = 10, kPackedBinding = 11;
 // Accumulators per touched block (index_map_common.comp kCellBlock; the
 // compaction's local size).
 constexpr size_t kCellBlock = 64;
 // Uniforms both compute programs take from index_map_common.comp, and the
 // small flags' generation both the fallback and the reduction read.
-constexpr GLint kSeenWordsLocation = 9, kStaticTrianglesLocation = 10, kSmallGenerationLocation = 11;
+constexpr GLint kSeenWordsLocation = 9, kStaticTrianglesLocation = 10,
+                kSmallGenerationLocation = 11;
 constexpr GLuint kIdMapUnit = 0, kDepthMapUnit = 1;
-constexpr int kReduceRun = 16;         // texels per reduce invocation (index_map_reduce.comp kRun)
-constexpr int kLocalSize = 64;         // local_size_x of both compute shaders
-constexpr GLuint kMaxGroups = 65535;   // GL_MAX_COMPUTE_WORK_GROUP_COUNT guaranteed minimum
+constexpr int kReduceRun = 16;        // texels per reduce invocation (index_map_reduce.comp kRun)
+constexpr int kLocalSize = 64;        // local_size_x of both compute shaders
+constexpr GLuint kMaxGroups = 65535;  // GL_MAX_COMPUTE_WORK_GROUP_COUNT guaranteed minimum
 // Occlusion culling: a face drawing at least this many chunks first draws
 // the nearest ones, until they hold an eighth of its triangles but at least
 // 256 and at most 1,024 (the walls and floor around the sample, in a closed
@@ -51,7 +53,8 @@ constexpr GLuint kMaxGroups = 65535;   // GL_MAX_COMPUTE_WORK_GROUP_COUNT guaran
 // the nearest of what their depth does not hide.
 constexpr size_t kOcclusionMinChunks = 8;
 constexpr int kOcclusionRounds = 3;  // test-and-draw rounds after the first pass
-inline uint64_t occlusionFirstTriangles(std::span<const TriangleChunk> chunks, std::span<const uint32_t> candidates) {
+inline uint64_t occlusionFirstTriangles(std::span<const TriangleChunk> chunks,
+                                        std::span<const uint32_t> candidates) {
   uint64_t total = 0;
   for (uint32_t i : candidates) total += chunks[i].count;
   return std::clamp<uint64_t>(total / 8, 256, 1024);
@@ -77,7 +80,7 @@ struct PreparedSample {
   SampleGpu gpu;
   MapLayout layout;
   glm::dmat3 world_from_cube;
-  glm::dvec3 reach_lo{1}, reach_hi{0};  // lo > hi: no box
+  glm::dvec3 reach_lo{1}, reach_hi{0};             // lo > hi: no box
   const TriangleBits* static_triangles = nullptr;  // PointSample::static_triangles
 };
 
@@ -92,15 +95,17 @@ struct IndexMapRenderer::Impl {
   int view_width = 0, view_height = 0;
   std::vector<uint32_t> view_readback;  // scratch, 2 uints per pixel
   GlBuffer positions, receivers, accumulators, samples, layers, small_flags, counter;
-  GlBuffer pairs;  // the fallback's work items, (triangle, sample) pairs, grow-only
+  GlBuffer pairs;             // the fallback's work items, (triangle, sample) pairs, grow-only
   size_t pairs_capacity = 0;  // uints
-  GlBuffer seen;  // per slot, a bit per static triangle its maps showed (gather's `seen`), grow-only
+  // per slot, a bit per static triangle its maps showed (gather's `seen`), grow-only
+  GlBuffer seen;
   size_t seen_capacity = 1;  // uints
   uint32_t seen_words = 0;   // per slot in this gather; 0 = not asked for
-  std::vector<uint32_t> batch_pairs;  // scratch: the fallback's items (triangle, sample of the batch)
+  // scratch: the fallback's items (triangle, sample of the batch)
+  std::vector<uint32_t> batch_pairs;
   size_t triangle_capacity = 0;     // of positions / receivers
   size_t accumulator_capacity = 0;  // uints
-  size_t small_flags_capacity = 0;   // uints
+  size_t small_flags_capacity = 0;  // uints
   // The batch whose flags are current: a pair's flag holds the generation
   // that found it small, so flags of pairs no batch visited since read as
   // "not small" with no clearing (cleared only when the count wraps).
@@ -130,11 +135,11 @@ struct IndexMapRenderer::Impl {
   // all the batch's lists are built and uploaded before its first draw, so
   // the upload never waits on a draw. Spans of whole runs would draw several
   // times as many triangles.
-  GlBuffer set_indices;  // element buffer, grow-only
+  GlBuffer set_indices;             // element buffer, grow-only
   size_t set_indices_capacity = 0;  // uints
   std::vector<uint32_t> batch_indices;
   std::vector<std::array<uint32_t, 2>> face_index_ranges;  // per (sample, face): first index, count
-  std::vector<uint32_t> face_chunks, near_chunks;  // scratch, chunk indices
+  std::vector<uint32_t> face_chunks, near_chunks;          // scratch, chunk indices
   std::vector<Box> seen_boxes;  // scratch: per static chunk a face draws, its drawn triangles' box
   std::vector<uint8_t> batch_drawn;  // per (sample of the batch, chunk): drawn on some face
   std::vector<float> depth_scratch;
@@ -143,7 +148,7 @@ struct IndexMapRenderer::Impl {
   // Sticky: a bad triangle set given to a setter, returned by every gather()
   // until a good set replaces it.
   Status static_error, dynamic_error;
-  uint32_t allocations = 0;  // buffer (re)allocations since the last gather
+  uint32_t allocations = 0;        // buffer (re)allocations since the last gather
   std::vector<uint32_t> readback;  // scratch, grow-only: the packed blocks' words
   // Sparse read-back (index_map_compact.comp): a flag per block of
   // kCellBlock accumulators, the list of flagged blocks, and the packed
@@ -163,7 +168,9 @@ struct IndexMapRenderer::Impl {
   };
   mutable std::vector<CoverageEntry> coverage_cache;
 
-  uint32_t triangleCount() const { return uint32_t((static_receivers.size() + dynamic_receivers.size()) / 2); }
+  uint32_t triangleCount() const {
+    return uint32_t((static_receivers.size() + dynamic_receivers.size()) / 2);
+  }
   uint32_t staticTriangleCount() const { return uint32_t(static_receivers.size() / 2); }
 
   const LobeCoverage& coverage(const PointSample& s) const {
@@ -234,17 +241,22 @@ struct IndexMapRenderer::Impl {
     }
     // The fallback's flags: one uint per (sample of a batch, triangle).
     const size_t flags = size_t(settings.max_batch_samples) * count;
-    if (settings.small_polygon_fallback && reserveUints(small_flags, small_flags_capacity, flags)) clearSmallFlags();
+    if (settings.small_polygon_fallback && reserveUints(small_flags, small_flags_capacity, flags))
+      clearSmallFlags();
     if (all && !static_positions.empty()) {
-      glNamedBufferSubData(positions.id(), 0, GLsizeiptr(static_positions.size() * sizeof(float)), static_positions.data());
-      glNamedBufferSubData(receivers.id(), 0, GLsizeiptr(static_receivers.size() * sizeof(uint32_t)),
+      glNamedBufferSubData(positions.id(), 0, GLsizeiptr(static_positions.size() * sizeof(float)),
+                           static_positions.data());
+      glNamedBufferSubData(receivers.id(), 0,
+                           GLsizeiptr(static_receivers.size() * sizeof(uint32_t)),
                            static_receivers.data());
     }
     if (!dynamic_positions.empty()) {
       glNamedBufferSubData(positions.id(), GLintptr(static_count * 9 * sizeof(float)),
-                           GLsizeiptr(dynamic_positions.size() * sizeof(float)), dynamic_positions.data());
+                           GLsizeiptr(dynamic_positions.size() * sizeof(float)),
+                           dynamic_positions.data());
       glNamedBufferSubData(receivers.id(), GLintptr(static_count * 2 * sizeof(uint32_t)),
-                           GLsizeiptr(dynamic_receivers.size() * sizeof(uint32_t)), dynamic_receivers.data());
+                           GLsizeiptr(dynamic_receivers.size() * sizeof(uint32_t)),
+                           dynamic_receivers.data());
     }
   }
 
@@ -258,16 +270,19 @@ struct IndexMapRenderer::Impl {
     draw_firsts.clear();
     draw_counts.clear();
     uint64_t triangles = 0;
-    for (uint32_t i : list) triangles += appendChunkRanges(chunks[i], skip, draw_firsts, draw_counts);
+    for (uint32_t i : list)
+      triangles += appendChunkRanges(chunks[i], skip, draw_firsts, draw_counts);
     if (!draw_firsts.empty()) {
-      glMultiDrawArrays(GL_TRIANGLES, draw_firsts.data(), draw_counts.data(), GLsizei(draw_firsts.size()));
+      glMultiDrawArrays(GL_TRIANGLES, draw_firsts.data(), draw_counts.data(),
+                        GLsizei(draw_firsts.size()));
     }
     return triangles;
   }
 
   // The chunks of `rest` that `pyramid` (built from the face's depth) does
   // not hide, into `kept`; returns the triangles hidden.
-  uint64_t keepUnhidden(std::span<const uint32_t> rest, const FaceProjection& face, std::vector<uint32_t>& kept) const {
+  uint64_t keepUnhidden(std::span<const uint32_t> rest, const FaceProjection& face,
+                        std::vector<uint32_t>& kept) const {
     kept.clear();
     uint64_t hidden = 0;
     for (uint32_t i : rest) {
@@ -301,7 +316,8 @@ struct IndexMapRenderer::Impl {
   void rasterView(const ViewFrame& view, int width, int height);
 
   Status validate(std::span<const PointSample> list, uint32_t slot_count) const;
-  PreparedSample prepare(const PointSample& s, uint32_t batch_index, const Aabb& bounds, double diagonal) const;
+  PreparedSample prepare(const PointSample& s, uint32_t batch_index, const Aabb& bounds,
+                         double diagonal) const;
   // The raster pass (index_map_raster.cpp): binds the target, builds the
   // static-set samples' index lists, draws every face once, then the
   // occlusion-culled faces' later rounds.
@@ -310,12 +326,12 @@ struct IndexMapRenderer::Impl {
   void buildSetIndices(std::span<const PreparedSample> batch, GatherStats& stats);
   void rasterFaces(std::span<const PreparedSample> batch, GatherStats& stats);
   void rasterOcclusionRounds(std::span<const PreparedSample> batch, GatherStats& stats);
-  void useSample(const PreparedSample& s) const;  // the raster program's per-sample uniforms
+  void useSample(const PreparedSample& s) const;    // the raster program's per-sample uniforms
   void useLayer(GLint layer, int first_row) const;  // attaches a face's layer, scissors its rows
   // Draws the listed chunks for sample `b`, never its own triangle (the
   // ranges split around it), marking them drawn.
-  void drawForSample(std::span<const PreparedSample> batch, size_t b, std::span<const uint32_t> list,
-                     GatherStats& stats);
+  void drawForSample(std::span<const PreparedSample> batch, size_t b,
+                     std::span<const uint32_t> list, GatherStats& stats);
   // The reduction (index_map_reduction.cpp): binds its inputs, lists and
   // runs the small-polygon fallback's pairs when on, then the reduce pass.
   void reduceBatch(std::span<const PreparedSample> batch);

@@ -10,12 +10,9 @@ bool isPrimaryBakedEmitter(const Emitter& e) {
   switch (e.kind) {
     case EmitterKind::kBakedLight:
     case EmitterKind::kSun:
-    case EmitterKind::kSky:
-      return true;
-    case EmitterKind::kStaticPatch:
-      return e.bake_emitter != kInvalidId;
-    default:
-      return false;
+    case EmitterKind::kSky: return true;
+    case EmitterKind::kStaticPatch: return e.bake_emitter != kInvalidId;
+    default: return false;
   }
 }
 

@@ -33,13 +33,16 @@ class LightScale {
   /// Recomputes the factors from the emitters' direct shares (their maps
   /// where they have them, else the bake's factors); clears them while
   /// every emitter is as baked.
-  void update(const std::vector<Emitter>& emitters, const StaticLevel& level, const std::vector<Receiver>& receivers);
+  void update(const std::vector<Emitter>& emitters, const StaticLevel& level,
+              const std::vector<Receiver>& receivers);
   /// The factor on a static receiver's baked light (1 while as baked).
   double ofReceiver(uint32_t receiver) const {
     return receiver < receiver_scale_.size() ? receiver_scale_[receiver] : 1.0;
   }
   /// The area mean over a static group, or 1 while as baked.
-  double ofGroup(uint32_t group) const { return group < group_scale_.size() ? group_scale_[group] : 1.0; }
+  double ofGroup(uint32_t group) const {
+    return group < group_scale_.size() ? group_scale_[group] : 1.0;
+  }
   /// Per static receiver; empty while every baked emitter is as baked.
   const std::vector<double>& receiverScales() const { return receiver_scale_; }
 

@@ -41,7 +41,8 @@ std::vector<uint32_t> repeatedTriangles(const std::vector<Vec3>& positions) {
 void binObjectTriangles(DynamicObject& object) {
   object.shooter_bin.resize(object.albedo.size());
   for (size_t t = 0; t < object.albedo.size(); ++t) {
-    const glm::vec3 a = toGlm(object.object_positions[t * 3]), b = toGlm(object.object_positions[t * 3 + 1]),
+    const glm::vec3 a = toGlm(object.object_positions[t * 3]),
+                    b = toGlm(object.object_positions[t * 3 + 1]),
                     c = toGlm(object.object_positions[t * 3 + 2]);
     const glm::vec3 n = glm::cross(b - a, c - a), m = glm::abs(n);
     const int axis = m.x >= m.y && m.x >= m.z ? 0 : (m.y >= m.z ? 1 : 2);
@@ -55,8 +56,8 @@ void binObjectTriangles(DynamicObject& object) {
   object.flat_face.resize(count);
   std::vector<glm::dvec4> planes(count);
   for (size_t t = 0; t < count; ++t) {
-    const glm::dvec3 a(toGlm(object.object_positions[t * 3])), b(toGlm(object.object_positions[t * 3 + 1])),
-        c(toGlm(object.object_positions[t * 3 + 2]));
+    const glm::dvec3 a(toGlm(object.object_positions[t * 3])),
+        b(toGlm(object.object_positions[t * 3 + 1])), c(toGlm(object.object_positions[t * 3 + 2]));
     const glm::dvec3 cross = glm::cross(b - a, c - a);
     const double length = glm::length(cross);
     const glm::dvec3 n = length > 0 ? cross / length : glm::dvec3(0.0);
@@ -69,7 +70,9 @@ void binObjectTriangles(DynamicObject& object) {
     if (count > kMaxFlatFaceTriangles || length == 0) continue;
     for (size_t u = 0; u < t; ++u) {
       const glm::dvec4& p = planes[u];
-      if (glm::dot(glm::dvec3(p), n) < 0.9999 || std::abs(p.w - planes[t].w) > 1e-4 * (1.0 + std::abs(p.w))) continue;
+      if (glm::dot(glm::dvec3(p), n) < 0.9999 ||
+          std::abs(p.w - planes[t].w) > 1e-4 * (1.0 + std::abs(p.w)))
+        continue;
       object.flat_face[t] = object.flat_face[u];
       break;
     }
@@ -93,7 +96,8 @@ MapTriangles dynamicMapTriangles(const std::vector<DynamicObject>& objects) {
     const uint32_t triangles = uint32_t(object.albedo.size());
     if (triangles > 0) out.part_starts.push_back(uint32_t(out.triangleCount()));
     for (uint32_t t = 0; t < triangles; ++t) {
-      for (int k = 0; k < 3; ++k) out.positions.push_back(object.world_positions[size_t(t) * 3 + size_t(k)]);
+      for (int k = 0; k < 3; ++k)
+        out.positions.push_back(object.world_positions[size_t(t) * 3 + size_t(k)]);
       const uint32_t receiver = object.first_receiver + object.same_as[t];
       out.front_receiver.push_back(receiver);
       out.back_receiver.push_back(object.double_sided ? receiver : kNoReceiver);

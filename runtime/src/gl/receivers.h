@@ -27,7 +27,8 @@ struct DynamicObject {
   std::vector<Vec3> object_positions;  ///< 3 per triangle, object space (unshared)
   std::vector<Rgb> albedo;             ///< per triangle
   std::vector<Rgb> emission;           ///< per triangle, cd/m2
-  std::vector<uint8_t> shooter_bin;    ///< per triangle: dominant axis of its object-space normal, 0..5
+  /// per triangle: dominant axis of its object-space normal, 0..5
+  std::vector<uint8_t> shooter_bin;
   /// Per triangle: the first triangle of its flat face (coplanar ones show
   /// one averaged delta); itself on meshes over kMaxFlatFaceTriangles.
   std::vector<uint32_t> flat_face;
@@ -45,8 +46,8 @@ struct DynamicObject {
   /// their shares rendered since it appeared (Runtime::Impl::updateObjectsLit):
   /// until then shading shows it by the probe grid, not by a partial sum.
   bool lit = false;
-  uint64_t shown_revision = 0;  ///< Impl::shares_revisions when it was added or shown
-  uint32_t first_receiver = 0;  ///< its triangles' receivers are first_receiver + t
+  uint64_t shown_revision = 0;        ///< Impl::shares_revisions when it was added or shown
+  uint32_t first_receiver = 0;        ///< its triangles' receivers are first_receiver + t
   std::vector<Vec3> world_positions;  ///< 3 per triangle, kept current
   Aabb bounds;                        ///< of world_positions (empty when hidden)
 };

@@ -18,8 +18,9 @@ uint32_t refreshInterval(double importance, double top, uint32_t max_interval) {
   return std::min(max_interval, uint32_t(1) << uint32_t(doublings));
 }
 
-std::vector<RefreshDecision> scheduleRefreshes(const std::vector<RefreshCandidate>& candidates, uint64_t frame,
-                                               double top, uint32_t max_interval, double budget) {
+std::vector<RefreshDecision> scheduleRefreshes(const std::vector<RefreshCandidate>& candidates,
+                                               uint64_t frame, double top, uint32_t max_interval,
+                                               double budget) {
   struct Due {
     const RefreshCandidate* c;
     RefreshReason reason;

@@ -15,14 +15,15 @@ namespace svit::gl {
 
 struct RefreshCandidate {
   uint32_t emitter = 0;
-  double importance = 0;      ///< for this frame's view, >= 0
-  double cost = 1;            ///< in budget units (samples or milliseconds), > 0
-  uint64_t waiting_since = 0; ///< frame it went out of date
+  double importance = 0;         ///< for this frame's view, >= 0
+  double cost = 1;               ///< in budget units (samples or milliseconds), > 0
+  uint64_t waiting_since = 0;    ///< frame it went out of date
   uint32_t queued_interval = 1;  ///< its interval when it went out of date
   /// Its importance while it was last up to date (0: unknown); twice that
   /// or more now promotes it at once (a door opened onto what it lights).
   double settled_importance = 0;
-  bool urgent = false;        ///< a switched or dimmed emitter with nothing cached: goes first, always
+  /// a switched or dimmed emitter with nothing cached: goes first, always
+  bool urgent = false;
 };
 
 struct RefreshDecision {
@@ -44,7 +45,8 @@ uint32_t refreshInterval(double importance, double top, uint32_t max_interval);
 /// round-robin ones, longest waiting first; then the rest of the important
 /// ones, all while the summed cost fits `budget` (ties: lower emitter id).
 /// The first emitter of a frame always goes, so every frame makes progress.
-std::vector<RefreshDecision> scheduleRefreshes(const std::vector<RefreshCandidate>& candidates, uint64_t frame,
-                                               double top, uint32_t max_interval, double budget);
+std::vector<RefreshDecision> scheduleRefreshes(const std::vector<RefreshCandidate>& candidates,
+                                               uint64_t frame, double top, uint32_t max_interval,
+                                               double budget);
 
 }  // namespace svit::gl

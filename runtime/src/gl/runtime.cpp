@@ -15,9 +15,12 @@ namespace svit {
 namespace {
 
 Light normalisedLight(Light light) {
-  const float length = std::sqrt(light.direction.x * light.direction.x + light.direction.y * light.direction.y +
-                                 light.direction.z * light.direction.z);
-  if (length > 0) light.direction = {light.direction.x / length, light.direction.y / length, light.direction.z / length};
+  const float length =
+      std::sqrt(light.direction.x * light.direction.x + light.direction.y * light.direction.y +
+                light.direction.z * light.direction.z);
+  if (length > 0)
+    light.direction = {light.direction.x / length, light.direction.y / length,
+                       light.direction.z / length};
   light.dynamic = true;
   return light;
 }
@@ -28,7 +31,8 @@ rt::DynamicObject objectFromMesh(const DynamicMesh& mesh, const Mat4& world_from
   object.double_sided = mesh.double_sided;
   object.world_from_object = world_from_object;
   for (size_t t = 0; t < mesh.indices.size() / 3; ++t) {
-    for (int k = 0; k < 3; ++k) object.object_positions.push_back(mesh.positions[mesh.indices[t * 3 + size_t(k)]]);
+    for (int k = 0; k < 3; ++k)
+      object.object_positions.push_back(mesh.positions[mesh.indices[t * 3 + size_t(k)]]);
     object.albedo.push_back(mesh.albedo);
     object.emission.push_back(mesh.emission);
   }
@@ -43,7 +47,8 @@ rt::DynamicObject objectFromInstance(const Scene& scene, size_t instance_index) 
   object.instance = int(instance_index);
   object.world_from_object = instance.world_from_object;
   for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-    for (int k = 0; k < 3; ++k) object.object_positions.push_back(mesh.positions[mesh.indices[t * 3 + size_t(k)]]);
+    for (int k = 0; k < 3; ++k)
+      object.object_positions.push_back(mesh.positions[mesh.indices[t * 3 + size_t(k)]]);
     object.albedo.push_back(mesh.triangle_albedo[t]);
     object.emission.push_back(mesh.triangle_emission[t]);
     object.double_sided |= scene.materials[mesh.triangle_material[t]].double_sided;
@@ -51,18 +56,24 @@ rt::DynamicObject objectFromInstance(const Scene& scene, size_t instance_index) 
   return object;
 }
 
-Status unknownObject(ObjectId id) { return Status(StatusCode::kNotFound, "svit runtime: no object " + std::to_string(id)); }
-Status unknownLight(LightId id) { return Status(StatusCode::kNotFound, "svit runtime: no light " + std::to_string(id)); }
+Status unknownObject(ObjectId id) {
+  return Status(StatusCode::kNotFound, "svit runtime: no object " + std::to_string(id));
+}
+Status unknownLight(LightId id) {
+  return Status(StatusCode::kNotFound, "svit runtime: no light " + std::to_string(id));
+}
 
 Status noRuntimeSections(const std::string& bake_dir) {
-  return Status(StatusCode::kUnsupported, "svit runtime: the bake in " + bake_dir +
-                                              " has no runtime sections (the level had no dynamic content when baked)");
+  return Status(StatusCode::kUnsupported,
+                "svit runtime: the bake in " + bake_dir +
+                    " has no runtime sections (the level had no dynamic content when baked)");
 }
 
 bool sameLobe(const Light& a, const Light& b) {
   return a.type == b.type && a.position.x == b.position.x && a.position.y == b.position.y &&
-         a.position.z == b.position.z && a.direction.x == b.direction.x && a.direction.y == b.direction.y &&
-         a.direction.z == b.direction.z && a.inner_cone_rad == b.inner_cone_rad && a.outer_cone_rad == b.outer_cone_rad;
+         a.position.z == b.position.z && a.direction.x == b.direction.x &&
+         a.direction.y == b.direction.y && a.direction.z == b.direction.z &&
+         a.inner_cone_rad == b.inner_cone_rad && a.outer_cone_rad == b.outer_cone_rad;
 }
 
 }  // namespace
@@ -88,7 +99,8 @@ Status Runtime::Impl::addLevelContent(Runtime& runtime) {
   scene_light_to_light.assign(scene.lights.size(), -1);
   for (size_t i = 0; i < scene.lights.size(); ++i) {
     if (!scene.lights[i].dynamic) continue;
-    if (Status s = checkLight(scene.lights[i], "light '" + scene.lights[i].name + "'"); !s.ok()) return s;
+    if (Status s = checkLight(scene.lights[i], "light '" + scene.lights[i].name + "'"); !s.ok())
+      return s;
     Expected<LightId> id = runtime.addLight(scene.lights[i]);
     if (!id.ok()) return id.status();
     scene_light_to_light[i] = int(*id);
@@ -96,13 +108,15 @@ Status Runtime::Impl::addLevelContent(Runtime& runtime) {
   return Status();
 }
 
-Expected<std::unique_ptr<Runtime>> Runtime::create(const Scene& scene, const BakeData& bake, const std::string& bake_dir,
+Expected<std::unique_ptr<Runtime>> Runtime::create(const Scene& scene, const BakeData& bake,
+                                                   const std::string& bake_dir,
                                                    const RuntimeSettings& settings) {
   if (Expected<GlContextInfo> context = checkGlContext(); !context.ok()) return context.status();
   if (Status s = checkSettings(settings); !s.ok()) return s;
   if (hashLevel(scene) != bake.level_hash) {
-    return Status(StatusCode::kInvalidInput, "svit runtime: the bake in " + bake_dir + " is of another level than " +
-                                                 scene.source_path + " (level hash differs); bake it again");
+    return Status(StatusCode::kInvalidInput, "svit runtime: the bake in " + bake_dir +
+                                                 " is of another level than " + scene.source_path +
+                                                 " (level hash differs); bake it again");
   }
   Expected<rt::StaticLevel> level = rt::buildStaticLevel(scene, bake, bake_dir, settings);
   if (!level.ok()) return level.status();
@@ -135,14 +149,18 @@ uint32_t Runtime::Impl::addObjectInternal(rt::DynamicObject object) {
 ObjectId Runtime::objectForNode(int node) const {
   for (size_t i = 0; i < impl_->objects.size(); ++i) {
     const rt::DynamicObject& o = impl_->objects[i];
-    if (!o.removed && o.instance >= 0 && impl_->level.scene.instances[size_t(o.instance)].node == node) return ObjectId(i);
+    if (!o.removed && o.instance >= 0 &&
+        impl_->level.scene.instances[size_t(o.instance)].node == node)
+      return ObjectId(i);
   }
   return kInvalidId;
 }
 
 Expected<ObjectId> Runtime::addObject(const DynamicMesh& mesh, const Mat4& world_from_object) {
   if (Status s = checkMesh(mesh); !s.ok()) return s;
-  if (!finite(world_from_object)) return Status(StatusCode::kInvalidInput, "svit runtime: object '" + mesh.name + "': transform is not finite");
+  if (!finite(world_from_object))
+    return Status(StatusCode::kInvalidInput,
+                  "svit runtime: object '" + mesh.name + "': transform is not finite");
   if (!impl_->level.bake.has_runtime_sections) return noRuntimeSections(impl_->level.bake_dir);
   return impl_->addObjectInternal(objectFromMesh(mesh, world_from_object));
 }
@@ -150,11 +168,13 @@ Expected<ObjectId> Runtime::addObject(const DynamicMesh& mesh, const Mat4& world
 Status Runtime::setObjectTransform(ObjectId id, const Mat4& world_from_object) {
   if (id >= impl_->objects.size() || impl_->objects[id].removed) return unknownObject(id);
   if (!finite(world_from_object)) {
-    return Status(StatusCode::kInvalidInput, "svit runtime: object " + std::to_string(id) + ": transform is not finite");
+    return Status(StatusCode::kInvalidInput,
+                  "svit runtime: object " + std::to_string(id) + ": transform is not finite");
   }
   rt::DynamicObject& o = impl_->objects[id];
   if (o.world_from_object.m == world_from_object.m) return Status();
-  impl_->changeObject(o, [&](rt::DynamicObject& object) { object.world_from_object = world_from_object; });
+  impl_->changeObject(
+      o, [&](rt::DynamicObject& object) { object.world_from_object = world_from_object; });
   return Status();
 }
 
@@ -162,13 +182,16 @@ Status Runtime::deformObject(ObjectId id, std::span<const Vec3> positions) {
   if (id >= impl_->objects.size() || impl_->objects[id].removed) return unknownObject(id);
   rt::DynamicObject& o = impl_->objects[id];
   if (positions.size() != o.object_positions.size()) {
-    return Status(StatusCode::kInvalidInput, "svit runtime: object " + std::to_string(id) + ": " +
-                                                 std::to_string(positions.size()) + " positions, it has " +
-                                                 std::to_string(o.object_positions.size()) + " (3 per triangle)");
+    return Status(StatusCode::kInvalidInput,
+                  "svit runtime: object " + std::to_string(id) + ": " +
+                      std::to_string(positions.size()) + " positions, it has " +
+                      std::to_string(o.object_positions.size()) + " (3 per triangle)");
   }
   for (size_t i = 0; i < positions.size(); ++i) {
     if (!finite(positions[i])) {
-      return Status(StatusCode::kInvalidInput, "svit runtime: object " + std::to_string(id) + ": position " + std::to_string(i) + " is not finite");
+      return Status(StatusCode::kInvalidInput, "svit runtime: object " + std::to_string(id) +
+                                                   ": position " + std::to_string(i) +
+                                                   " is not finite");
     }
   }
   impl_->changeObject(o, [&](rt::DynamicObject& object) {
@@ -263,7 +286,9 @@ Status Runtime::setLightEnabled(LightId id, bool enabled) {
 Status Runtime::setLightDimmer(LightId id, float scale) {
   if (id >= impl_->lights.size()) return unknownLight(id);
   if (!(scale >= 0) || !std::isfinite(scale)) {
-    return Status(StatusCode::kInvalidInput, "svit runtime: light " + std::to_string(id) + ": dimmer " + std::to_string(scale) + " must be finite and >= 0");
+    return Status(StatusCode::kInvalidInput, "svit runtime: light " + std::to_string(id) +
+                                                 ": dimmer " + std::to_string(scale) +
+                                                 " must be finite and >= 0");
   }
   impl_->lights[id].dimmer = scale;
   impl_->changes.lighting_changed = true;
@@ -273,11 +298,14 @@ Status Runtime::setLightDimmer(LightId id, float scale) {
 Status Runtime::setBakedEmitterScale(uint32_t bake_emitter, float scale) {
   const size_t bake_emitters = impl_->level.bake.emitters.size();
   if (bake_emitter >= bake_emitters) {
-    return Status(StatusCode::kNotFound, "svit runtime: no baked emitter " + std::to_string(bake_emitter) + " (the bake has " +
+    return Status(StatusCode::kNotFound, "svit runtime: no baked emitter " +
+                                             std::to_string(bake_emitter) + " (the bake has " +
                                              std::to_string(bake_emitters) + ")");
   }
   if (!(scale >= 0) || !std::isfinite(scale)) {
-    return Status(StatusCode::kInvalidInput, "svit runtime: baked emitter scale " + std::to_string(scale) + " must be finite and >= 0");
+    return Status(
+        StatusCode::kInvalidInput,
+        "svit runtime: baked emitter scale " + std::to_string(scale) + " must be finite and >= 0");
   }
   if (impl_->light_scale.setEmitterScale(bake_emitter, scale)) {
     impl_->have_content = true;
@@ -312,7 +340,8 @@ Status Runtime::setView(const RuntimeView& view) {
 void Runtime::clearView() { impl_->ranking.has_view = false; }
 
 Status Runtime::setSampleBudget(int max_samples_per_frame) {
-  if (max_samples_per_frame < 0) return settingError("max_samples_per_frame", max_samples_per_frame, ">= 0");
+  if (max_samples_per_frame < 0)
+    return settingError("max_samples_per_frame", max_samples_per_frame, ">= 0");
   impl_->settings.max_samples_per_frame = max_samples_per_frame;
   return Status();
 }

@@ -31,8 +31,9 @@ rt::DeltaTerms Runtime::Impl::deltaTerms(const Emitter& e) const {
       // A bright patch (or a lamp) sends what objects change of its light,
       // at the factor its own baked light now has.
       if (e.needs_baseline && e.has_baseline && e.hasCurrent()) {
-        const double scale = e.bake_emitter != kInvalidId ? double(light_scale.emitterScale(e.bake_emitter))
-                                                          : light_scale.ofGroup(e.index);
+        const double scale = e.bake_emitter != kInvalidId
+                                 ? double(light_scale.emitterScale(e.bake_emitter))
+                                 : light_scale.ofGroup(e.index);
         t.on_current = e.flux * scale;
         t.on_baseline = -e.flux * scale;
       }
@@ -44,15 +45,16 @@ rt::DeltaTerms Runtime::Impl::deltaTerms(const Emitter& e) const {
       // Its own emission (Lambertian: exitance pi L); reflection is a bounce.
       for (size_t t_index = 0; t_index < object.emission.size(); ++t_index) {
         if (object.shooter_bin[t_index] != e.index % kObjectShooters) continue;
-        t.on_current += kPi * dvec(object.emission[t_index]) * double(receivers[object.first_receiver + t_index].area_m2);
+        t.on_current += kPi * dvec(object.emission[t_index]) *
+                        double(receivers[object.first_receiver + t_index].area_m2);
       }
       break;
     }
     case EmitterKind::kRuntimeLight: {
       const RuntimeLightState& light = lights[e.index];
       if (!e.hasCurrent() || !light.enabled || light.removed) break;
-      t.on_current = dvec(light.light.color) * double(light.light.intensity) * double(light.dimmer) *
-                     rt::lightLobeSolidAngle(light.light);
+      t.on_current = dvec(light.light.color) * double(light.light.intensity) *
+                     double(light.dimmer) * rt::lightLobeSolidAngle(light.light);
       t.direct = t.on_current;
       break;
     }

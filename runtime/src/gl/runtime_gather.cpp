@@ -15,7 +15,9 @@ namespace {
 using rt::grow;
 using Clock = std::chrono::steady_clock;
 
-double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+double msSince(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
 glm::dvec3 dvec(const Rgb& c) { return {c.r, c.g, c.b}; }
 
 void addGatherStats(FrameStats& stats, const rt::GatherStats& g) {
@@ -31,8 +33,8 @@ void addGatherStats(FrameStats& stats, const rt::GatherStats& g) {
 
 /// Samples where a static group's baseline light is (thesis 5.4): density
 /// by each member patch's baked exitance.
-std::vector<rt::PointSample> staticPatchSamples(const rt::StaticLevel& level, const Emitter& e, uint64_t seed,
-                                                uint64_t stream, bool jitter) {
+std::vector<rt::PointSample> staticPatchSamples(const rt::StaticLevel& level, const Emitter& e,
+                                                uint64_t seed, uint64_t stream, bool jitter) {
   std::vector<uint32_t> triangles;
   std::vector<double> density;
   bool any = false;
@@ -45,8 +47,8 @@ std::vector<rt::PointSample> staticPatchSamples(const rt::StaticLevel& level, co
     }
   }
   if (!any) density.clear();
-  return rt::surfaceSamples(level.static_map, 0, triangles, density, e.sample_count, level.sample_offset_m, seed,
-                            stream, jitter);
+  return rt::surfaceSamples(level.static_map, 0, triangles, density, e.sample_count,
+                            level.sample_offset_m, seed, stream, jitter);
 }
 
 }  // namespace
@@ -76,7 +78,8 @@ void Runtime::Impl::invalidateMoved() {
 /// object-space normals): uniform samples over a flat-ish group need no
 /// knowledge of where the light falls, so the result never depends on the
 /// path the object took.
-std::vector<rt::PointSample> Runtime::Impl::objectFacingSamples(const Emitter& e, uint64_t seed, uint64_t stream,
+std::vector<rt::PointSample> Runtime::Impl::objectFacingSamples(const Emitter& e, uint64_t seed,
+                                                                uint64_t stream,
                                                                 bool jitter) const {
   const uint32_t o = e.index / kObjectShooters, bin = e.index % kObjectShooters;
   const rt::DynamicObject& object = objects[o];
@@ -89,8 +92,9 @@ std::vector<rt::PointSample> Runtime::Impl::objectFacingSamples(const Emitter& e
   }
   own.front_receiver.resize(object.albedo.size(), rt::kNoReceiver);
   own.back_receiver.resize(object.albedo.size(), rt::kNoReceiver);
-  return rt::surfaceSamples(own, uint32_t(level.static_map.triangleCount()) + object_map_base[o], triangles, {},
-                            e.sample_count, level.sample_offset_m, seed, stream, jitter);
+  return rt::surfaceSamples(own, uint32_t(level.static_map.triangleCount()) + object_map_base[o],
+                            triangles, {}, e.sample_count, level.sample_offset_m, seed, stream,
+                            jitter);
 }
 
 void Runtime::Impl::refreshSamples(Emitter& e) {
@@ -113,12 +117,17 @@ void Runtime::Impl::refreshSamples(Emitter& e) {
     }
     case EmitterKind::kSky: {
       Rgb flux;
-      e.samples = rt::skySamples(scene.sky, level.window, std::max(16, e.sample_count), seed, jitter, flux);
+      e.samples =
+          rt::skySamples(scene.sky, level.window, std::max(16, e.sample_count), seed, jitter, flux);
       e.flux = dvec(flux);
       break;
     }
-    case EmitterKind::kStaticPatch: e.samples = staticPatchSamples(level, e, seed, stream, jitter); break;
-    case EmitterKind::kDynamicObject: e.samples = objectFacingSamples(e, seed, stream, jitter); break;
+    case EmitterKind::kStaticPatch:
+      e.samples = staticPatchSamples(level, e, seed, stream, jitter);
+      break;
+    case EmitterKind::kDynamicObject:
+      e.samples = objectFacingSamples(e, seed, stream, jitter);
+      break;
     case EmitterKind::kRuntimeLight:
       e.samples = rt::lightSamples(lights[e.index].light, e.sample_count, seed, stream, jitter);
       break;
@@ -129,8 +138,8 @@ void Runtime::Impl::refreshSamples(Emitter& e) {
 
 /// The samples of emitters [begin, end) of `ids`, each in its slot, with
 /// the culling its cached maps allow.
-std::vector<rt::PointSample> Runtime::Impl::batchSamples(const std::vector<uint32_t>& ids, size_t begin, size_t end,
-                                                         bool baseline) {
+std::vector<rt::PointSample> Runtime::Impl::batchSamples(const std::vector<uint32_t>& ids,
+                                                         size_t begin, size_t end, bool baseline) {
   std::vector<rt::PointSample> samples;
   for (size_t i = begin; i < end; ++i) {
     Emitter& e = emitter_set.emitters[ids[i]];
@@ -153,7 +162,8 @@ std::vector<rt::PointSample> Runtime::Impl::batchSamples(const std::vector<uint3
 
 /// One slot's row of shares as sparse shares, and the box of its samples
 /// and of everything they lit.
-rt::SparseShares Runtime::Impl::sparseRow(const Emitter& e, const float* row, Aabb& region, Aabb& source) const {
+rt::SparseShares Runtime::Impl::sparseRow(const Emitter& e, const float* row, Aabb& region,
+                                          Aabb& source) const {
   const uint32_t receiver_count = uint32_t(receivers.size());
   for (const rt::PointSample& s : e.samples) {
     if (s.lobe != rt::Lobe::kParallel) grow(source, s.position);
@@ -180,8 +190,8 @@ rt::SparseShares Runtime::Impl::sparseRow(const Emitter& e, const float* row, Aa
 
 /// Stores a gathered row as the emitter's baseline (with the static
 /// triangles its maps saw) or as its current shares.
-void Runtime::Impl::storeShares(Emitter& e, const float* row, const uint32_t* seen, size_t seen_words, bool baseline,
-                                FrameStats& stats) {
+void Runtime::Impl::storeShares(Emitter& e, const float* row, const uint32_t* seen,
+                                size_t seen_words, bool baseline, FrameStats& stats) {
   Aabb region, source;
   rt::SparseShares sparse = sparseRow(e, row, region, source);
   grow(e.reach.source_box, source);
@@ -223,7 +233,8 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
   const bool hide_dynamic = baseline && dynamic_map.triangleCount() > 0;
   if (hide_dynamic) renderer->setDynamicTriangles(rt::MapTriangles{});
   // Slots x receivers floats come back per gather; bound that to ~64 MB.
-  const size_t max_slots = std::max<size_t>(1, (size_t(16) << 20) / std::max<uint32_t>(receiver_count, 1));
+  const size_t max_slots =
+      std::max<size_t>(1, (size_t(16) << 20) / std::max<uint32_t>(receiver_count, 1));
   std::vector<float> shares;
   std::vector<uint32_t> seen;  // baseline gathers: per slot, the static triangles its maps showed
   const size_t seen_words = rt::triangleBitWords(level.static_map.triangleCount());
@@ -233,7 +244,8 @@ Status Runtime::Impl::gatherShares(std::vector<uint32_t> ids, bool baseline, Fra
     const std::vector<rt::PointSample> samples = batchSamples(ids, begin, end, baseline);
     rt::GatherStats g;
     const auto t0 = Clock::now();
-    status = renderer->gather(samples, uint32_t(end - begin), shares, &g, baseline ? &seen : nullptr);
+    status =
+        renderer->gather(samples, uint32_t(end - begin), shares, &g, baseline ? &seen : nullptr);
     if (!status.ok()) break;
     const double ms = msSince(t0);
     if (!samples.empty()) ms_per_sample = 0.5 * ms_per_sample + 0.5 * ms / double(samples.size());

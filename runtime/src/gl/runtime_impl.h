@@ -60,9 +60,10 @@ struct ViewRanking {
   bool has_view = false;  ///< setView() called (and not cleared)
   RuntimeView view;
   std::vector<uint32_t> view_pixels;  ///< per receiver, from the last view pass
-  rt::ViewWeights weights;            ///< the last view pass's weights (group shares: this update only)
-  rt::GroupView group_view;           ///< what the groups' light shows, last view
-  double top_importance = 0;          ///< the most important emitter's, last view
+  /// the last view pass's weights (group shares: this update only)
+  rt::ViewWeights weights;
+  rt::GroupView group_view;   ///< what the groups' light shows, last view
+  double top_importance = 0;  ///< the most important emitter's, last view
 };
 
 struct Runtime::Impl {
@@ -77,7 +78,8 @@ struct Runtime::Impl {
   rt::MapTriangles dynamic_map;           ///< what the maps draw for the objects now
   std::vector<RuntimeLightState> lights;
   std::vector<int> scene_light_to_light;  ///< Scene::lights index -> light id (-1)
-  bool have_content = false;              ///< dynamic objects, runtime lights or scaled baked emitters
+  /// dynamic objects, runtime lights or scaled baked emitters
+  bool have_content = false;
 
   rt::ChangeTracker changes;
   rt::EmitterSet emitter_set;
@@ -117,8 +119,10 @@ struct Runtime::Impl {
   void addRuntimeLightEmitters();
   void settleUnreachedBakedEmitters();
   void rankEmitters(bool by_view, FrameStats& stats);
-  Status refreshScheduled(const std::vector<rt::RefreshDecision>& decisions, bool by_view, FrameStats& stats);
-  bool shootWanted(std::vector<std::pair<double, uint32_t>>& wanted, double budget, FrameStats& stats, Status& status);
+  Status refreshScheduled(const std::vector<rt::RefreshDecision>& decisions, bool by_view,
+                          FrameStats& stats);
+  bool shootWanted(std::vector<std::pair<double, uint32_t>>& wanted, double budget,
+                   FrameStats& stats, Status& status);
   void publish(const Status& status, FrameStats& stats);
 
   // Shares (runtime_gather.cpp).
@@ -127,10 +131,11 @@ struct Runtime::Impl {
   std::vector<rt::PointSample> objectFacingSamples(const Emitter& e, uint64_t seed, uint64_t stream,
                                                    bool jitter) const;
   Status gatherShares(std::vector<uint32_t> emitter_ids, bool baseline, FrameStats& stats);
-  std::vector<rt::PointSample> batchSamples(const std::vector<uint32_t>& ids, size_t begin, size_t end, bool baseline);
+  std::vector<rt::PointSample> batchSamples(const std::vector<uint32_t>& ids, size_t begin,
+                                            size_t end, bool baseline);
   rt::SparseShares sparseRow(const Emitter& e, const float* row, Aabb& region, Aabb& source) const;
-  void storeShares(Emitter& e, const float* row, const uint32_t* seen, size_t seen_words, bool baseline,
-                   FrameStats& stats);
+  void storeShares(Emitter& e, const float* row, const uint32_t* seen, size_t seen_words,
+                   bool baseline, FrameStats& stats);
 
   // Reach and importance (runtime_importance.cpp).
   std::vector<int32_t> receiverGroups() const;

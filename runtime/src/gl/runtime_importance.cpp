@@ -21,11 +21,13 @@ std::vector<int32_t> Runtime::Impl::receiverGroups() const {
   // their object's facing (one pass per object, not a search per receiver).
   const size_t n = receivers.size();
   std::vector<int32_t> group_of(n, -1);
-  for (uint32_t r = 0; r < level.static_receivers; ++r) group_of[r] = int32_t(level.patches.shooter[r]);
+  for (uint32_t r = 0; r < level.static_receivers; ++r)
+    group_of[r] = int32_t(level.patches.shooter[r]);
   for (size_t o = 0; o < objects.size(); ++o) {
     const rt::DynamicObject& object = objects[o];
     for (size_t t = 0; t < object.albedo.size(); ++t) {
-      group_of[object.first_receiver + t] = int32_t(level.static_groups + o * kObjectShooters + object.shooter_bin[t]);
+      group_of[object.first_receiver + t] =
+          int32_t(level.static_groups + o * kObjectShooters + object.shooter_bin[t]);
     }
   }
   return group_of;
@@ -38,7 +40,8 @@ double Runtime::Impl::emitterScale(const Emitter& e) const {
 bool Runtime::Impl::reaches(const Emitter& e, const Aabb& box) const {
   if (!e.reach.region_known) return true;
   if (!rt::overlaps(e.reach.region, box)) return false;
-  if (e.reach.region.isEverything() || rt::overlaps(e.reach.source_box, box)) return true;  // parallel light, or at the source
+  // parallel light, or at the source
+  if (e.reach.region.isEverything() || rt::overlaps(e.reach.source_box, box)) return true;
   // Light to a patch travels inside the box of the source and the patch: an
   // object outside every such box can neither shadow what the emitter lights
   // nor catch its light (in a closed level, a lit object stands in front of
@@ -54,7 +57,8 @@ bool Runtime::Impl::reaches(const Emitter& e, const Aabb& box) const {
     return rt::overlaps(hull, box);
   };
   auto any = [&](const rt::SparseShares& shares) {
-    if (shares.blocks.empty()) return std::any_of(shares.receivers.begin(), shares.receivers.end(), hits);
+    if (shares.blocks.empty())
+      return std::any_of(shares.receivers.begin(), shares.receivers.end(), hits);
     for (size_t k = 0; k < shares.blocks.size(); ++k) {
       // Each patch of a whole static block lies in the block's bounds, so
       // a box the hull of the source and those bounds misses, every
@@ -65,7 +69,8 @@ bool Runtime::Impl::reaches(const Emitter& e, const Aabb& box) const {
         rt::grow(hull, level.static_block_bounds[block]);
         if (!rt::overlaps(hull, box)) continue;
       }
-      const size_t end = k + 1 < shares.blocks.size() ? shares.block_begin[k + 1] : shares.receivers.size();
+      const size_t end =
+          k + 1 < shares.blocks.size() ? shares.block_begin[k + 1] : shares.receivers.size();
       for (size_t i = shares.block_begin[k]; i < end; ++i) {
         if (hits(shares.receivers[i])) return true;
       }
@@ -85,7 +90,8 @@ bool Runtime::Impl::facingEmits(const Emitter& e) const {
   const rt::DynamicObject& object = objects[e.index / kObjectShooters];
   for (size_t t = 0; t < object.emission.size(); ++t) {
     const Rgb& c = object.emission[t];
-    if (object.shooter_bin[t] == e.index % kObjectShooters && (c.r > 0 || c.g > 0 || c.b > 0)) return true;
+    if (object.shooter_bin[t] == e.index % kObjectShooters && (c.r > 0 || c.g > 0 || c.b > 0))
+      return true;
   }
   return false;
 }
@@ -111,16 +117,14 @@ bool Runtime::Impl::needsMaps(const Emitter& e) const {
   switch (e.kind) {
     case EmitterKind::kBakedLight:
     case EmitterKind::kSun:
-    case EmitterKind::kSky:
-      return emitterScale(e) != 1.0 || e.reach.touched;
+    case EmitterKind::kSky: return emitterScale(e) != 1.0 || e.reach.touched;
     case EmitterKind::kStaticPatch:
       return e.bounce_requested || emitterScale(e) != 1.0 || (e.needs_baseline && e.reach.touched);
     case EmitterKind::kDynamicObject: {
       const rt::DynamicObject& object = objects[e.index / kObjectShooters];
       return object.visible && !object.removed;
     }
-    case EmitterKind::kRuntimeLight:
-      return !lights[e.index].removed && lights[e.index].enabled;
+    case EmitterKind::kRuntimeLight: return !lights[e.index].removed && lights[e.index].enabled;
   }
   return false;
 }
@@ -160,7 +164,8 @@ void Runtime::Impl::rankForView(FrameStats& stats) {
     const double rho = luminanceOf(receivers[r].albedo);
     weights.reflectance[r] = rho;
     const double area = receivers[r].area_m2;
-    weights.weight[r] = area > 0 && r < view_pixels.size() ? double(view_pixels[r]) * rho / area : 0.0;
+    weights.weight[r] =
+        area > 0 && r < view_pixels.size() ? double(view_pixels[r]) * rho / area : 0.0;
     if (r < view_pixels.size() && view_pixels[r] > 0) ++stats.visible_patches;
   }
   weights.group_of = receiverGroups();
@@ -169,7 +174,8 @@ void Runtime::Impl::rankForView(FrameStats& stats) {
   weights.group_shares.assign(group_emitter.size(), nullptr);
   for (size_t g = 0; g < group_emitter.size(); ++g) {
     const uint32_t id = group_emitter[g];
-    if (id != kInvalidId && emitters[id].hasCurrent()) weights.group_shares[g] = &emitters[id].current;
+    if (id != kInvalidId && emitters[id].hasCurrent())
+      weights.group_shares[g] = &emitters[id].current;
   }
   std::vector<rt::ImportanceQuery> queries(emitters.size());
   for (size_t i = 0; i < emitters.size(); ++i) queries[i] = importanceQuery(emitters[i], false);
@@ -185,7 +191,8 @@ void Runtime::Impl::rankForView(FrameStats& stats) {
     e.queue.interval = rt::refreshInterval(importance[i], top_importance, max_interval);
     if (!outOfDate(e)) e.queue.settled_importance = importance[i];
   }
-  stats.view_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  stats.view_ms +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 rt::ImportanceQuery Runtime::Impl::importanceQuery(const Emitter& e, bool current_only) const {
@@ -193,8 +200,8 @@ rt::ImportanceQuery Runtime::Impl::importanceQuery(const Emitter& e, bool curren
   q.flux = std::max(0.0, luminanceOf(e.flux)) * std::max(1.0, emitterScale(e));
   if (e.kind == EmitterKind::kRuntimeLight) {
     const RuntimeLightState& light = lights[e.index];
-    q.flux = std::max(0.0, luminanceOf(light.light.color) * double(light.light.intensity) * double(light.dimmer) *
-                               rt::lightLobeSolidAngle(light.light));
+    q.flux = std::max(0.0, luminanceOf(light.light.color) * double(light.light.intensity) *
+                               double(light.dimmer) * rt::lightLobeSolidAngle(light.light));
   }
   if (e.hasCurrent()) q.shares.push_back(&e.current);
   // An out-of-date cache counts what it lit and what the static level lets

@@ -59,10 +59,11 @@ void splitGroups(std::vector<Item*>& items, size_t begin, size_t end, double max
     return;
   }
   const glm::dvec3 extent = hi - lo;
-  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+  const int axis =
+      extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
   const size_t mid = begin + (end - begin) / 2;
-  std::nth_element(items.begin() + long(begin), items.begin() + long(mid), items.begin() + long(end),
-                   [axis](const Item* a, const Item* b) {
+  std::nth_element(items.begin() + long(begin), items.begin() + long(mid),
+                   items.begin() + long(end), [axis](const Item* a, const Item* b) {
                      return a->centroid[axis] < b->centroid[axis] ||
                             (a->centroid[axis] == b->centroid[axis] &&
                              std::tie(a->element, a->slot) < std::tie(b->element, b->slot));
@@ -72,13 +73,16 @@ void splitGroups(std::vector<Item*>& items, size_t begin, size_t end, double max
 }
 
 void grow(Aabb& box, const glm::dvec3& p) {
-  box.min = {std::min(box.min.x, float(p.x)), std::min(box.min.y, float(p.y)), std::min(box.min.z, float(p.z))};
-  box.max = {std::max(box.max.x, float(p.x)), std::max(box.max.y, float(p.y)), std::max(box.max.z, float(p.z))};
+  box.min = {std::min(box.min.x, float(p.x)), std::min(box.min.y, float(p.y)),
+             std::min(box.min.z, float(p.z))};
+  box.max = {std::max(box.max.x, float(p.x)), std::max(box.max.y, float(p.y)),
+             std::max(box.max.z, float(p.z))};
 }
 
 }  // namespace
 
-uint32_t RuntimePatches::subTriangle(uint32_t element, float w1, float w2, float& s1, float& s2) const {
+uint32_t RuntimePatches::subTriangle(uint32_t element, float w1, float w2, float& s1,
+                                     float& s2) const {
   if (element >= element_n.size() || element_n[element] == 0) return kNoReceiver;
   const int n = element_n[element];
   const float u = std::clamp(w1, 0.0f, 1.0f) * n, v = std::clamp(w2, 0.0f, 1.0f) * n;
@@ -110,9 +114,10 @@ struct Tessellation {
 
 // Appends element `element`'s n x n sub-triangles (of surface triangle `t`,
 // in bake patch `p`) to `tess`.
-void tessellateElement(const BakedSurfaces& surfaces, const BakeTriangleUv& uv, uint32_t p, uint32_t element,
-                       uint32_t t, int n, Tessellation& tess) {
-  const glm::dvec3 a = dvec(surfaces.corner(t, 0)), b = dvec(surfaces.corner(t, 1)), c = dvec(surfaces.corner(t, 2));
+void tessellateElement(const BakedSurfaces& surfaces, const BakeTriangleUv& uv, uint32_t p,
+                       uint32_t element, uint32_t t, int n, Tessellation& tess) {
+  const glm::dvec3 a = dvec(surfaces.corner(t, 0)), b = dvec(surfaces.corner(t, 1)),
+                   c = dvec(surfaces.corner(t, 2));
   for (int i = 0; i < n; ++i) {
     for (int j = 0; i + j < n; ++j) {
       for (int flipped = 0; flipped < 2; ++flipped) {
@@ -122,8 +127,10 @@ void tessellateElement(const BakedSurfaces& surfaces, const BakeTriangleUv& uv, 
         Item item;
         for (int k = 0; k < 3; ++k) {
           item.p[k] = a + w[k][0] * (b - a) + w[k][1] * (c - a);
-          item.uv[k] = {float((1 - w[k][0] - w[k][1]) * uv.uv[0].x + w[k][0] * uv.uv[1].x + w[k][1] * uv.uv[2].x),
-                        float((1 - w[k][0] - w[k][1]) * uv.uv[0].y + w[k][0] * uv.uv[1].y + w[k][1] * uv.uv[2].y)};
+          item.uv[k] = {float((1 - w[k][0] - w[k][1]) * uv.uv[0].x + w[k][0] * uv.uv[1].x +
+                              w[k][1] * uv.uv[2].x),
+                        float((1 - w[k][0] - w[k][1]) * uv.uv[0].y + w[k][0] * uv.uv[1].y +
+                              w[k][1] * uv.uv[2].y)};
         }
         if (element % 2 == 1) {  // the back side faces the other way: reverse the winding
           std::swap(item.p[1], item.p[2]);
@@ -143,8 +150,8 @@ void tessellateElement(const BakedSurfaces& surfaces, const BakeTriangleUv& uv, 
 
 // Every bake patch's elements, tessellated; sets out's element tables and
 // sizes its slots. Error: an element out of range.
-Status tessellatePatches(const BakeData& bake, const BakedSurfaces& surfaces, size_t page_count, double max_area_m2,
-                         RuntimePatches& out, Tessellation& tess) {
+Status tessellatePatches(const BakeData& bake, const BakedSurfaces& surfaces, size_t page_count,
+                         double max_area_m2, RuntimePatches& out, Tessellation& tess) {
   tess.patch_items.resize(bake.patches.size());
   for (uint32_t p = 0; p < bake.patches.size(); ++p) {
     const BakePatch& patch = bake.patches[p];
@@ -168,8 +175,9 @@ Status tessellatePatches(const BakeData& bake, const BakedSurfaces& surfaces, si
 // One runtime patch of bake patch `p` from the sub-triangles list[begin,
 // end): its area-weighted normal, centroid, albedo, emission and baked
 // irradiance, its sub-triangles appended to out.triangles.
-void addReceiver(const Scene& scene, const BakeData& bake, const std::vector<LightmapImage>& pages, uint32_t p,
-                 const std::vector<Item*>& list, size_t begin, size_t end, RuntimePatches& out) {
+void addReceiver(const Scene& scene, const BakeData& bake, const std::vector<LightmapImage>& pages,
+                 uint32_t p, const std::vector<Item*>& list, size_t begin, size_t end,
+                 RuntimePatches& out) {
   const uint32_t id = uint32_t(out.receivers.size());
   Receiver r;
   glm::dvec3 normal(0.0), centroid(0.0), albedo(0.0), emission(0.0), irradiance(0.0);
@@ -185,7 +193,8 @@ void addReceiver(const Scene& scene, const BakeData& bake, const std::vector<Lig
     centroid += item.centroid * item.area;
     albedo += dvec(mesh.triangle_albedo[tri.mesh_triangle]) * item.area;
     emission += kPi * dvec(mesh.triangle_emission[tri.mesh_triangle]) * item.area;
-    const Vec2 uv{(item.uv[0].x + item.uv[1].x + item.uv[2].x) / 3, (item.uv[0].y + item.uv[1].y + item.uv[2].y) / 3};
+    const Vec2 uv{(item.uv[0].x + item.uv[1].x + item.uv[2].x) / 3,
+                  (item.uv[0].y + item.uv[1].y + item.uv[2].y) / 3};
     irradiance += dvec(pages[item.page].sampleBilinear(uv)) * item.area;
     area += item.area;
     for (const glm::dvec3& q : item.p) grow(box, q);
@@ -214,8 +223,9 @@ void addReceiver(const Scene& scene, const BakeData& bake, const std::vector<Lig
 }
 
 // Groups each bake patch's sub-triangles into runtime patches.
-void groupReceivers(const Scene& scene, const BakeData& bake, const std::vector<LightmapImage>& pages,
-                    double max_area_m2, Tessellation& tess, RuntimePatches& out) {
+void groupReceivers(const Scene& scene, const BakeData& bake,
+                    const std::vector<LightmapImage>& pages, double max_area_m2, Tessellation& tess,
+                    RuntimePatches& out) {
   for (uint32_t p = 0; p < bake.patches.size(); ++p) {
     std::vector<Item*> list;
     for (size_t k : tess.patch_items[p]) list.push_back(&tess.items[k]);
@@ -264,9 +274,11 @@ void weldCorners(RuntimePatches& out) {
   for (size_t s = 0; s < subs; ++s) {
     const Receiver& r = out.receivers[out.triangles.front_receiver[s]];
     // Side key: the dominant axis and sign of the patch normal.
-    const int side = std::abs(r.normal.x) >= std::abs(r.normal.y) && std::abs(r.normal.x) >= std::abs(r.normal.z)
-                         ? (r.normal.x > 0 ? 0 : 1)
-                         : (std::abs(r.normal.y) >= std::abs(r.normal.z) ? (r.normal.y > 0 ? 2 : 3) : (r.normal.z > 0 ? 4 : 5));
+    const int side =
+        std::abs(r.normal.x) >= std::abs(r.normal.y) && std::abs(r.normal.x) >= std::abs(r.normal.z)
+            ? (r.normal.x > 0 ? 0 : 1)
+            : (std::abs(r.normal.y) >= std::abs(r.normal.z) ? (r.normal.y > 0 ? 2 : 3)
+                                                            : (r.normal.z > 0 ? 4 : 5));
     for (int c = 0; c < 3; ++c) {
       const Vec3& q = out.triangles.positions[s * 3 + size_t(c)];
       auto [it, inserted] = welded.try_emplace({q.x, q.y, q.z, side}, uint32_t(welded.size()));
@@ -278,16 +290,18 @@ void weldCorners(RuntimePatches& out) {
 
 }  // namespace
 
-Expected<RuntimePatches> buildRuntimePatches(const Scene& scene, const BakeData& bake, const BakedSurfaces& surfaces,
-                                             const std::vector<LightmapImage>& pages, double max_area_m2,
-                                             double max_shooter_area_m2) {
+Expected<RuntimePatches> buildRuntimePatches(const Scene& scene, const BakeData& bake,
+                                             const BakedSurfaces& surfaces,
+                                             const std::vector<LightmapImage>& pages,
+                                             double max_area_m2, double max_shooter_area_m2) {
   RuntimePatches out;
   const size_t elements = surfaces.triangleCount() * 2;
   out.element_n.assign(elements, 0);
   out.element_first_slot.assign(elements, 0);
   out.bake_members.resize(bake.patches.size());
   Tessellation tess;
-  if (Status s = tessellatePatches(bake, surfaces, pages.size(), max_area_m2, out, tess); !s.ok()) return s;
+  if (Status s = tessellatePatches(bake, surfaces, pages.size(), max_area_m2, out, tess); !s.ok())
+    return s;
   groupReceivers(scene, bake, pages, max_area_m2, tess, out);
   groupShooters(bake, max_shooter_area_m2, out);
   weldCorners(out);
@@ -319,7 +333,8 @@ PatchOriginals originalsByPatch(const RuntimePatches& patches) {
   out.area.assign(out.originals.size(), 0.0);
   for (size_t s = 0; s < patches.triangles.triangleCount(); ++s) {
     const uint32_t r = patches.triangles.front_receiver[s];
-    const glm::dvec3 a = dvec(patches.triangles.positions[s * 3]), b = dvec(patches.triangles.positions[s * 3 + 1]),
+    const glm::dvec3 a = dvec(patches.triangles.positions[s * 3]),
+                     b = dvec(patches.triangles.positions[s * 3 + 1]),
                      c = dvec(patches.triangles.positions[s * 3 + 2]);
     out.originals[patches.bake_patch[r]].push_back({(a + b + c) / 3.0, r, uint32_t(s)});
     out.area[patches.bake_patch[r]] += areaOf(a, b, c);
@@ -345,7 +360,8 @@ bool proxyFace(const BakeProxyMesh& proxy, const PatchOriginals& po, size_t f, u
 // wall's few proxy faces may all stand for one of its patches, leaving the
 // others none), and their pieces would only blur the patch outlines, while
 // detailed meshes shed most of their triangles.
-std::vector<bool> chooseProxyPatches(const BakeProxyMesh& proxy, const PatchOriginals& po, double max_area_m2) {
+std::vector<bool> chooseProxyPatches(const BakeProxyMesh& proxy, const PatchOriginals& po,
+                                     double max_area_m2) {
   const size_t groups = po.originals.size();
   std::vector<double> proxy_area(groups, 0.0);
   std::vector<size_t> piece_count(groups, 0);
@@ -401,7 +417,8 @@ std::vector<MapTriangles> cutProxyFaces(const BakeProxyMesh& proxy, const PatchO
           double w[3][2];
           subCorners(n, i, j, flipped != 0, w);
           glm::dvec3 p[3];
-          for (int k = 0; k < 3; ++k) p[k] = c[0] + w[k][0] * (c[1] - c[0]) + w[k][1] * (c[2] - c[0]);
+          for (int k = 0; k < 3; ++k)
+            p[k] = c[0] + w[k][0] * (c[1] - c[0]) + w[k][1] * (c[2] - c[0]);
           const glm::dvec3 centroid = (p[0] + p[1] + p[2]) / 3.0;
           const uint32_t best = nearestReceiver(po.originals[group], centroid);
           for (const glm::dvec3& q : p) pieces[group].positions.push_back(fromGlm(glm::vec3(q)));
@@ -416,7 +433,8 @@ std::vector<MapTriangles> cutProxyFaces(const BakeProxyMesh& proxy, const PatchO
 
 }  // namespace
 
-MapTriangles proxyMapTriangles(const BakeData& bake, const RuntimePatches& patches, double max_area_m2) {
+MapTriangles proxyMapTriangles(const BakeData& bake, const RuntimePatches& patches,
+                               double max_area_m2) {
   const PatchOriginals po = originalsByPatch(patches);
   const std::vector<bool> use_proxy = chooseProxyPatches(bake.proxy, po, max_area_m2);
   const std::vector<MapTriangles> pieces = cutProxyFaces(bake.proxy, po, use_proxy, max_area_m2);
@@ -425,12 +443,15 @@ MapTriangles proxyMapTriangles(const BakeData& bake, const RuntimePatches& patch
     if (use_proxy[g]) {
       const MapTriangles& p = pieces[g];
       out.positions.insert(out.positions.end(), p.positions.begin(), p.positions.end());
-      out.front_receiver.insert(out.front_receiver.end(), p.front_receiver.begin(), p.front_receiver.end());
-      out.back_receiver.insert(out.back_receiver.end(), p.back_receiver.begin(), p.back_receiver.end());
+      out.front_receiver.insert(out.front_receiver.end(), p.front_receiver.begin(),
+                                p.front_receiver.end());
+      out.back_receiver.insert(out.back_receiver.end(), p.back_receiver.begin(),
+                               p.back_receiver.end());
       continue;
     }
     for (const Original& o : po.originals[g]) {
-      for (int k = 0; k < 3; ++k) out.positions.push_back(patches.triangles.positions[size_t(o.sub) * 3 + size_t(k)]);
+      for (int k = 0; k < 3; ++k)
+        out.positions.push_back(patches.triangles.positions[size_t(o.sub) * 3 + size_t(k)]);
       out.front_receiver.push_back(patches.triangles.front_receiver[o.sub]);
       out.back_receiver.push_back(patches.triangles.back_receiver[o.sub]);
     }
@@ -438,13 +459,15 @@ MapTriangles proxyMapTriangles(const BakeData& bake, const RuntimePatches& patch
   return out;
 }
 
-std::vector<glm::dvec3> vertexValues(const RuntimePatches& patches, const std::vector<glm::dvec3>& per_patch) {
+std::vector<glm::dvec3> vertexValues(const RuntimePatches& patches,
+                                     const std::vector<glm::dvec3>& per_patch) {
   std::vector<glm::dvec3> sum(patches.vertex_count, glm::dvec3(0.0));
   std::vector<double> weight(patches.vertex_count, 0.0);
   const size_t subs = patches.triangles.triangleCount();
   for (size_t s = 0; s < subs; ++s) {
     const uint32_t r = patches.triangles.front_receiver[s];
-    const glm::dvec3 a = dvec(patches.triangles.positions[s * 3]), b = dvec(patches.triangles.positions[s * 3 + 1]),
+    const glm::dvec3 a = dvec(patches.triangles.positions[s * 3]),
+                     b = dvec(patches.triangles.positions[s * 3 + 1]),
                      c = dvec(patches.triangles.positions[s * 3 + 2]);
     const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
     for (int k = 0; k < 3; ++k) {

@@ -25,12 +25,12 @@
 namespace svit::gl {
 
 struct RuntimePatches {
-  std::vector<Receiver> receivers;         ///< per runtime patch
-  std::vector<glm::dvec3> baseline;        ///< per runtime patch: baked exitance B0, lm/m2
-  std::vector<glm::dvec3> emission;        ///< per runtime patch: own exitance pi L, lm/m2
-  std::vector<uint32_t> bake_patch;        ///< per runtime patch: the bake patch it came from
-  std::vector<uint32_t> shooter;           ///< per runtime patch: the shooter group it belongs to
-  std::vector<Aabb> bounds;                ///< per runtime patch
+  std::vector<Receiver> receivers;   ///< per runtime patch
+  std::vector<glm::dvec3> baseline;  ///< per runtime patch: baked exitance B0, lm/m2
+  std::vector<glm::dvec3> emission;  ///< per runtime patch: own exitance pi L, lm/m2
+  std::vector<uint32_t> bake_patch;  ///< per runtime patch: the bake patch it came from
+  std::vector<uint32_t> shooter;     ///< per runtime patch: the shooter group it belongs to
+  std::vector<Aabb> bounds;          ///< per runtime patch
   std::vector<std::vector<uint32_t>> bake_members;     ///< per bake patch: its runtime patches
   std::vector<std::vector<uint32_t>> shooter_members;  ///< per shooter: its runtime patches
   std::vector<uint32_t> shooter_bake_patch;            ///< per shooter: its bake patch
@@ -40,8 +40,8 @@ struct RuntimePatches {
   MapTriangles triangles;
   std::vector<uint32_t> triangle_vertices;  ///< 3 per sub-triangle: welded vertex ids
   uint32_t vertex_count = 0;
-  std::vector<uint32_t> triangle_page;      ///< per sub-triangle: lightmap page
-  std::vector<Vec2> triangle_uvs;           ///< 3 per sub-triangle: lightmap coordinates
+  std::vector<uint32_t> triangle_page;  ///< per sub-triangle: lightmap page
+  std::vector<Vec2> triangle_uvs;       ///< 3 per sub-triangle: lightmap coordinates
 
   /// Per bake element (triangle * 2 + side): tessellation n (0 = not a
   /// patch element) and where its n*n*2 sub-triangle slots start.
@@ -57,9 +57,10 @@ struct RuntimePatches {
 /// Builds the runtime patches (each at most `max_area_m2`) and the shooters
 /// (groups of them within a bake patch, each at most `max_shooter_area_m2`).
 /// Errors name the bake element that is out of range.
-Expected<RuntimePatches> buildRuntimePatches(const Scene& scene, const BakeData& bake, const BakedSurfaces& surfaces,
-                                             const std::vector<LightmapImage>& pages, double max_area_m2,
-                                             double max_shooter_area_m2);
+Expected<RuntimePatches> buildRuntimePatches(const Scene& scene, const BakeData& bake,
+                                             const BakedSurfaces& surfaces,
+                                             const std::vector<LightmapImage>& pages,
+                                             double max_area_m2, double max_shooter_area_m2);
 
 /// A bake patch's proxy is used when it takes fewer than this share of the
 /// patch's own sub-triangles and its area is within these bounds of the
@@ -73,10 +74,12 @@ inline constexpr double kProxyCoverage[2] = {0.8, 1.25};
 /// under kProxyShare of the patch's own sub-triangles and covers its area
 /// (kProxyCoverage), else those sub-triangles unchanged. Ordered by bake
 /// patch.
-MapTriangles proxyMapTriangles(const BakeData& bake, const RuntimePatches& patches, double max_area_m2);
+MapTriangles proxyMapTriangles(const BakeData& bake, const RuntimePatches& patches,
+                               double max_area_m2);
 
 /// Per welded vertex: area-weighted mean of the values of the runtime
 /// patches around it (what shading interpolates between).
-std::vector<glm::dvec3> vertexValues(const RuntimePatches& patches, const std::vector<glm::dvec3>& per_patch);
+std::vector<glm::dvec3> vertexValues(const RuntimePatches& patches,
+                                     const std::vector<glm::dvec3>& per_patch);
 
 }  // namespace svit::gl

@@ -58,7 +58,8 @@ Rgb Runtime::irradianceAt(const Vec3& point, const Vec3& normal, float max_dista
   if (hit->side == 1) std::swap(s1, s2);  // back-side sub-triangles are wound the other way
   const uint32_t* corner = &level.patches.triangle_vertices[size_t(sub) * 3];
   auto at = [&](const std::vector<glm::dvec3>& values) {
-    return values[corner[0]] * double(1 - s1 - s2) + values[corner[1]] * double(s1) + values[corner[2]] * double(s2);
+    return values[corner[0]] * double(1 - s1 - s2) + values[corner[1]] * double(s1) +
+           values[corner[2]] * double(s2);
   };
   const glm::dvec3 d = at(impl_->outputs.vertexDeltas(level.patches));
   // The lightmap's factor (dimmed baked emitters), then the added light.
@@ -76,8 +77,9 @@ uint32_t Runtime::staticPatchCount() const { return impl_->level.static_receiver
 Expected<PatchInfo> Runtime::patchInfo(uint32_t patch) const {
   const uint32_t static_receivers = impl_->level.static_receivers;
   if (patch >= static_receivers) {
-    return Status(StatusCode::kNotFound, "svit runtime: no static patch " + std::to_string(patch) + " (there are " +
-                                             std::to_string(static_receivers) + ")");
+    return Status(StatusCode::kNotFound, "svit runtime: no static patch " + std::to_string(patch) +
+                                             " (there are " + std::to_string(static_receivers) +
+                                             ")");
   }
   const rt::RuntimePatches& p = impl_->level.patches;
   const rt::Receiver& r = p.receivers[patch];
@@ -86,7 +88,8 @@ Expected<PatchInfo> Runtime::patchInfo(uint32_t patch) const {
   info.normal = r.normal;
   info.area_m2 = r.area_m2;
   info.albedo = r.albedo;
-  info.baseline_exitance = {float(p.baseline[patch].x), float(p.baseline[patch].y), float(p.baseline[patch].z)};
+  info.baseline_exitance = {float(p.baseline[patch].x), float(p.baseline[patch].y),
+                            float(p.baseline[patch].z)};
   info.bake_patch = p.bake_patch[patch];
   for (size_t t = 0; t < p.triangles.triangleCount(); ++t) {
     if (p.triangles.front_receiver[t] != patch) continue;
@@ -101,7 +104,8 @@ Expected<Rgb> Runtime::objectPatchIrradiance(ObjectId id, uint32_t triangle) con
   }
   const rt::DynamicObject& o = impl_->objects[id];
   if (triangle >= o.albedo.size()) {
-    return Status(StatusCode::kInvalidInput, "svit runtime: object " + std::to_string(id) + " has no triangle " + std::to_string(triangle));
+    return Status(StatusCode::kInvalidInput, "svit runtime: object " + std::to_string(id) +
+                                                 " has no triangle " + std::to_string(triangle));
   }
   const glm::dvec3& d = impl_->outputs.delta_total[o.first_receiver + triangle];
   return Rgb{float(d.x), float(d.y), float(d.z)};

@@ -15,19 +15,23 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+double msSince(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
 
 /// Most wanted first, ties by group.
 void sortWanted(std::vector<std::pair<double, uint32_t>>& wanted) {
-  std::sort(wanted.begin(), wanted.end(),
-            [](auto& a, auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
+  std::sort(wanted.begin(), wanted.end(), [](auto& a, auto& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  });
 }
 
 /// A flat face of an object made of several triangles shows one value:
 /// average coplanar triangles (the per-triangle estimates come from few
 /// samples each and would otherwise differ across a face's diagonal).
 /// Linear in the triangles: the faces are known from binObjectTriangles.
-void averageFlatFaces(const std::vector<rt::DynamicObject>& objects, const std::vector<rt::Receiver>& receivers,
+void averageFlatFaces(const std::vector<rt::DynamicObject>& objects,
+                      const std::vector<rt::Receiver>& receivers,
                       std::vector<glm::dvec3>& delta_total) {
   std::vector<glm::dvec3> face_sum;
   std::vector<double> face_area;
@@ -71,7 +75,8 @@ void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint3
   bounce.max_bounces = settings.max_bounces;
   bounce.stop_share = settings.bounce_stop_share;
   bounce.ambient = settings.ambient_compensation;
-  const rt::BounceResult& result = bounce_solver.solve(receivers, first, group_of, shooters, revisions, bounce);
+  const rt::BounceResult& result =
+      bounce_solver.solve(receivers, first, group_of, shooters, revisions, bounce);
   stats.bounce_rounds = uint32_t(result.rounds);
   stats.unshot_share = result.unshot_share;
   for (size_t r = 0; r < n; ++r) {
@@ -111,9 +116,10 @@ void Runtime::Impl::updateObjectsLit() {
       // far as it is wide: flux over squared distance is then about their
       // illuminance, as it is a lamp's irradiance.
       const Aabb& source_box = e.reach.source_box;
-      const glm::dvec3 source = source_box.empty() ? centre
-                                                   : 0.5 * (glm::dvec3(toGlm(source_box.min)) +
-                                                            glm::dvec3(toGlm(source_box.max)));
+      const glm::dvec3 source =
+          source_box.empty()
+              ? centre
+              : 0.5 * (glm::dvec3(toGlm(source_box.min)) + glm::dvec3(toGlm(source_box.max)));
       const glm::dvec3 d = source - centre;
       const double weight = std::max(0.0, luminanceOf(e.flux)) / std::max(glm::dot(d, d), radius2);
       total += weight;

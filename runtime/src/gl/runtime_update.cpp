@@ -18,14 +18,19 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+double msSince(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
 
 }  // namespace
 
 bool Runtime::Impl::anythingDue() const {
-  return std::any_of(emitter_set.emitters.begin(), emitter_set.emitters.end(), [&](const Emitter& e) {
-    return settings.refresh_all ? needsMaps(e) : (outOfDate(e) && needsMaps(e)) || (e.isStale() && e.needs_baseline);
-  });
+  return std::any_of(
+      emitter_set.emitters.begin(), emitter_set.emitters.end(), [&](const Emitter& e) {
+        return settings.refresh_all
+                   ? needsMaps(e)
+                   : (outOfDate(e) && needsMaps(e)) || (e.isStale() && e.needs_baseline);
+      });
 }
 
 Status Runtime::Impl::ensureRenderer() {
@@ -36,7 +41,8 @@ Status Runtime::Impl::ensureRenderer() {
   map_settings.edge_taps = settings.edge_taps;
   map_settings.neighbour_ids = settings.neighbour_ids;
   map_settings.occlusion_culling = settings.occlusion_culling;
-  Expected<std::unique_ptr<rt::IndexMapRenderer>> created = rt::IndexMapRenderer::create(map_settings);
+  Expected<std::unique_ptr<rt::IndexMapRenderer>> created =
+      rt::IndexMapRenderer::create(map_settings);
   if (!created.ok()) return created.status();
   renderer = std::move(created).value();
   renderer->setStaticTriangles(level.static_map);
@@ -72,7 +78,8 @@ void Runtime::Impl::rebuildDynamicMaps() {
     for (uint32_t bin = 0; flux > 0 && bin < kObjectShooters; ++bin) {
       const uint32_t g = level.static_groups + uint32_t(o) * kObjectShooters + bin;
       if (emitter_set.group_emitter[g] == kInvalidId) {
-        rt::addGroupEmitter(emitter_set, emitterContext(), g, false, flux, std::max(max_flux, flux));
+        rt::addGroupEmitter(emitter_set, emitterContext(), g, false, flux,
+                            std::max(max_flux, flux));
       }
     }
   }
@@ -123,8 +130,8 @@ void Runtime::Impl::rankEmitters(bool by_view, FrameStats& stats) {
 // Baselines first (the static level's shares, once per emitter); an emitter
 // nothing dynamic reaches then needs no second map. Then the current shares
 // of every scheduled emitter that is still out of date.
-Status Runtime::Impl::refreshScheduled(const std::vector<rt::RefreshDecision>& decisions, bool by_view,
-                                       FrameStats& stats) {
+Status Runtime::Impl::refreshScheduled(const std::vector<rt::RefreshDecision>& decisions,
+                                       bool by_view, FrameStats& stats) {
   std::vector<Emitter>& emitters = emitter_set.emitters;
   std::vector<uint32_t> baseline_ids, current_ids;
   for (const rt::RefreshDecision& d : decisions) {
@@ -163,8 +170,8 @@ Status Runtime::Impl::refreshScheduled(const std::vector<rt::RefreshDecision>& d
 // Receivers whose reflected delta had no shares to go through get emitters
 // (fewer samples as energy falls), budget permitting, and the bounce is
 // solved again with them. False when nothing could be shot this frame.
-bool Runtime::Impl::shootWanted(std::vector<std::pair<double, uint32_t>>& wanted, double budget, FrameStats& stats,
-                                Status& status) {
+bool Runtime::Impl::shootWanted(std::vector<std::pair<double, uint32_t>>& wanted, double budget,
+                                FrameStats& stats, Status& status) {
   std::vector<Emitter>& emitters = emitter_set.emitters;
   double total = 0, covered = 0;
   for (auto& [w, r] : wanted) total += w;
@@ -172,7 +179,8 @@ bool Runtime::Impl::shootWanted(std::vector<std::pair<double, uint32_t>>& wanted
   for (auto& [w, r] : wanted) {
     if (covered >= (1.0 - settings.bounce_stop_share) * total) break;
     covered += w;
-    const uint32_t id = rt::addGroupEmitter(emitter_set, emitterContext(), r, false, w, wanted.front().first);
+    const uint32_t id =
+        rt::addGroupEmitter(emitter_set, emitterContext(), r, false, w, wanted.front().first);
     emitters[id].bounce_requested = true;
     if (!emitters[id].hasCurrent()) fresh.push_back(id);
   }
@@ -186,17 +194,19 @@ bool Runtime::Impl::shootWanted(std::vector<std::pair<double, uint32_t>>& wanted
     bounce_candidates.push_back(c);
   }
   double left = budget;
-  for (const EmitterRefresh& r : stats.refreshes) left -= double(std::max<size_t>(emitters[r.emitter].samples.size(), 1));
+  for (const EmitterRefresh& r : stats.refreshes)
+    left -= double(std::max<size_t>(emitters[r.emitter].samples.size(), 1));
   // No budget left: the wanted shooters wait for the scheduler (by
   // importance) instead of one each pass and a solve again for it.
   if (!stats.refreshes.empty() && left <= 0) return false;
-  const std::vector<rt::RefreshDecision> chosen =
-      rt::scheduleRefreshes(bounce_candidates, changes.frame, 0.0, 1, stats.refreshes.empty() ? budget : left);
+  const std::vector<rt::RefreshDecision> chosen = rt::scheduleRefreshes(
+      bounce_candidates, changes.frame, 0.0, 1, stats.refreshes.empty() ? budget : left);
   if (chosen.empty()) return false;
   std::vector<uint32_t> ids;
   for (const rt::RefreshDecision& d : chosen) {
     ids.push_back(d.emitter);
-    stats.refreshes.push_back({d.emitter, RefreshReason::kBounce, emitters[d.emitter].queue.importance});
+    stats.refreshes.push_back(
+        {d.emitter, RefreshReason::kBounce, emitters[d.emitter].queue.importance});
   }
   status = gatherShares(ids, false, stats);
   for (uint32_t id : ids) emitters[id].reach.region_known = true;
@@ -248,17 +258,19 @@ FrameStats Runtime::Impl::update(double budget_ms) {
   double budget = std::numeric_limits<double>::infinity();
   if (!settings.refresh_all) {
     if (budget_ms > 0) budget = std::max(0.0, budget_ms - msSince(start)) / ms_per_sample;
-    if (settings.max_samples_per_frame > 0) budget = std::min(budget, double(settings.max_samples_per_frame));
+    if (settings.max_samples_per_frame > 0)
+      budget = std::min(budget, double(settings.max_samples_per_frame));
   }
-  const std::vector<rt::RefreshDecision> decisions = rt::scheduleRefreshes(
-      candidates, changes.frame, by_view ? ranking.top_importance : 0.0,
-      by_view ? uint32_t(settings.max_refresh_interval) : 1u, budget);
+  const std::vector<rt::RefreshDecision> decisions =
+      rt::scheduleRefreshes(candidates, changes.frame, by_view ? ranking.top_importance : 0.0,
+                            by_view ? uint32_t(settings.max_refresh_interval) : 1u, budget);
   Status status = refreshScheduled(decisions, by_view, stats);
 
   std::vector<std::pair<double, uint32_t>> wanted;
   solve(stats, wanted);
   const double time_limit_ms = budget_ms > 0 ? budget_ms : kNoUpperBound;
-  for (int pass = 0; status.ok() && pass < 2 && !wanted.empty() && msSince(start) < time_limit_ms; ++pass) {
+  for (int pass = 0; status.ok() && pass < 2 && !wanted.empty() && msSince(start) < time_limit_ms;
+       ++pass) {
     if (!shootWanted(wanted, budget, stats, status)) break;
   }
   changes.pending_wanted = false;

@@ -70,19 +70,25 @@ Scene frameSceneOf(const Scene& scene) {
 }
 
 bool sceneHasDynamicInstances(const Scene& scene) {
-  return std::any_of(scene.instances.begin(), scene.instances.end(), [](const Instance& i) { return i.dynamic; });
+  return std::any_of(scene.instances.begin(), scene.instances.end(),
+                     [](const Instance& i) { return i.dynamic; });
 }
 
 Status validateSettings(const SceneRendererSettings& s) {
-  auto bad = [](const std::string& what) { return Status(StatusCode::kInvalidInput, "SceneRendererSettings: " + what); };
+  auto bad = [](const std::string& what) {
+    return Status(StatusCode::kInvalidInput, "SceneRendererSettings: " + what);
+  };
   if (s.width < 1 || s.height < 1 || s.width > 16384 || s.height > 16384) {
-    return bad("size " + std::to_string(s.width) + "x" + std::to_string(s.height) + " is outside 1..16384");
+    return bad("size " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+               " is outside 1..16384");
   }
-  if (!(s.exposure > 0) || !std::isfinite(s.exposure)) return bad("exposure " + std::to_string(s.exposure) + " is not > 0");
+  if (!(s.exposure > 0) || !std::isfinite(s.exposure))
+    return bad("exposure " + std::to_string(s.exposure) + " is not > 0");
   if (s.shadow_map_size < 16 || s.shadow_map_size > 8192) {
     return bad("shadow_map_size " + std::to_string(s.shadow_map_size) + " is outside 16..8192");
   }
-  if (s.shadow_taps < 1 || s.shadow_taps > 256) return bad("shadow_taps " + std::to_string(s.shadow_taps) + " is outside 1..256");
+  if (s.shadow_taps < 1 || s.shadow_taps > 256)
+    return bad("shadow_taps " + std::to_string(s.shadow_taps) + " is outside 1..256");
   return Status();
 }
 
@@ -97,16 +103,21 @@ struct FramePass {
 // A camera that can be drawn from, or an error naming what is wrong.
 Status checkCamera(const Camera& camera) {
   if (!finite(camera.position) || !finite(camera.look_at) || !finite(camera.up)) {
-    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera position, look_at or up is not finite");
+    return Status(StatusCode::kInvalidInput,
+                  "SceneRenderer::render: camera position, look_at or up is not finite");
   }
-  const glm::vec3 eye = toGlm(camera.position), centre = toGlm(camera.look_at), up = toGlm(camera.up);
+  const glm::vec3 eye = toGlm(camera.position), centre = toGlm(camera.look_at),
+                  up = toGlm(camera.up);
   const glm::vec3 forward = centre - eye;
   if (!(glm::length(forward) > 0) || !(glm::length(glm::cross(forward, up)) > 0)) {
-    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera looks nowhere (look_at == position or along up)");
+    return Status(StatusCode::kInvalidInput,
+                  "SceneRenderer::render: camera looks nowhere (look_at == position or along up)");
   }
-  if (!(camera.yfov_rad > 0 && camera.yfov_rad < float(kPi)) || !(camera.near_m > 0 && camera.far_m > camera.near_m)) {
-    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera yfov_rad " + std::to_string(camera.yfov_rad) +
-                                                 " or near/far " + std::to_string(camera.near_m) + "/" +
+  if (!(camera.yfov_rad > 0 && camera.yfov_rad < float(kPi)) ||
+      !(camera.near_m > 0 && camera.far_m > camera.near_m)) {
+    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera yfov_rad " +
+                                                 std::to_string(camera.yfov_rad) + " or near/far " +
+                                                 std::to_string(camera.near_m) + "/" +
                                                  std::to_string(camera.far_m) + " out of range");
   }
   return Status();
@@ -145,16 +156,19 @@ struct SceneRenderer::Impl {
   float delta_reference_lux = 1;
 
   void uploadStaticMesh(const gl::StaticMesh& mesh);
-  float emitterScale(int emitter) const { return emitter >= 0 ? emitter_scale[size_t(emitter)] : 1.0f; }
-  std::vector<gl::FrameLight> frameLights(bool with_runtime_lights, bool with_baked_lights, bool scale_baked,
-                                          size_t* baked_count) const;
-  void setSharedUniforms(const glm::mat4& clip_from_world, ShadingView view, int light_begin, int light_end) const;
+  float emitterScale(int emitter) const {
+    return emitter >= 0 ? emitter_scale[size_t(emitter)] : 1.0f;
+  }
+  std::vector<gl::FrameLight> frameLights(bool with_runtime_lights, bool with_baked_lights,
+                                          bool scale_baked, size_t* baked_count) const;
+  void setSharedUniforms(const glm::mat4& clip_from_world, ShadingView view, int light_begin,
+                         int light_end) const;
 
   // render()'s stages: the shadow maps of `lights` (casters: everything
   // drawn); the target bound, its state set and cleared; the static mesh's
   // batches; the dynamic objects; the target released.
-  void renderShadowMaps(const std::vector<gl::FrameLight>& lights, bool has_dynamic, bool casters_changed,
-                        RenderStats& stats);
+  void renderShadowMaps(const std::vector<gl::FrameLight>& lights, bool has_dynamic,
+                        bool casters_changed, RenderStats& stats);
   void beginFrame(bool to_default_framebuffer) const;
   void drawStatic(const FramePass& pass, const ShadingResources& resources, bool runtime_view,
                   RenderStats& stats) const;
@@ -167,7 +181,8 @@ void SceneRenderer::Impl::uploadStaticMesh(const gl::StaticMesh& mesh) {
   static_vertex_count = uint32_t(mesh.vertices.size());
   static_bounds = mesh.bounds;
   static_buffer = gl::createGlBuffer();
-  glNamedBufferStorage(static_buffer.id(), GLsizeiptr(mesh.vertices.size() * sizeof(gl::StaticVertex)),
+  glNamedBufferStorage(static_buffer.id(),
+                       GLsizeiptr(mesh.vertices.size() * sizeof(gl::StaticVertex)),
                        mesh.vertices.data(), 0);
   static_vao = gl::createGlVertexArray();
   const GLuint vao = static_vao.id();
@@ -194,8 +209,10 @@ void SceneRenderer::Impl::uploadStaticMesh(const gl::StaticMesh& mesh) {
 // Baked lights first (stable slots: their maps survive view switches and
 // dimming to 0), scaled like their bake emitters when `scale_baked`, then
 // the runtime's enabled lights.
-std::vector<gl::FrameLight> SceneRenderer::Impl::frameLights(bool with_runtime_lights, bool with_baked_lights,
-                                                             bool scale_baked, size_t* baked_count) const {
+std::vector<gl::FrameLight> SceneRenderer::Impl::frameLights(bool with_runtime_lights,
+                                                             bool with_baked_lights,
+                                                             bool scale_baked,
+                                                             size_t* baked_count) const {
   std::vector<gl::FrameLight> lights;
   auto scaled = [](const Light& l, float dimmer) {
     const float s = l.intensity * dimmer;
@@ -211,7 +228,8 @@ std::vector<gl::FrameLight> SceneRenderer::Impl::frameLights(bool with_runtime_l
       Light sun;
       sun.name = "sun";
       sun.type = LightType::kDirectional;
-      sun.direction = {-scene.sun.direction_to_sun.x, -scene.sun.direction_to_sun.y, -scene.sun.direction_to_sun.z};
+      sun.direction = {-scene.sun.direction_to_sun.x, -scene.sun.direction_to_sun.y,
+                       -scene.sun.direction_to_sun.z};
       sun.color = scene.sun.color;
       sun.intensity = scene.sun.illuminance_lux;
       lights.push_back({sun, scaled(sun, scale_baked ? emitterScale(sun_emitter) : 1.0f), true});
@@ -228,15 +246,16 @@ std::vector<gl::FrameLight> SceneRenderer::Impl::frameLights(bool with_runtime_l
     } else {
       // No runtime: the level's runtime lights as the level places them.
       for (const Light& l : scene.lights) {
-        if (l.dynamic && l.intensity > 0 && l.type != LightType::kDirectional) lights.push_back({l, scaled(l, 1.0f), true});
+        if (l.dynamic && l.intensity > 0 && l.type != LightType::kDirectional)
+          lights.push_back({l, scaled(l, 1.0f), true});
       }
     }
   }
   return lights;
 }
 
-void SceneRenderer::Impl::setSharedUniforms(const glm::mat4& clip_from_world, ShadingView view, int light_begin,
-                                            int light_end) const {
+void SceneRenderer::Impl::setSharedUniforms(const glm::mat4& clip_from_world, ShadingView view,
+                                            int light_begin, int light_end) const {
   glUniformMatrix4fv(b::kClipFromWorld, 1, GL_FALSE, glm::value_ptr(clip_from_world));
   glUniform1i(b::kView, int(view));
   glUniform1f(b::kExposure, exposure);
@@ -250,15 +269,17 @@ void SceneRenderer::Impl::setSharedUniforms(const glm::mat4& clip_from_world, Sh
 SceneRenderer::SceneRenderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 SceneRenderer::~SceneRenderer() = default;
 
-Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene, const BakeData& bake,
-                                                               const std::string& bake_dir, const Runtime* runtime,
-                                                               const SceneRendererSettings& settings) {
+Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(
+    const Scene& scene, const BakeData& bake, const std::string& bake_dir, const Runtime* runtime,
+    const SceneRendererSettings& settings) {
   Expected<GlContextInfo> context = checkGlContext();
-  if (!context.ok()) return Status(context.status().code(), "SceneRenderer: " + context.status().message());
+  if (!context.ok())
+    return Status(context.status().code(), "SceneRenderer: " + context.status().message());
   Status valid = validateSettings(settings);
   if (!valid.ok()) return valid;
   Expected<gl::StaticMesh> mesh = gl::buildStaticMesh(scene, bake);
-  if (!mesh.ok()) return Status(mesh.status().code(), bake_dir + "/bake.svit: " + mesh.status().message());
+  if (!mesh.ok())
+    return Status(mesh.status().code(), bake_dir + "/bake.svit: " + mesh.status().message());
 
   auto impl = std::make_unique<Impl>();
   impl->scene = frameSceneOf(scene);
@@ -268,7 +289,8 @@ Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scen
   impl->light_emitter.assign(scene.lights.size(), -1);
   for (size_t e = 0; e < bake.emitters.size(); ++e) {
     const BakeEmitter& be = bake.emitters[e];
-    if (be.kind == BakeEmitter::Kind::kLight && be.index < scene.lights.size()) impl->light_emitter[be.index] = int(e);
+    if (be.kind == BakeEmitter::Kind::kLight && be.index < scene.lights.size())
+      impl->light_emitter[be.index] = int(e);
     if (be.kind == BakeEmitter::Kind::kSun) impl->sun_emitter = int(e);
   }
 
@@ -283,11 +305,12 @@ Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scen
   if (!materials.ok()) return materials.status();
   impl->materials = std::move(materials).value();
 
-  Expected<gl::GlProgram> static_program =
-      gl::linkProgram({"lit_static.vert", "lit_static.frag", "svit_shading.frag", "svit_runtime_delta.frag"});
+  Expected<gl::GlProgram> static_program = gl::linkProgram(
+      {"lit_static.vert", "lit_static.frag", "svit_shading.frag", "svit_runtime_delta.frag"});
   if (!static_program.ok()) return static_program.status();
   impl->static_program = std::move(static_program).value();
-  Expected<gl::GlProgram> dynamic_program = gl::linkProgram({"lit_dynamic.vert", "lit_dynamic.frag", "svit_shading.frag"});
+  Expected<gl::GlProgram> dynamic_program =
+      gl::linkProgram({"lit_dynamic.vert", "lit_dynamic.frag", "svit_shading.frag"});
   if (!dynamic_program.ok()) return dynamic_program.status();
   impl->dynamic_program = std::move(dynamic_program).value();
   Expected<gl::LightShadowMaps> shadows = gl::LightShadowMaps::create(settings.shadow_map_size);
@@ -301,20 +324,23 @@ Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scen
     if (!probes.ok()) return probes.status();
     impl->probes = std::move(probes).value();
   }
-  Expected<gl::OffscreenTarget> target = gl::OffscreenTarget::create(settings.width, settings.height);
+  Expected<gl::OffscreenTarget> target =
+      gl::OffscreenTarget::create(settings.width, settings.height);
   if (!target.ok()) return target.status();
   impl->target = std::move(target).value();
 
   const double log_mean = impl->lightmaps.logMeanIrradiance();
   impl->delta_reference_lux = log_mean > 0 ? float(log_mean) : 1.0f;
-  impl->exposure = settings.auto_exposure && log_mean > 0 ? float(settings.exposure * kExposureKey * kPi / log_mean)
-                                                          : settings.exposure;
+  impl->exposure = settings.auto_exposure && log_mean > 0
+                       ? float(settings.exposure * kExposureKey * kPi / log_mean)
+                       : settings.exposure;
   Status error = gl::checkGlError("SceneRenderer::create");
   if (!error.ok()) return error;
   return std::unique_ptr<SceneRenderer>(new SceneRenderer(std::move(impl)));
 }
 
-Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView view, bool to_default_framebuffer) {
+Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView view,
+                                            bool to_default_framebuffer) {
   Impl& s = *impl_;
   const auto start = std::chrono::steady_clock::now();
   if (Status valid = checkCamera(camera); !valid.ok()) return valid;
@@ -337,10 +363,12 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   // The frame.
   s.beginFrame(to_default_framebuffer);
   const int width = s.settings.width, height = s.settings.height;
-  const glm::vec3 eye = toGlm(camera.position), centre = toGlm(camera.look_at), up = toGlm(camera.up);
+  const glm::vec3 eye = toGlm(camera.position), centre = toGlm(camera.look_at),
+                  up = toGlm(camera.up);
   FramePass pass;
-  pass.clip_from_world = glm::perspective(camera.yfov_rad, float(width) / float(height), camera.near_m, camera.far_m) *
-                         glm::lookAt(eye, centre, up);
+  pass.clip_from_world =
+      glm::perspective(camera.yfov_rad, float(width) / float(height), camera.near_m, camera.far_m) *
+      glm::lookAt(eye, centre, up);
   pass.view = view;
   pass.baked_lights = int(baked_lights);
   pass.light_count = int(lights.size());
@@ -351,17 +379,21 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   Status error = gl::checkGlError("SceneRenderer::render");
   if (!error.ok()) return error;
   if (!to_default_framebuffer) s.has_offscreen_frame = true;
-  stats.shading_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.shading_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }
 
-void SceneRenderer::Impl::renderShadowMaps(const std::vector<gl::FrameLight>& lights, bool has_dynamic,
-                                           bool casters_changed, RenderStats& stats) {
+void SceneRenderer::Impl::renderShadowMaps(const std::vector<gl::FrameLight>& lights,
+                                           bool has_dynamic, bool casters_changed,
+                                           RenderStats& stats) {
   Aabb bounds = static_bounds;
   if (has_dynamic) {
     const Aabb& d = dynamic_objects.bounds();
-    bounds.min = {std::min(bounds.min.x, d.min.x), std::min(bounds.min.y, d.min.y), std::min(bounds.min.z, d.min.z)};
-    bounds.max = {std::max(bounds.max.x, d.max.x), std::max(bounds.max.y, d.max.y), std::max(bounds.max.z, d.max.z)};
+    bounds.min = {std::min(bounds.min.x, d.min.x), std::min(bounds.min.y, d.min.y),
+                  std::min(bounds.min.z, d.min.z)};
+    bounds.max = {std::max(bounds.max.x, d.max.x), std::max(bounds.max.y, d.max.y),
+                  std::max(bounds.max.z, d.max.z)};
   }
   const std::vector<Aabb>& moved = dynamic_objects.movedBoxes();
   stats.shadow_maps_rendered = shadows.update(lights, bounds, casters_changed, &moved, [&] {
@@ -391,8 +423,8 @@ void SceneRenderer::Impl::beginFrame(bool to_default_framebuffer) const {
 }
 
 // Static geometry: runtime lights only (baked lights are in the lightmap).
-void SceneRenderer::Impl::drawStatic(const FramePass& pass, const ShadingResources& resources, bool runtime_view,
-                                     RenderStats& stats) const {
+void SceneRenderer::Impl::drawStatic(const FramePass& pass, const ShadingResources& resources,
+                                     bool runtime_view, RenderStats& stats) const {
   const std::vector<uint32_t>& delta_maps = resources.delta_textures;
   const bool static_deltas = delta_maps.empty() && resources.vertex_deltas != 0;
   glUseProgram(static_program.id());
@@ -414,8 +446,9 @@ void SceneRenderer::Impl::drawStatic(const FramePass& pass, const ShadingResourc
       bound_material = batch.material;
     }
     // A dimmed lamp looks dimmed (the bake as baked in kBakedOnly).
-    const float emission_scale =
-        runtime_view && batch.emitter != gl::kNoBakeEmitter ? emitterScale(int(batch.emitter)) : 1.0f;
+    const float emission_scale = runtime_view && batch.emitter != gl::kNoBakeEmitter
+                                     ? emitterScale(int(batch.emitter))
+                                     : 1.0f;
     if (emission_scale != bound_emission_scale) {
       glUniform1f(b::kEmissionScale, emission_scale);
       bound_emission_scale = emission_scale;
@@ -434,7 +467,8 @@ void SceneRenderer::Impl::drawStatic(const FramePass& pass, const ShadingResourc
 }
 
 // Dynamic objects: probes + baked lights, + runtime lights and deltas.
-void SceneRenderer::Impl::drawDynamic(const FramePass& pass, uint32_t delta_buffer, RenderStats& stats) const {
+void SceneRenderer::Impl::drawDynamic(const FramePass& pass, uint32_t delta_buffer,
+                                      RenderStats& stats) const {
   glUseProgram(dynamic_program.id());
   setSharedUniforms(pass.clip_from_world, pass.view, 0,
                     pass.view == ShadingView::kRuntime ? pass.light_count : pass.baked_lights);
@@ -459,12 +493,14 @@ void SceneRenderer::Impl::endFrame(bool to_default_framebuffer) const {
 Status SceneRenderer::setBakedEmitterScale(uint32_t bake_emitter, float scale) {
   Impl& s = *impl_;
   if (bake_emitter >= s.emitter_scale.size()) {
-    return Status(StatusCode::kNotFound, "SceneRenderer: no baked emitter " + std::to_string(bake_emitter) +
-                                             " (the bake has " + std::to_string(s.emitter_scale.size()) + ")");
+    return Status(StatusCode::kNotFound, "SceneRenderer: no baked emitter " +
+                                             std::to_string(bake_emitter) + " (the bake has " +
+                                             std::to_string(s.emitter_scale.size()) + ")");
   }
   if (!(scale >= 0) || !std::isfinite(scale)) {
-    return Status(StatusCode::kInvalidInput,
-                  "SceneRenderer: baked emitter scale " + std::to_string(scale) + " must be finite and >= 0");
+    return Status(
+        StatusCode::kInvalidInput,
+        "SceneRenderer: baked emitter scale " + std::to_string(scale) + " must be finite and >= 0");
   }
   s.emitter_scale[bake_emitter] = scale;
   return Status();
@@ -478,7 +514,8 @@ std::vector<uint8_t> SceneRenderer::readPixels() const {
 }
 
 Status SceneRenderer::writePng(const std::string& path) const {
-  if (!impl_->has_offscreen_frame) return Status(StatusCode::kInvalidInput, path + ": no offscreen frame rendered yet");
+  if (!impl_->has_offscreen_frame)
+    return Status(StatusCode::kInvalidInput, path + ": no offscreen frame rendered yet");
   return gl::writeRgbPng(path, impl_->target.width(), impl_->target.height(), readPixels());
 }
 
@@ -493,7 +530,8 @@ std::vector<uint8_t> SceneRenderer::readSurfaceKinds() const {
 }
 
 Status SceneRenderer::writeExr(const std::string& path) const {
-  if (!impl_->has_offscreen_frame) return Status(StatusCode::kInvalidInput, path + ": no offscreen frame rendered yet");
+  if (!impl_->has_offscreen_frame)
+    return Status(StatusCode::kInvalidInput, path + ": no offscreen frame rendered yet");
   return gl::writeRgbExr(path, impl_->target.width(), impl_->target.height(), readRadiance());
 }
 
@@ -513,7 +551,8 @@ void SceneRenderer::resize(int width, int height) {
 
 std::vector<ResourceUse> SceneRenderer::resources() const {
   const Impl& s = *impl_;
-  auto use = [](std::string name, const std::vector<gl::GlObject>& objects, std::string why, std::string why_not) {
+  auto use = [](std::string name, const std::vector<gl::GlObject>& objects, std::string why,
+                std::string why_not) {
     ResourceUse out = gl::measuredUse(std::move(name), objects);
     out.reason = out.allocated ? std::move(why) : std::move(why_not);
     return out;
@@ -526,21 +565,26 @@ std::vector<ResourceUse> SceneRenderer::resources() const {
                     "base colour of the materials that use one; " + std::to_string(skipped) +
                         " scene textures no material samples (normal, roughness) not uploaded",
                     ""));
-  out.push_back(use("lightmap textures", s.lightmaps.glObjects(), "its own copy: drawn without a runtime",
-                    s.lightmaps.borrowed() ? "borrowed from the runtime (counted there): one copy" : "no lightmap pages"));
-  out.push_back(use("light shadow maps", s.shadows.glObjects(),
-                    std::to_string(s.shadows.lightCount()) +
-                        " lights drawn per pixel (runtime lights; baked ones while dynamic objects need them)",
-                    "no light to draw per pixel: no runtime lights, and no baked point, spot or sun light while "
-                    "dynamic objects exist (or nothing rendered yet)"));
-  out.push_back(use("probe grid textures", s.probes.glObjects(), "indirect light of dynamic objects",
-                    "no dynamic objects can exist (no runtime, none in the level), or the bake has no probes"));
-  ResourceUse dynamic = use("dynamic object vertex buffer", s.dynamic_objects.glObjects(), "the objects as last drawn",
-                            "no dynamic objects drawn");
+  out.push_back(use("lightmap textures", s.lightmaps.glObjects(),
+                    "its own copy: drawn without a runtime",
+                    s.lightmaps.borrowed() ? "borrowed from the runtime (counted there): one copy"
+                                           : "no lightmap pages"));
+  out.push_back(use(
+      "light shadow maps", s.shadows.glObjects(),
+      std::to_string(s.shadows.lightCount()) +
+          " lights drawn per pixel (runtime lights; baked ones while dynamic objects need them)",
+      "no light to draw per pixel: no runtime lights, and no baked point, spot or sun light while "
+      "dynamic objects exist (or nothing rendered yet)"));
+  out.push_back(use(
+      "probe grid textures", s.probes.glObjects(), "indirect light of dynamic objects",
+      "no dynamic objects can exist (no runtime, none in the level), or the bake has no probes"));
+  ResourceUse dynamic = use("dynamic object vertex buffer", s.dynamic_objects.glObjects(),
+                            "the objects as last drawn", "no dynamic objects drawn");
   dynamic.cpu_bytes = s.dynamic_objects.hostBytes();
   out.push_back(dynamic);
   out.push_back(use("offscreen target (colour + radiance + depth)", s.target.glObjects(),
-                    std::to_string(s.settings.width) + " x " + std::to_string(s.settings.height), ""));
+                    std::to_string(s.settings.width) + " x " + std::to_string(s.settings.height),
+                    ""));
   return out;
 }
 

@@ -24,8 +24,10 @@ void appendObject(const std::vector<Vec3>& world, const Mat4& world_from_object,
                   const std::vector<Rgb>& emission, uint32_t first_patch, uint32_t patch_count,
                   std::vector<DynamicVertex>& out, Aabb& bounds) {
   const size_t triangles = world.size() / 3;
-  const bool mesh_normals = mesh != nullptr && mesh->triangleCount() == triangles && !mesh->normals.empty();
-  const glm::mat3 normal_from_object = glm::transpose(glm::inverse(glm::mat3(toGlm(world_from_object))));
+  const bool mesh_normals =
+      mesh != nullptr && mesh->triangleCount() == triangles && !mesh->normals.empty();
+  const glm::mat3 normal_from_object =
+      glm::transpose(glm::inverse(glm::mat3(toGlm(world_from_object))));
   for (size_t t = 0; t < triangles; ++t) {
     const glm::vec3 p[3] = {toGlm(world[t * 3]), toGlm(world[t * 3 + 1]), toGlm(world[t * 3 + 2])};
     const glm::vec3 cross = glm::cross(p[1] - p[0], p[2] - p[0]);
@@ -43,9 +45,11 @@ void appendObject(const std::vector<Vec3>& world, const Mat4& world_from_object,
     for (int k = 0; k < 3; ++k) {
       glm::vec3 n = face;
       if (mesh_normals) {
-        const glm::vec3 m = normal_from_object * toGlm(mesh->normals[mesh->indices[t * 3 + size_t(k)]]);
+        const glm::vec3 m =
+            normal_from_object * toGlm(mesh->normals[mesh->indices[t * 3 + size_t(k)]]);
         const float m_length = glm::length(m);
-        if (m_length > 0 && std::isfinite(m_length)) n = glm::dot(m, face) < 0 ? -m / m_length : m / m_length;
+        if (m_length > 0 && std::isfinite(m_length))
+          n = glm::dot(m, face) < 0 ? -m / m_length : m / m_length;
       }
       DynamicVertex v{};
       v.position[0] = p[k].x, v.position[1] = p[k].y, v.position[2] = p[k].z;
@@ -57,15 +61,19 @@ void appendObject(const std::vector<Vec3>& world, const Mat4& world_from_object,
       v.patch = t < patch_count ? first_patch + uint32_t(t) : kNoDynamicPatch;
       v.double_sided = double_sided ? 1u : 0u;
       out.push_back(v);
-      bounds.min = {std::min(bounds.min.x, p[k].x), std::min(bounds.min.y, p[k].y), std::min(bounds.min.z, p[k].z)};
-      bounds.max = {std::max(bounds.max.x, p[k].x), std::max(bounds.max.y, p[k].y), std::max(bounds.max.z, p[k].z)};
+      bounds.min = {std::min(bounds.min.x, p[k].x), std::min(bounds.min.y, p[k].y),
+                    std::min(bounds.min.z, p[k].z)};
+      bounds.max = {std::max(bounds.max.x, p[k].x), std::max(bounds.max.y, p[k].y),
+                    std::max(bounds.max.z, p[k].z)};
     }
   }
 }
 
 }  // namespace
 
-DynamicObjectMeshes::DynamicObjectMeshes(DynamicObjectMeshes&& other) noexcept { *this = std::move(other); }
+DynamicObjectMeshes::DynamicObjectMeshes(DynamicObjectMeshes&& other) noexcept {
+  *this = std::move(other);
+}
 
 DynamicObjectMeshes& DynamicObjectMeshes::operator=(DynamicObjectMeshes&& other) noexcept {
   if (this != &other) {
@@ -91,15 +99,16 @@ void DynamicObjectMeshes::release() {
   capacity_ = 0;
 }
 
-std::vector<DynamicObjectMeshes::ObjectSpan> DynamicObjectMeshes::gatherVertices(const Scene& scene,
-                                                                                 const Runtime* runtime) {
+std::vector<DynamicObjectMeshes::ObjectSpan> DynamicObjectMeshes::gatherVertices(
+    const Scene& scene, const Runtime* runtime) {
   vertices_.clear();
   bounds_ = Aabb{};
   std::vector<ObjectSpan> objects;
   // Closes the object whose vertices start at `first`: its hash and box.
   auto endObject = [&](size_t first) {
     ObjectSpan span;
-    span.hash = fnv1a64(vertices_.data() + first, (vertices_.size() - first) * sizeof(DynamicVertex));
+    span.hash =
+        fnv1a64(vertices_.data() + first, (vertices_.size() - first) * sizeof(DynamicVertex));
     for (size_t v = first; v < vertices_.size(); ++v) {
       const float* p = vertices_[v].position;
       span.bounds.min = {std::min(span.bounds.min.x, p[0]), std::min(span.bounds.min.y, p[1]),
@@ -119,18 +128,21 @@ std::vector<DynamicObjectMeshes::ObjectSpan> DynamicObjectMeshes::gatherVertices
         if (m >= 0 && size_t(m) < scene.meshes.size()) mesh = &scene.meshes[size_t(m)];
       }
       const size_t first = vertices_.size();
-      appendObject(info->world_positions, info->world_from_object, mesh, &scene.materials, info->triangle_albedo,
-                   info->triangle_emission, info->first_patch, info->patch_count, vertices_, bounds_);
+      appendObject(info->world_positions, info->world_from_object, mesh, &scene.materials,
+                   info->triangle_albedo, info->triangle_emission, info->first_patch,
+                   info->patch_count, vertices_, bounds_);
       endObject(first);
     }
   } else {
     std::vector<Vec3> world;
     for (const Instance& instance : scene.instances) {
-      if (!instance.dynamic || instance.mesh < 0 || size_t(instance.mesh) >= scene.meshes.size()) continue;
+      if (!instance.dynamic || instance.mesh < 0 || size_t(instance.mesh) >= scene.meshes.size())
+        continue;
       const Mesh& mesh = scene.meshes[size_t(instance.mesh)];
       const glm::mat4 m = toGlm(instance.world_from_object);
       world.clear();
-      for (uint32_t index : mesh.indices) world.push_back(fromGlm(transformPoint(m, toGlm(mesh.positions[index]))));
+      for (uint32_t index : mesh.indices)
+        world.push_back(fromGlm(transformPoint(m, toGlm(mesh.positions[index]))));
       const size_t first = vertices_.size();
       appendObject(world, instance.world_from_object, &mesh, &scene.materials, mesh.triangle_albedo,
                    mesh.triangle_emission, 0, 0, vertices_, bounds_);
@@ -161,9 +173,10 @@ void DynamicObjectMeshes::upload() {
     if (!vao_) {
       vao_ = createGlVertexArray();
       const GLuint vao = vao_.id();
-      const GLuint offsets[6] = {offsetof(DynamicVertex, position), offsetof(DynamicVertex, normal),
-                                 offsetof(DynamicVertex, albedo),   offsetof(DynamicVertex, emission),
-                                 offsetof(DynamicVertex, centroid), offsetof(DynamicVertex, face_normal)};
+      const GLuint offsets[6] = {
+          offsetof(DynamicVertex, position), offsetof(DynamicVertex, normal),
+          offsetof(DynamicVertex, albedo),   offsetof(DynamicVertex, emission),
+          offsetof(DynamicVertex, centroid), offsetof(DynamicVertex, face_normal)};
       for (GLuint a = 0; a < 6; ++a) {
         glEnableVertexArrayAttrib(vao, a);
         glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, offsets[a]);
@@ -175,7 +188,8 @@ void DynamicObjectMeshes::upload() {
     }
     glVertexArrayVertexBuffer(vao_.id(), 0, buffer_.id(), 0, sizeof(DynamicVertex));
   }
-  glNamedBufferSubData(buffer_.id(), 0, GLsizeiptr(vertices_.size() * sizeof(DynamicVertex)), vertices_.data());
+  glNamedBufferSubData(buffer_.id(), 0, GLsizeiptr(vertices_.size() * sizeof(DynamicVertex)),
+                       vertices_.data());
 }
 
 bool DynamicObjectMeshes::update(const Scene& scene, const Runtime* runtime) {

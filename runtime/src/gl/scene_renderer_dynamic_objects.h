@@ -17,13 +17,13 @@ namespace svit::gl {
 
 /// A dynamic triangle corner as lit_dynamic.vert reads it.
 struct DynamicVertex {
-  float position[3];  ///< world, metres
-  float normal[3];    ///< world, unit, front side
-  float albedo[3];    ///< diffuse reflectance (the triangle's mean)
-  float emission[3];  ///< luminance, cd/m2
-  float centroid[3];  ///< the triangle's, world metres (where the runtime's value applies)
-  float face_normal[3];  ///< the triangle's, world, unit
-  uint32_t patch;     ///< its patch in the runtime's delta buffer, or 0xffffffff
+  float position[3];      ///< world, metres
+  float normal[3];        ///< world, unit, front side
+  float albedo[3];        ///< diffuse reflectance (the triangle's mean)
+  float emission[3];      ///< luminance, cd/m2
+  float centroid[3];      ///< the triangle's, world metres (where the runtime's value applies)
+  float face_normal[3];   ///< the triangle's, world, unit
+  uint32_t patch;         ///< its patch in the runtime's delta buffer, or 0xffffffff
   uint32_t double_sided;  ///< 1: lit and emitting on both sides
 };
 static_assert(sizeof(DynamicVertex) == 80, "lit_dynamic.vert reads this layout");

@@ -31,10 +31,12 @@ struct LogMean {
 
 }  // namespace
 
-Expected<LightmapTextures> LightmapTextures::borrow(const BakeData& bake, const std::vector<uint32_t>& textures) {
+Expected<LightmapTextures> LightmapTextures::borrow(const BakeData& bake,
+                                                    const std::vector<uint32_t>& textures) {
   if (textures.size() != bake.pages.size()) {
-    return Status(StatusCode::kInvalidInput, "runtime lightmap textures: " + std::to_string(textures.size()) +
-                                                 " for " + std::to_string(bake.pages.size()) + " bake pages");
+    return Status(StatusCode::kInvalidInput,
+                  "runtime lightmap textures: " + std::to_string(textures.size()) + " for " +
+                      std::to_string(bake.pages.size()) + " bake pages");
   }
   LightmapTextures out;
   out.owned_ = false;
@@ -45,7 +47,8 @@ Expected<LightmapTextures> LightmapTextures::borrow(const BakeData& bake, const 
   for (size_t i = 0; i < textures.size(); ++i) {
     const BakeLightmapPage& page = bake.pages[i];
     rgb.resize(size_t(page.width) * page.height * 3);
-    glGetTextureImage(textures[i], 0, GL_RGB, GL_FLOAT, GLsizei(rgb.size() * sizeof(float)), rgb.data());
+    glGetTextureImage(textures[i], 0, GL_RGB, GL_FLOAT, GLsizei(rgb.size() * sizeof(float)),
+                      rgb.data());
     mean.add(rgb);
   }
   out.log_mean_lux_ = mean.value();
@@ -54,13 +57,15 @@ Expected<LightmapTextures> LightmapTextures::borrow(const BakeData& bake, const 
   return out;
 }
 
-Expected<LightmapTextures> LightmapTextures::create(const BakeData& bake, const std::string& bake_dir) {
+Expected<LightmapTextures> LightmapTextures::create(const BakeData& bake,
+                                                    const std::string& bake_dir) {
   LightmapTextures out;
   LogMean mean;
   for (const BakeLightmapPage& page : bake.pages) {
     const std::string path = (std::filesystem::path(bake_dir) / page.file).string();
     if (!std::filesystem::exists(path)) {
-      return Status(StatusCode::kNotFound, path + ": lightmap page is missing (bake.svit lists it)");
+      return Status(StatusCode::kNotFound,
+                    path + ": lightmap page is missing (bake.svit lists it)");
     }
     Expected<LightmapImage> image = readLightmapExr(path);
     if (!image.ok()) {
@@ -70,12 +75,14 @@ Expected<LightmapTextures> LightmapTextures::create(const BakeData& bake, const 
                     message.find(page.file) == std::string::npos ? path + ": " + message : message);
     }
     if (uint32_t(image->width) != page.width || uint32_t(image->height) != page.height) {
-      return Status(StatusCode::kInvalidInput, path + ": lightmap page is " + std::to_string(image->width) + "x" +
-                                                   std::to_string(image->height) + ", bake.svit says " +
-                                                   std::to_string(page.width) + "x" + std::to_string(page.height));
+      return Status(StatusCode::kInvalidInput,
+                    path + ": lightmap page is " + std::to_string(image->width) + "x" +
+                        std::to_string(image->height) + ", bake.svit says " +
+                        std::to_string(page.width) + "x" + std::to_string(page.height));
     }
     mean.add(image->rgb);
-    out.owned_textures_.push_back(createGlTexture(GL_TEXTURE_2D));  // owned from here: released on error
+    // owned from here: released on error
+    out.owned_textures_.push_back(createGlTexture(GL_TEXTURE_2D));
     const GLuint texture = out.owned_textures_.back().id();
     out.textures_.push_back(texture);
     glTextureStorage2D(texture, 1, GL_RGB32F, image->width, image->height);
@@ -83,7 +90,8 @@ Expected<LightmapTextures> LightmapTextures::create(const BakeData& bake, const 
     glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
     // Row 0 of the EXR is v in [0, 1/height): GL's first row is t = 0, so the
     // bake's UVs address the texture directly.
-    glTextureSubImage2D(texture, 0, 0, 0, image->width, image->height, GL_RGB, GL_FLOAT, image->rgb.data());
+    glTextureSubImage2D(texture, 0, 0, 0, image->width, image->height, GL_RGB, GL_FLOAT,
+                        image->rgb.data());
     glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);

@@ -25,7 +25,8 @@ class LightmapTextures {
   /// ShadingResources::lightmap_textures, one per page, bake order) instead
   /// of a second copy; reads them back once for the auto-exposure level.
   /// They must outlive this object. Error: not one texture per page.
-  static Expected<LightmapTextures> borrow(const BakeData& bake, const std::vector<uint32_t>& textures);
+  static Expected<LightmapTextures> borrow(const BakeData& bake,
+                                           const std::vector<uint32_t>& textures);
   LightmapTextures() = default;
   LightmapTextures(LightmapTextures&& other) noexcept;
   LightmapTextures& operator=(LightmapTextures&& other) noexcept;
@@ -45,7 +46,7 @@ class LightmapTextures {
   bool borrowed() const { return !owned_; }
 
  private:
-  std::vector<uint32_t> textures_;      ///< per page, owned or borrowed
+  std::vector<uint32_t> textures_;         ///< per page, owned or borrowed
   std::vector<GlTexture> owned_textures_;  ///< the same names when owned; empty when borrowed
   bool owned_ = true;
   double log_mean_lux_ = 0;

@@ -31,8 +31,8 @@ bool usable(const Scene& scene, const TextureRef& ref) {
   return ref.texture >= 0 && size_t(ref.texture) < scene.textures.size();
 }
 
-void setTextureUniforms(const TextureRef& ref, bool present, int texture_location, int transform_location,
-                        int rotation_location) {
+void setTextureUniforms(const TextureRef& ref, bool present, int texture_location,
+                        int transform_location, int rotation_location) {
   glUniform2i(texture_location, present ? 1 : 0, ref.texcoord);
   glUniform4f(transform_location, ref.scale.x, ref.scale.y, ref.offset.x, ref.offset.y);
   glUniform1f(rotation_location, ref.rotation_rad);
@@ -56,9 +56,10 @@ Expected<MaterialTextures> MaterialTextures::create(const Scene& scene) {
     if (!used[i] || t.width <= 0 || t.height <= 0) continue;
     const size_t texels = size_t(t.width) * size_t(t.height);
     if (t.channels < 1 || t.channels > 4 || t.texels.size() != texels * size_t(t.channels)) {
-      return Status(StatusCode::kInvalidInput, "texture '" + t.name + "': " + std::to_string(t.texels.size()) +
-                                                   " bytes for " + std::to_string(t.width) + "x" +
-                                                   std::to_string(t.height) + "x" + std::to_string(t.channels));
+      return Status(StatusCode::kInvalidInput,
+                    "texture '" + t.name + "': " + std::to_string(t.texels.size()) + " bytes for " +
+                        std::to_string(t.width) + "x" + std::to_string(t.height) + "x" +
+                        std::to_string(t.channels));
     }
     // Expand to RGBA: grey replicates, alpha 1 where absent (as
     // texture_sampling.cpp reads them for the baker).
@@ -76,7 +77,8 @@ Expected<MaterialTextures> MaterialTextures::create(const Scene& scene) {
     const GLuint texture = out.textures_[i].id();
     glTextureStorage2D(texture, mipLevels(t.width, t.height), GL_SRGB8_ALPHA8, t.width, t.height);
     // glTF's first row is v = 0, GL's first row is t = 0: UVs address it as is.
-    glTextureSubImage2D(texture, 0, 0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    glTextureSubImage2D(texture, 0, 0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                        rgba.data());
     glGenerateTextureMipmap(texture);
     glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -100,14 +102,17 @@ MaterialTextures::~MaterialTextures() = default;
 void MaterialTextures::bind(const Material& m) const {
   namespace b = render_binding;
   auto textureOf = [&](const TextureRef& ref) -> uint32_t {
-    return ref.texture >= 0 && size_t(ref.texture) < textures_.size() ? textures_[size_t(ref.texture)].id() : 0;
+    return ref.texture >= 0 && size_t(ref.texture) < textures_.size()
+               ? textures_[size_t(ref.texture)].id()
+               : 0;
   };
   const uint32_t base = textureOf(m.base_color_texture), emissive = textureOf(m.emissive_texture);
   glBindTextureUnit(b::kBaseColorUnit, base != 0 ? base : white_.id());
   glBindTextureUnit(b::kEmissiveUnit, emissive != 0 ? emissive : white_.id());
   glUniform4f(b::kBaseColor, m.base_color.r, m.base_color.g, m.base_color.b, m.base_alpha);
   glUniform3f(b::kEmissive, m.emissive_luminance.r, m.emissive_luminance.g, m.emissive_luminance.b);
-  setTextureUniforms(m.base_color_texture, base != 0, b::kBaseTexture, b::kBaseTransform, b::kBaseRotation);
+  setTextureUniforms(m.base_color_texture, base != 0, b::kBaseTexture, b::kBaseTransform,
+                     b::kBaseRotation);
   setTextureUniforms(m.emissive_texture, emissive != 0, b::kEmissiveTexture, b::kEmissiveTransform,
                      b::kEmissiveRotation);
   glUniform2i(b::kMaterialFlags, m.double_sided ? 1 : 0, m.alpha_mode == AlphaMode::kMask ? 1 : 0);

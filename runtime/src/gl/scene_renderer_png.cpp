@@ -10,7 +10,8 @@
 
 namespace svit::gl {
 
-Status writeRgbPng(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb) {
+Status writeRgbPng(const std::string& path, int width, int height,
+                   const std::vector<uint8_t>& rgb) {
   if (width < 1 || height < 1 || rgb.size() != size_t(width) * size_t(height) * 3) {
     return Status(StatusCode::kInvalidInput, path + ": no frame to write (render one first)");
   }

@@ -15,8 +15,9 @@ Expected<ProbeGridTextures> ProbeGridTextures::create(const BakeProbeGrid& grid)
   const size_t probes = size_t(grid.dims[0]) * grid.dims[1] * grid.dims[2];
   if (probes == 0) return out;
   if (grid.sh.size() < probes * 12) {
-    return Status(StatusCode::kInvalidInput, "bake probe grid: " + std::to_string(grid.sh.size()) + " SH floats for " +
-                                                 std::to_string(probes) + " probes (12 each)");
+    return Status(StatusCode::kInvalidInput, "bake probe grid: " + std::to_string(grid.sh.size()) +
+                                                 " SH floats for " + std::to_string(probes) +
+                                                 " probes (12 each)");
   }
   out.layout_.origin = grid.origin;
   out.layout_.spacing = grid.spacing;
@@ -25,7 +26,8 @@ Expected<ProbeGridTextures> ProbeGridTextures::create(const BakeProbeGrid& grid)
   for (int c = 0; c < 3; ++c) {
     // sh per probe: coefficient-major, RGB inside (bake_file.h).
     for (size_t p = 0; p < probes; ++p) {
-      for (int k = 0; k < 4; ++k) channel[p * 4 + size_t(k)] = grid.sh[p * 12 + size_t(k) * 3 + size_t(c)];
+      for (int k = 0; k < 4; ++k)
+        channel[p * 4 + size_t(k)] = grid.sh[p * 12 + size_t(k) * 3 + size_t(c)];
     }
     out.textures_[c] = createGlTexture(GL_TEXTURE_3D);
     const GLuint texture = out.textures_[c].id();
@@ -52,7 +54,8 @@ void ProbeGridTextures::bind() const {
   glUniform1i(b::kUseProbes, empty() ? 0 : 1);
   glUniform3f(b::kProbeOrigin, layout_.origin.x, layout_.origin.y, layout_.origin.z);
   glUniform3f(b::kProbeSpacing, layout_.spacing.x, layout_.spacing.y, layout_.spacing.z);
-  glUniform3f(b::kProbeDims, float(layout_.dims[0]), float(layout_.dims[1]), float(layout_.dims[2]));
+  glUniform3f(b::kProbeDims, float(layout_.dims[0]), float(layout_.dims[1]),
+              float(layout_.dims[2]));
   if (empty()) return;
   glBindTextureUnit(b::kProbeUnitR, textures_[0].id());
   glBindTextureUnit(b::kProbeUnitG, textures_[1].id());

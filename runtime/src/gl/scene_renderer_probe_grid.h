@@ -30,12 +30,13 @@ class ProbeGridTextures {
   void bind() const;
 
   std::vector<GlObject> glObjects() const {
-    return {glTextureObject(textures_[0].id()), glTextureObject(textures_[1].id()), glTextureObject(textures_[2].id())};
+    return {glTextureObject(textures_[0].id()), glTextureObject(textures_[1].id()),
+            glTextureObject(textures_[2].id())};
   }
 
  private:
   GlTexture textures_[3];  ///< the SH coefficients of R, G, B
-  BakeProbeGrid layout_;  ///< origin, spacing, dims (sh left empty)
+  BakeProbeGrid layout_;   ///< origin, spacing, dims (sh left empty)
 };
 
 }  // namespace svit::gl

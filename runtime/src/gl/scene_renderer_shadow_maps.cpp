@@ -30,8 +30,10 @@ constexpr float kSpotMarginRad = 0.0349f;         // 2 degrees
 // GL's cube-map face order and orientations (OpenGL 4.5 spec table 8.19):
 // rendering each face with these views makes texture(samplerCube, d) find
 // the texel d points at.
-const glm::vec3 kCubeForward[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-const glm::vec3 kCubeUp[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+const glm::vec3 kCubeForward[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                   {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+const glm::vec3 kCubeUp[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1},
+                              {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
 
 glm::vec3 anyPerpendicular(const glm::vec3& v) {
   return std::abs(v.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
@@ -42,7 +44,8 @@ glm::vec3 anyPerpendicular(const glm::vec3& v) {
 std::pair<float, float> nearFar(const glm::vec3& p, const Aabb& bounds) {
   float far_m = 0;
   for (int c = 0; c < 8; ++c) {
-    const glm::vec3 corner((c & 1) ? bounds.max.x : bounds.min.x, (c & 2) ? bounds.max.y : bounds.min.y,
+    const glm::vec3 corner((c & 1) ? bounds.max.x : bounds.min.x,
+                           (c & 2) ? bounds.max.y : bounds.min.y,
                            (c & 4) ? bounds.max.z : bounds.min.z);
     far_m = std::max(far_m, glm::length(corner - p));
   }
@@ -54,7 +57,8 @@ std::pair<float, float> nearFar(const glm::vec3& p, const Aabb& bounds) {
 
 Expected<LightShadowMaps> LightShadowMaps::create(int map_size) {
   if (map_size < 16 || map_size > 8192) {
-    return Status(StatusCode::kInvalidInput, "shadow_map_size " + std::to_string(map_size) + " is outside 16..8192");
+    return Status(StatusCode::kInvalidInput,
+                  "shadow_map_size " + std::to_string(map_size) + " is outside 16..8192");
   }
   LightShadowMaps out;
   Expected<GlProgram> program = linkProgram({"shadow_depth.vert", "shadow_depth.frag"});
@@ -151,11 +155,13 @@ void LightShadowMaps::setDepthState(bool write) const {
   }
 }
 
-void LightShadowMaps::forEachFace(size_t light, const glm::mat4& face_view, const std::function<void()>& draw) const {
+void LightShadowMaps::forEachFace(size_t light, const glm::mat4& face_view,
+                                  const std::function<void()>& draw) const {
   const GpuLight& g = gpu_lights_[light];
   auto face = [&](GLuint texture, int layer, const glm::mat4& clip_from_world) {
     glNamedFramebufferTextureLayer(framebuffer_.id(), GL_DEPTH_ATTACHMENT, texture, 0, layer);
-    glUniformMatrix4fv(render_binding::kShadowClipFromWorld, 1, GL_FALSE, glm::value_ptr(clip_from_world));
+    glUniformMatrix4fv(render_binding::kShadowClipFromWorld, 1, GL_FALSE,
+                       glm::value_ptr(clip_from_world));
     draw();
   };
   if (g.shadow[0] == kKindFace) {
@@ -163,9 +169,11 @@ void LightShadowMaps::forEachFace(size_t light, const glm::mat4& face_view, cons
     return;
   }
   const glm::vec3 p(g.position[0], g.position[1], g.position[2]);
-  const glm::mat4 projection = glm::perspective(glm::radians(90.0f), 1.0f, g.shadow[2], g.shadow[3]);
+  const glm::mat4 projection =
+      glm::perspective(glm::radians(90.0f), 1.0f, g.shadow[2], g.shadow[3]);
   for (int f = 0; f < 6; ++f) {
-    face(cube_array_.id(), int(g.shadow[1]) * 6 + f, projection * glm::lookAt(p, p + kCubeForward[f], kCubeUp[f]));
+    face(cube_array_.id(), int(g.shadow[1]) * 6 + f,
+         projection * glm::lookAt(p, p + kCubeForward[f], kCubeUp[f]));
   }
 }
 
@@ -173,11 +181,13 @@ uint32_t LightShadowMaps::uploadBoxes(const std::vector<Aabb>& boxes) {
   std::vector<glm::vec3> corners;
   corners.reserve(boxes.size() * 36);
   // Two triangles per face of each box (winding is irrelevant: no culling).
-  static constexpr int kFaces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  static constexpr int kFaces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
+                                       {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
   for (const Aabb& b : boxes) {
     glm::vec3 c[8];
     for (int k = 0; k < 8; ++k) {
-      c[k] = {(k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y, (k & 4) ? b.max.z : b.min.z};
+      c[k] = {(k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y,
+              (k & 4) ? b.max.z : b.min.z};
     }
     for (const auto& f : kFaces) {
       for (int k : {f[0], f[1], f[2], f[0], f[2], f[3]}) corners.push_back(c[k]);
@@ -187,7 +197,8 @@ uint32_t LightShadowMaps::uploadBoxes(const std::vector<Aabb>& boxes) {
     box_buffer_.reset();
     box_capacity_ = std::max(corners.size(), box_capacity_ * 2);
     box_buffer_ = createGlBuffer();
-    glNamedBufferStorage(box_buffer_.id(), GLsizeiptr(box_capacity_ * sizeof(glm::vec3)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(box_buffer_.id(), GLsizeiptr(box_capacity_ * sizeof(glm::vec3)), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
     if (!box_vao_) {
       box_vao_ = createGlVertexArray();
       glEnableVertexArrayAttrib(box_vao_.id(), 0);
@@ -198,12 +209,14 @@ uint32_t LightShadowMaps::uploadBoxes(const std::vector<Aabb>& boxes) {
   }
   if (!box_query_) box_query_ = createGlQuery(GL_ANY_SAMPLES_PASSED);
   if (!corners.empty()) {
-    glNamedBufferSubData(box_buffer_.id(), 0, GLsizeiptr(corners.size() * sizeof(glm::vec3)), corners.data());
+    glNamedBufferSubData(box_buffer_.id(), 0, GLsizeiptr(corners.size() * sizeof(glm::vec3)),
+                         corners.data());
   }
   return uint32_t(corners.size());
 }
 
-bool LightShadowMaps::boxesSeen(size_t light, uint32_t box_vertices, const glm::mat4& face_view) const {
+bool LightShadowMaps::boxesSeen(size_t light, uint32_t box_vertices,
+                                const glm::mat4& face_view) const {
   setDepthState(false);
   glBindVertexArray(box_vao_.id());
   glBeginQuery(GL_ANY_SAMPLES_PASSED, box_query_.id());
@@ -215,8 +228,9 @@ bool LightShadowMaps::boxesSeen(size_t light, uint32_t box_vertices, const glm::
   return passed != 0;
 }
 
-uint32_t LightShadowMaps::update(const std::vector<FrameLight>& lights, const Aabb& scene_bounds, bool casters_changed,
-                                 const std::vector<Aabb>* moved_boxes, const DrawCasters& draw_casters) {
+uint32_t LightShadowMaps::update(const std::vector<FrameLight>& lights, const Aabb& scene_bounds,
+                                 bool casters_changed, const std::vector<Aabb>* moved_boxes,
+                                 const DrawCasters& draw_casters) {
   std::vector<glm::mat4> face_views(lights.size());
   const MapCounts counts = layOutLights(lights, scene_bounds, face_views);
   ensureCapacity(counts.cubes, counts.faces);
@@ -235,7 +249,9 @@ LightShadowMaps::MapCounts LightShadowMaps::layOutLights(const std::vector<Frame
     const glm::vec3 p = toGlm(l.position);
     glm::vec3 d = toGlm(l.direction);
     d = glm::length(d) > 0 ? glm::normalize(d) : glm::vec3(0, -1, 0);
-    const float type = l.type == LightType::kPoint ? 0.0f : l.type == LightType::kSpot ? 1.0f : 2.0f;
+    const float type = l.type == LightType::kPoint  ? 0.0f
+                       : l.type == LightType::kSpot ? 1.0f
+                                                    : 2.0f;
     const float cos_inner = std::cos(l.inner_cone_rad), cos_outer = std::cos(l.outer_cone_rad);
     std::memcpy(g.position, glm::value_ptr(glm::vec4(p, type)), sizeof g.position);
     std::memcpy(g.direction, glm::value_ptr(glm::vec4(d, cos_outer)), sizeof g.direction);
@@ -250,14 +266,16 @@ LightShadowMaps::MapCounts LightShadowMaps::layOutLights(const std::vector<Frame
       const glm::vec3 eye = centre - d * (radius * 1.05f);
       const glm::mat4 view = glm::lookAt(eye, centre, anyPerpendicular(d));
       face_views[i] = glm::ortho(-radius, radius, -radius, radius, 0.0f, radius * 2.1f) * view;
-      g.shadow[0] = kKindFace, g.shadow[1] = float(faces++), g.shadow[2] = 0, g.shadow[3] = radius * 2.1f;
+      g.shadow[0] = kKindFace, g.shadow[1] = float(faces++), g.shadow[2] = 0,
+      g.shadow[3] = radius * 2.1f;
       g.shadow_texel[1] = 2.0f * radius / float(map_size_);
     } else {
       const auto [near_m, far_m] = nearFar(p, scene_bounds);
       g.shadow[2] = near_m, g.shadow[3] = far_m;
       if (l.type == LightType::kSpot && l.outer_cone_rad <= kMaxFaceSpotRad) {
         const float fov = 2.0f * (l.outer_cone_rad + kSpotMarginRad);
-        face_views[i] = glm::perspective(fov, 1.0f, near_m, far_m) * glm::lookAt(p, p + d, anyPerpendicular(d));
+        face_views[i] =
+            glm::perspective(fov, 1.0f, near_m, far_m) * glm::lookAt(p, p + d, anyPerpendicular(d));
         g.shadow[0] = kKindFace, g.shadow[1] = float(faces++);
         g.shadow_texel[0] = 2.0f * std::tan(0.5f * fov) / float(map_size_);
       } else {
@@ -276,18 +294,20 @@ void LightShadowMaps::uploadLights() {
     lights_buffer_.reset();
     light_capacity_ = uint32_t(std::max<size_t>(gpu_lights_.size(), size_t(light_capacity_) * 2));
     lights_buffer_ = createGlBuffer();
-    glNamedBufferStorage(lights_buffer_.id(), GLsizeiptr(light_capacity_ * sizeof(GpuLight)), nullptr,
-                         GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(lights_buffer_.id(), GLsizeiptr(light_capacity_ * sizeof(GpuLight)),
+                         nullptr, GL_DYNAMIC_STORAGE_BIT);
   }
   if (!gpu_lights_.empty()) {
-    glNamedBufferSubData(lights_buffer_.id(), 0, GLsizeiptr(gpu_lights_.size() * sizeof(GpuLight)), gpu_lights_.data());
+    glNamedBufferSubData(lights_buffer_.id(), 0, GLsizeiptr(gpu_lights_.size() * sizeof(GpuLight)),
+                         gpu_lights_.data());
   }
 }
 
 // Renders the maps whose light changed, or whose light sees where the
 // casters moved from or to.
-uint32_t LightShadowMaps::renderMaps(const Aabb& scene_bounds, const std::vector<glm::mat4>& face_views,
-                                     bool casters_changed, const std::vector<Aabb>* moved_boxes,
+uint32_t LightShadowMaps::renderMaps(const Aabb& scene_bounds,
+                                     const std::vector<glm::mat4>& face_views, bool casters_changed,
+                                     const std::vector<Aabb>* moved_boxes,
                                      const DrawCasters& draw_casters) {
   uint32_t rendered = 0;
   rendered_keys_.resize(gpu_lights_.size());
@@ -297,9 +317,10 @@ uint32_t LightShadowMaps::renderMaps(const Aabb& scene_bounds, const std::vector
   for (size_t i = 0; i < gpu_lights_.size(); ++i) {
     const GpuLight& g = gpu_lights_[i];
     if (g.shadow[0] == kKindNone) continue;
-    std::vector<float> key(reinterpret_cast<const float*>(&g), reinterpret_cast<const float*>(&g) + 4 * 5 + 16);
-    key.insert(key.end(), {scene_bounds.min.x, scene_bounds.min.y, scene_bounds.min.z, scene_bounds.max.x,
-                           scene_bounds.max.y, scene_bounds.max.z});
+    std::vector<float> key(reinterpret_cast<const float*>(&g),
+                           reinterpret_cast<const float*>(&g) + 4 * 5 + 16);
+    key.insert(key.end(), {scene_bounds.min.x, scene_bounds.min.y, scene_bounds.min.z,
+                           scene_bounds.max.x, scene_bounds.max.y, scene_bounds.max.z});
     if (rendered_keys_[i] == key) {
       if (!casters_changed) continue;
       if (test_boxes) {

@@ -25,11 +25,14 @@ namespace svit::gl {
 /// A light as lit_static.frag / lit_dynamic.frag read it (std430, binding
 /// render_binding::kLights; struct GpuLight in svit_shading.frag).
 struct GpuLight {
-  float position[4];    ///< xyz world metres; w: 0 point, 1 spot, 2 directional
-  float direction[4];   ///< xyz unit, the way light travels; w: cos(outer cone)
-  float intensity[4];   ///< rgb: candela (point, spot) or lux (directional), colour x dimmer applied; w: cos(inner cone)
-  float shadow[4];      ///< x: 0 none, 1 cube, 2 face; y: layer (cube index or face layer); z, w: near, far (m)
-  float shadow_texel[4];  ///< x: texel size per metre of distance (perspective); y: texel size in metres (ortho)
+  float position[4];   ///< xyz world metres; w: 0 point, 1 spot, 2 directional
+  float direction[4];  ///< xyz unit, the way light travels; w: cos(outer cone)
+  /// rgb: candela (point, spot) or lux (directional), colour x dimmer applied; w: cos(inner cone)
+  float intensity[4];
+  /// x: 0 none, 1 cube, 2 face; y: layer (cube index or face layer); z, w: near, far (m)
+  float shadow[4];
+  /// x: texel size per metre of distance (perspective); y: texel size in metres (ortho)
+  float shadow_texel[4];
   float shadow_from_world[16];  ///< face maps: clip space of the map
 };
 static_assert(sizeof(GpuLight) == 144, "svit_shading.frag reads this layout");
@@ -69,8 +72,9 @@ class LightShadowMaps {
   /// and a box wholly behind what the map holds cannot change it. Returns
   /// the number of maps rendered (a cube counts once). Leaves the draw
   /// framebuffer and viewport changed; the caller restores its own.
-  uint32_t update(const std::vector<FrameLight>& lights, const Aabb& scene_bounds, bool casters_changed,
-                  const std::vector<Aabb>* moved_boxes, const DrawCasters& draw_casters);
+  uint32_t update(const std::vector<FrameLight>& lights, const Aabb& scene_bounds,
+                  bool casters_changed, const std::vector<Aabb>* moved_boxes,
+                  const DrawCasters& draw_casters);
 
   /// Binds the lights buffer and the two shadow textures (units of
   /// scene_renderer_bindings.h); valid after update().
@@ -78,7 +82,8 @@ class LightShadowMaps {
   size_t lightCount() const { return gpu_lights_.size(); }
 
   std::vector<GlObject> glObjects() const {
-    return {glTextureObject(cube_array_.id()), glTextureObject(face_array_.id()), glBufferObject(lights_buffer_.id())};
+    return {glTextureObject(cube_array_.id()), glTextureObject(face_array_.id()),
+            glBufferObject(lights_buffer_.id())};
   }
 
  private:
@@ -91,8 +96,9 @@ class LightShadowMaps {
   MapCounts layOutLights(const std::vector<FrameLight>& lights, const Aabb& scene_bounds,
                          std::vector<glm::mat4>& face_views);
   void uploadLights();
-  uint32_t renderMaps(const Aabb& scene_bounds, const std::vector<glm::mat4>& face_views, bool casters_changed,
-                      const std::vector<Aabb>* moved_boxes, const DrawCasters& draw_casters);
+  uint32_t renderMaps(const Aabb& scene_bounds, const std::vector<glm::mat4>& face_views,
+                      bool casters_changed, const std::vector<Aabb>* moved_boxes,
+                      const DrawCasters& draw_casters);
   void release();
   void ensureCapacity(uint32_t cubes, uint32_t faces);
   /// Depth-only drawing into the maps: writing (with the casters' polygon
@@ -100,7 +106,8 @@ class LightShadowMaps {
   void setDepthState(bool write) const;
   /// Attaches each face of light `light`'s map in turn (one for a face
   /// light, six for a cube), sets its clip transform and calls `draw`.
-  void forEachFace(size_t light, const glm::mat4& face_view, const std::function<void()>& draw) const;
+  void forEachFace(size_t light, const glm::mat4& face_view,
+                   const std::function<void()>& draw) const;
   /// Uploads the triangles of `boxes` for boxesSeen(); returns their vertex count.
   uint32_t uploadBoxes(const std::vector<Aabb>& boxes);
   /// Whether any of the uploaded boxes passes the depth test against light
@@ -117,7 +124,8 @@ class LightShadowMaps {
   GlQuery box_query_;
   size_t box_capacity_ = 0;  ///< vertices box_buffer_ holds
   std::vector<GpuLight> gpu_lights_;
-  std::vector<std::vector<float>> rendered_keys_;  ///< per light slot: what its map was rendered for
+  /// per light slot: what its map was rendered for
+  std::vector<std::vector<float>> rendered_keys_;
 };
 
 }  // namespace svit::gl

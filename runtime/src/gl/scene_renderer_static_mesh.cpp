@@ -27,19 +27,22 @@ glm::mat3 normalMatrix(const Mat4& world_from_object) {
 size_t countBakeableStaticTriangles(const Scene& scene) {
   size_t count = 0;
   for (const Instance& instance : scene.instances) {
-    if (instance.dynamic || instance.mesh < 0 || size_t(instance.mesh) >= scene.meshes.size()) continue;
+    if (instance.dynamic || instance.mesh < 0 || size_t(instance.mesh) >= scene.meshes.size())
+      continue;
     const Mesh& mesh = scene.meshes[size_t(instance.mesh)];
     const glm::mat4 world = toGlm(instance.world_from_object);
     for (size_t t = 0; t < mesh.triangleCount(); ++t) {
       glm::dvec3 p[3];
       for (int k = 0; k < 3; ++k) {
-        p[k] = glm::dvec3(transformPoint(world, toGlm(mesh.positions[mesh.indices[t * 3 + size_t(k)]])));
+        p[k] = glm::dvec3(
+            transformPoint(world, toGlm(mesh.positions[mesh.indices[t * 3 + size_t(k)]])));
       }
       // The baker's test (bake_geometry.cpp): height/edge below float
       // resolution counts as zero area.
       const double area = 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
-      const double longest2 = std::max({glm::dot(p[1] - p[0], p[1] - p[0]), glm::dot(p[2] - p[1], p[2] - p[1]),
-                                        glm::dot(p[0] - p[2], p[0] - p[2])});
+      const double longest2 =
+          std::max({glm::dot(p[1] - p[0], p[1] - p[0]), glm::dot(p[2] - p[1], p[2] - p[1]),
+                    glm::dot(p[0] - p[2], p[0] - p[2])});
       if (2.0 * area > 1e-7 * longest2 && std::isfinite(area)) ++count;
     }
   }
@@ -53,9 +56,10 @@ Status checkBakeTriangles(const Scene& scene, const BakeData& bake) {
   const size_t triangle_count = bake.triangle_uvs.size();
   const size_t level_count = countBakeableStaticTriangles(scene);
   if (level_count != triangle_count) {
-    return Status(StatusCode::kInvalidInput, "bake lists " + std::to_string(triangle_count) +
-                                                 " static triangles, the level " + scene.source_path + " has " +
-                                                 std::to_string(level_count) + ": bake the level again");
+    return Status(StatusCode::kInvalidInput,
+                  "bake lists " + std::to_string(triangle_count) + " static triangles, the level " +
+                      scene.source_path + " has " + std::to_string(level_count) +
+                      ": bake the level again");
   }
   return Status();
 }
@@ -63,9 +67,10 @@ Status checkBakeTriangles(const Scene& scene, const BakeData& bake) {
 Status checkPages(const BakeData& bake) {
   for (size_t t = 0; t < bake.triangle_uvs.size(); ++t) {
     if (bake.triangle_uvs[t].page >= bake.pages.size()) {
-      return Status(StatusCode::kInvalidInput, "bake triangle " + std::to_string(t) + ": lightmap page " +
-                                                   std::to_string(bake.triangle_uvs[t].page) + " >= page count " +
-                                                   std::to_string(bake.pages.size()));
+      return Status(StatusCode::kInvalidInput,
+                    "bake triangle " + std::to_string(t) + ": lightmap page " +
+                        std::to_string(bake.triangle_uvs[t].page) + " >= page count " +
+                        std::to_string(bake.pages.size()));
     }
   }
   return Status();
@@ -73,7 +78,8 @@ Status checkPages(const BakeData& bake) {
 
 // Per bake triangle: its material, and the front-side shading normal of
 // each corner (into corner_normal, 3 per triangle).
-std::vector<uint32_t> triangleMaterials(const Scene& scene, const BakeData& bake, const BakedSurfaces& surfaces,
+std::vector<uint32_t> triangleMaterials(const Scene& scene, const BakeData& bake,
+                                        const BakedSurfaces& surfaces,
                                         std::vector<glm::vec3>& corner_normal) {
   const size_t triangle_count = bake.triangle_uvs.size();
   std::vector<uint32_t> material(triangle_count);
@@ -93,11 +99,14 @@ std::vector<uint32_t> triangleMaterials(const Scene& scene, const BakeData& bake
     for (int k = 0; k < 3; ++k) {
       glm::vec3 n = face;
       if (!mesh.normals.empty()) {
-        const glm::vec3 m = normal_from_object * toGlm(mesh.normals[mesh.indices[size_t(uv.mesh_triangle) * 3 + size_t(k)]]);
+        const glm::vec3 m =
+            normal_from_object *
+            toGlm(mesh.normals[mesh.indices[size_t(uv.mesh_triangle) * 3 + size_t(k)]]);
         const float length = glm::length(m);
         // A mirroring transform keeps the front counter-clockwise in world
         // space (as the baker lights it): the shading normal follows.
-        if (length > 0 && std::isfinite(length)) n = glm::dot(m, face) < 0 ? -m / length : m / length;
+        if (length > 0 && std::isfinite(length))
+          n = glm::dot(m, face) < 0 ? -m / length : m / length;
       }
       corner_normal[t * 3 + size_t(k)] = n;
     }
@@ -114,7 +123,8 @@ Expected<std::vector<uint32_t>> triangleEmitters(const Scene& scene, const BakeD
   std::vector<uint32_t> patch_emitter(bake.patches.size(), kNoBakeEmitter);
   for (uint32_t e = 0; e < bake.emitters.size(); ++e) {
     const BakeEmitter& be = bake.emitters[e];
-    if (be.kind == BakeEmitter::Kind::kPatch && be.index < patch_emitter.size()) patch_emitter[be.index] = e;
+    if (be.kind == BakeEmitter::Kind::kPatch && be.index < patch_emitter.size())
+      patch_emitter[be.index] = e;
   }
   for (uint32_t p = 0; p < bake.patches.size(); ++p) {
     if (patch_emitter[p] == kNoBakeEmitter) continue;
@@ -126,9 +136,11 @@ Expected<std::vector<uint32_t>> triangleEmitters(const Scene& scene, const BakeD
                                                      std::to_string(i) + " out of range");
       }
       const Material& m = scene.materials[material[element / 2]];
-      const bool emits = m.emissive_luminance.r > 0 || m.emissive_luminance.g > 0 || m.emissive_luminance.b > 0;
+      const bool emits =
+          m.emissive_luminance.r > 0 || m.emissive_luminance.g > 0 || m.emissive_luminance.b > 0;
       // The front side's emitter wins over the back's.
-      if (emits && (element % 2 == 0 || emitter[element / 2] == kNoBakeEmitter)) emitter[element / 2] = patch_emitter[p];
+      if (emits && (element % 2 == 0 || emitter[element / 2] == kNoBakeEmitter))
+        emitter[element / 2] = patch_emitter[p];
     }
   }
   return emitter;
@@ -149,8 +161,8 @@ void appendBatches(const Scene& scene, const BakeData& bake, const BakedSurfaces
   out.vertices.reserve(triangle_count * 3);
   for (uint32_t t : order) {
     const BakeTriangleUv& uv = bake.triangle_uvs[t];
-    if (out.batches.empty() || out.batches.back().material != material[t] || out.batches.back().page != uv.page ||
-        out.batches.back().emitter != emitter[t]) {
+    if (out.batches.empty() || out.batches.back().material != material[t] ||
+        out.batches.back().page != uv.page || out.batches.back().emitter != emitter[t]) {
       out.batches.push_back({material[t], uv.page, emitter[t], uint32_t(out.vertices.size()), 0});
     }
     const Mesh& mesh = scene.meshes[size_t(scene.instances[uv.instance].mesh)];

@@ -20,11 +20,11 @@ namespace svit::gl {
 /// One corner of a static triangle (3 per triangle, unshared: lightmap UVs
 /// belong to the triangle's chart). Layout read by lit_static.vert.
 struct StaticVertex {
-  float position[3];       ///< world, metres
-  float normal[3];         ///< world, unit, shading normal on the front (CCW) side
-  float uv0[2];            ///< TEXCOORD_0 (0 when the mesh has none)
-  float uv1[2];            ///< TEXCOORD_1 (0 when the mesh has none)
-  float uv_lightmap[2];    ///< page coordinates, v down the rows
+  float position[3];     ///< world, metres
+  float normal[3];       ///< world, unit, shading normal on the front (CCW) side
+  float uv0[2];          ///< TEXCOORD_0 (0 when the mesh has none)
+  float uv1[2];          ///< TEXCOORD_1 (0 when the mesh has none)
+  float uv_lightmap[2];  ///< page coordinates, v down the rows
   /// Bake element (triangle * 2 + side) of the front and of the back side:
   /// where svit_runtime_delta.frag finds the runtime's delta.
   uint32_t delta_element[2];

@@ -15,8 +15,8 @@ namespace svit::gl {
 
 Expected<OffscreenTarget> OffscreenTarget::create(int width, int height) {
   if (width < 1 || height < 1 || width > 16384 || height > 16384) {
-    return Status(StatusCode::kInvalidInput, "render target " + std::to_string(width) + "x" + std::to_string(height) +
-                                                 " is outside 1..16384");
+    return Status(StatusCode::kInvalidInput, "render target " + std::to_string(width) + "x" +
+                                                 std::to_string(height) + " is outside 1..16384");
   }
   OffscreenTarget out;
   out.width_ = width;
@@ -32,12 +32,14 @@ Expected<OffscreenTarget> OffscreenTarget::create(int width, int height) {
   const GLuint framebuffer = out.framebuffer_.id();
   glNamedFramebufferTexture(framebuffer, GL_COLOR_ATTACHMENT0, out.colour_.id(), 0);
   glNamedFramebufferTexture(framebuffer, GL_COLOR_ATTACHMENT1, out.radiance_.id(), 0);
-  glNamedFramebufferRenderbuffer(framebuffer, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, out.depth_.id());
+  glNamedFramebufferRenderbuffer(framebuffer, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                                 out.depth_.id());
   out.drawRadiance(false);
   const GLenum status = glCheckNamedFramebufferStatus(framebuffer, GL_DRAW_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE) {
-    return Status(StatusCode::kInternal, "render target " + std::to_string(width) + "x" + std::to_string(height) +
-                                             ": framebuffer incomplete (status " + std::to_string(status) + ")");
+    return Status(StatusCode::kInternal,
+                  "render target " + std::to_string(width) + "x" + std::to_string(height) +
+                      ": framebuffer incomplete (status " + std::to_string(status) + ")");
   }
   Status error = checkGlError("creating the render target");
   if (!error.ok()) return error;
@@ -78,7 +80,8 @@ namespace {
 // Reads `attachment` as RGB (or RGBA), 3 (4) `T` per pixel, and flips the
 // rows to top first (GL's first row is the bottom).
 template <typename T>
-std::vector<T> readTopDown(uint32_t framebuffer, GLenum attachment, int width, int height, GLenum format = GL_RGB) {
+std::vector<T> readTopDown(uint32_t framebuffer, GLenum attachment, int width, int height,
+                           GLenum format = GL_RGB) {
   constexpr GLenum kType = std::is_same_v<T, float> ? GL_FLOAT : GL_UNSIGNED_BYTE;
   const size_t row = size_t(width) * (format == GL_RGBA ? 4 : 3);
   std::vector<T> bottom_up(row * size_t(height));
@@ -91,7 +94,8 @@ std::vector<T> readTopDown(uint32_t framebuffer, GLenum attachment, int width, i
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   std::vector<T> top_down(bottom_up.size());
   for (int y = 0; y < height; ++y) {
-    std::memcpy(&top_down[size_t(y) * row], &bottom_up[size_t(height - 1 - y) * row], row * sizeof(T));
+    std::memcpy(&top_down[size_t(y) * row], &bottom_up[size_t(height - 1 - y) * row],
+                row * sizeof(T));
   }
   return top_down;
 }
@@ -117,9 +121,11 @@ void OffscreenTarget::clearRadiance() const {
 
 std::vector<uint8_t> OffscreenTarget::readSurfaceKinds() const {
   if (!framebuffer_) return {};
-  const std::vector<float> rgba = readTopDown<float>(framebuffer_.id(), GL_COLOR_ATTACHMENT1, width_, height_, GL_RGBA);
+  const std::vector<float> rgba =
+      readTopDown<float>(framebuffer_.id(), GL_COLOR_ATTACHMENT1, width_, height_, GL_RGBA);
   std::vector<uint8_t> kinds(rgba.size() / 4);
-  for (size_t i = 0; i < kinds.size(); ++i) kinds[i] = uint8_t(std::lround(std::clamp(rgba[i * 4 + 3], 0.0f, 255.0f)));
+  for (size_t i = 0; i < kinds.size(); ++i)
+    kinds[i] = uint8_t(std::lround(std::clamp(rgba[i * 4 + 3], 0.0f, 255.0f)));
   return kinds;
 }
 

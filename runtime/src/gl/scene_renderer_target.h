@@ -43,7 +43,8 @@ class OffscreenTarget {
   std::vector<uint8_t> readSurfaceKinds() const;
 
   std::vector<GlObject> glObjects() const {
-    return {glTextureObject(colour_.id()), glTextureObject(radiance_.id()), glRenderbufferObject(depth_.id())};
+    return {glTextureObject(colour_.id()), glTextureObject(radiance_.id()),
+            glRenderbufferObject(depth_.id())};
   }
 
  private:

@@ -64,7 +64,8 @@ std::vector<float> ShadingOutputs::packReceivers(const DisplayInput& in) {
   // the probes' light for one that is not (Runtime::Impl::updateObjectsLit).
   for (const DynamicObject& object : *in.objects) {
     const size_t end = std::min(n, size_t(object.first_receiver) + object.albedo.size());
-    for (size_t r = object.first_receiver; r < end; ++r) packed[r * 4 + 3] = object.lit ? 1.0f : 0.0f;
+    for (size_t r = object.first_receiver; r < end; ++r)
+      packed[r * 4 + 3] = object.lit ? 1.0f : 0.0f;
   }
   return packed;
 }
@@ -80,23 +81,26 @@ uint32_t ShadingOutputs::uploadPatchBuffer(const std::vector<float>& packed, siz
     delta_buffer_receivers_ = uint32_t(receivers);
     ++created;
   }
-  glNamedBufferSubData(delta_buffer_.id(), 0, GLsizeiptr(receivers * 4 * sizeof(float)), packed.data());
+  glNamedBufferSubData(delta_buffer_.id(), 0, GLsizeiptr(receivers * 4 * sizeof(float)),
+                       packed.data());
   return created;
 }
 
-uint32_t ShadingOutputs::uploadDeltaTextures(const DisplayInput& in, const std::vector<glm::dvec3>& shown,
+uint32_t ShadingOutputs::uploadDeltaTextures(const DisplayInput& in,
+                                             const std::vector<glm::dvec3>& shown,
                                              const std::vector<glm::dvec3>& scales) {
   std::vector<std::pair<int, int>> sizes;
   for (const LightmapImage& page : *in.pages) sizes.push_back({page.width, page.height});
   const std::vector<DeltaPage> atlas = rasteriseDeltas(*in.patches, shown, scales, sizes);
   uint32_t created = 0;
   if (delta_textures_.empty()) {
-    for (const DeltaPage& page : atlas) delta_textures_.push_back(createPageTexture(GL_RGBA32F, page.width, page.height));
+    for (const DeltaPage& page : atlas)
+      delta_textures_.push_back(createPageTexture(GL_RGBA32F, page.width, page.height));
     created += uint32_t(atlas.size());
   }
   for (size_t p = 0; p < atlas.size(); ++p) {
-    glTextureSubImage2D(delta_textures_[p].id(), 0, 0, 0, atlas[p].width, atlas[p].height, GL_RGBA, GL_FLOAT,
-                        atlas[p].rgba.data());
+    glTextureSubImage2D(delta_textures_[p].id(), 0, 0, 0, atlas[p].width, atlas[p].height, GL_RGBA,
+                        GL_FLOAT, atlas[p].rgba.data());
   }
   return created;
 }
@@ -113,7 +117,8 @@ uint32_t ShadingOutputs::upload(const DisplayInput& in) {
   }
   const std::vector<glm::dvec3> shown_at_vertices = vertexValues(*in.patches, shown);
   // Empty while every baked emitter is as baked (a factor of 1 everywhere).
-  vertex_scales_ = in.light_scale->empty() ? std::vector<glm::dvec3>{} : vertexValues(*in.patches, scale);
+  vertex_scales_ =
+      in.light_scale->empty() ? std::vector<glm::dvec3>{} : vertexValues(*in.patches, scale);
   if (!delta_surface_.allocated()) {
     delta_surface_ = DeltaSurfaceBuffers::create(*in.patches);
     created += 3;
@@ -123,11 +128,13 @@ uint32_t ShadingOutputs::upload(const DisplayInput& in) {
   return created;
 }
 
-std::vector<uint32_t> ShadingOutputs::lightmapTextures(const std::vector<LightmapImage>& pages) const {
+std::vector<uint32_t> ShadingOutputs::lightmapTextures(
+    const std::vector<LightmapImage>& pages) const {
   if (lightmap_textures_.empty()) {
     for (const LightmapImage& page : pages) {
       GlTexture texture = createPageTexture(GL_RGB32F, page.width, page.height);
-      glTextureSubImage2D(texture.id(), 0, 0, 0, page.width, page.height, GL_RGB, GL_FLOAT, page.rgb.data());
+      glTextureSubImage2D(texture.id(), 0, 0, 0, page.width, page.height, GL_RGB, GL_FLOAT,
+                          page.rgb.data());
       lightmap_textures_.push_back(std::move(texture));
     }
   }
@@ -135,7 +142,8 @@ std::vector<uint32_t> ShadingOutputs::lightmapTextures(const std::vector<Lightma
 }
 
 uint64_t ShadingOutputs::hostBytes() const {
-  return vectorBytes(delta_total) + vectorBytes(runtime_direct) + vectorBytes(display) + vectorBytes(vertex_deltas_);
+  return vectorBytes(delta_total) + vectorBytes(runtime_direct) + vectorBytes(display) +
+         vectorBytes(vertex_deltas_);
 }
 
 std::vector<uint32_t> ShadingOutputs::ids(const std::vector<GlTexture>& textures) {

@@ -33,9 +33,11 @@ struct DisplayInput {
 class ShadingOutputs {
  public:
   // Per receiver, from the last solve.
-  std::vector<glm::dvec3> delta_total;     ///< irradiance delta incl. runtime lights' direct light, lux
-  std::vector<glm::dvec3> runtime_direct;  ///< direct irradiance of runtime lights, lux (shaded per pixel)
-  std::vector<Rgb> display;                ///< what shading adds (temporally blended), lux
+  /// irradiance delta incl. runtime lights' direct light, lux
+  std::vector<glm::dvec3> delta_total;
+  /// direct irradiance of runtime lights, lux (shaded per pixel)
+  std::vector<glm::dvec3> runtime_direct;
+  std::vector<Rgb> display;  ///< what shading adds (temporally blended), lux
 
   /// Grows the per-receiver vectors to `receivers` (objects are appended).
   void resize(size_t receivers);
@@ -79,7 +81,8 @@ class ShadingOutputs {
   uint32_t delta_buffer_receivers_ = 0;
   mutable std::vector<GlTexture> lightmap_textures_;
   std::vector<GlTexture> delta_textures_;  ///< per page, GL_RGBA32F at half size (delta_atlas.h)
-  DeltaSurfaceBuffers delta_surface_;      ///< per-pixel lookup of the static deltas (delta_surface.h)
+  /// per-pixel lookup of the static deltas (delta_surface.h)
+  DeltaSurfaceBuffers delta_surface_;
 };
 
 }  // namespace svit::gl

@@ -30,7 +30,8 @@ struct StaticLevel {
   uint32_t static_receivers = 0;
   uint32_t static_groups = 0;
   MapTriangles static_map;
-  std::vector<std::vector<uint32_t>> patch_map_triangles;  ///< per runtime patch: its static map triangles
+  /// per runtime patch: its static map triangles
+  std::vector<std::vector<uint32_t>> patch_map_triangles;
   /// Per whole block of kShareBlockReceivers static patches: the box of
   /// their bounds (reaches() tests a block before its patches).
   std::vector<Aabb> static_block_bounds;
@@ -44,7 +45,8 @@ struct StaticLevel {
 /// sections, builds about settings.target_patches runtime patches over the
 /// static surfaces. Errors name `bake_dir`: unreadable pages, a level with
 /// dynamic content baked without runtime sections, bad sections.
-Expected<StaticLevel> buildStaticLevel(const Scene& scene, const BakeData& bake, const std::string& bake_dir,
+Expected<StaticLevel> buildStaticLevel(const Scene& scene, const BakeData& bake,
+                                       const std::string& bake_dir,
                                        const RuntimeSettings& settings);
 
 }  // namespace svit::gl

@@ -115,7 +115,8 @@ Status locateElements(const tinygltf::Model& model, int buffer_view_index, size_
     return invalid(what + ": bufferView " + std::to_string(buffer_view_index) +
                    " does not exist (file has " + std::to_string(model.bufferViews.size()) + ")");
   }
-  if (element_bytes == 0) return invalid(what + ": elements of 0 bytes");  // callers check types first
+  if (element_bytes == 0)
+    return invalid(what + ": elements of 0 bytes");  // callers check types first
   const tinygltf::BufferView& view = model.bufferViews[size_t(buffer_view_index)];
   const std::string view_name = "bufferView " + std::to_string(buffer_view_index);
   if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size()) {
@@ -123,11 +124,12 @@ Status locateElements(const tinygltf::Model& model, int buffer_view_index, size_
                    " does not exist");
   }
   const tinygltf::Buffer& buffer = model.buffers[size_t(view.buffer)];
-  if (view.byteOffset > buffer.data.size() || view.byteLength > buffer.data.size() - view.byteOffset) {
+  if (view.byteOffset > buffer.data.size() ||
+      view.byteLength > buffer.data.size() - view.byteOffset) {
     return invalid(what + ": " + view_name + " bytes [" + std::to_string(view.byteOffset) + ", " +
-                   std::to_string(view.byteOffset + view.byteLength) + ") out of bounds of buffer " +
-                   std::to_string(view.buffer) + " (" + std::to_string(buffer.data.size()) +
-                   " bytes)");
+                   std::to_string(view.byteOffset + view.byteLength) +
+                   ") out of bounds of buffer " + std::to_string(view.buffer) + " (" +
+                   std::to_string(buffer.data.size()) + " bytes)");
   }
   size_t stride = element_bytes;
   if (allow_stride && view.byteStride != 0) {
@@ -167,8 +169,9 @@ Status checkAccessorIndex(const tinygltf::Model& model, int accessor_index,
 // The dense part of a float accessor: its bufferView's elements, or zeros
 // when it has none. The count is bounded by the bytes behind it before
 // anything is allocated for it.
-Status readDenseFloats(const tinygltf::Model& model, const tinygltf::Accessor& accessor, int components,
-                       int bytes, const std::string& what, std::vector<float>& out) {
+Status readDenseFloats(const tinygltf::Model& model, const tinygltf::Accessor& accessor,
+                       int components, int bytes, const std::string& what,
+                       std::vector<float>& out) {
   const size_t count = accessor.count;
   ElementSpan span;
   if (accessor.bufferView >= 0) {
@@ -195,8 +198,9 @@ Status readDenseFloats(const tinygltf::Model& model, const tinygltf::Accessor& a
 }
 
 // glTF 2.0 3.6.2.3: sparse values replace the dense elements their indices name.
-Status applySparseFloats(const tinygltf::Model& model, const tinygltf::Accessor& accessor, int components,
-                         int bytes, const std::string& what, std::vector<float>& out) {
+Status applySparseFloats(const tinygltf::Model& model, const tinygltf::Accessor& accessor,
+                         int components, int bytes, const std::string& what,
+                         std::vector<float>& out) {
   const size_t count = accessor.count;
   const auto& sparse = accessor.sparse;
   const size_t sparse_count = size_t(sparse.count);
@@ -209,7 +213,8 @@ Status applySparseFloats(const tinygltf::Model& model, const tinygltf::Accessor&
   // fuzz_glb); a signed byte or short one made decodeIndex read 4 bytes of
   // a 1- or 2-byte element.
   if (!isIndexComponentType(sparse.indices.componentType)) {
-    return invalid(what + ": sparse indices componentType " + std::to_string(sparse.indices.componentType) +
+    return invalid(what + ": sparse indices componentType " +
+                   std::to_string(sparse.indices.componentType) +
                    " is not unsigned byte, short or int");
   }
   const int index_bytes = componentBytes(sparse.indices.componentType);
@@ -227,16 +232,16 @@ Status applySparseFloats(const tinygltf::Model& model, const tinygltf::Accessor&
     return s;
   }
   for (size_t i = 0; i < sparse_count; ++i) {
-    const uint32_t target = decodeIndex(index_span.base + i * index_span.stride,
-                                        sparse.indices.componentType);
+    const uint32_t target =
+        decodeIndex(index_span.base + i * index_span.stride, sparse.indices.componentType);
     if (target >= count) {
       return invalid(what + ": sparse index " + std::to_string(target) + " >= count " +
                      std::to_string(count));
     }
     for (int c = 0; c < components; ++c) {
-      out[size_t(target) * size_t(components) + size_t(c)] = decodeComponent(
-          value_span.base + i * value_span.stride + c * bytes, accessor.componentType,
-          accessor.normalized);
+      out[size_t(target) * size_t(components) + size_t(c)] =
+          decodeComponent(value_span.base + i * value_span.stride + c * bytes,
+                          accessor.componentType, accessor.normalized);
     }
   }
   return Status();

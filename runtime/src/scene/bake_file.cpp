@@ -39,7 +39,7 @@ using bakeio::ByteWriter;
 using bakeio::validateBakeData;
 
 constexpr char kMagic[8] = {'S', 'V', 'I', 'T', 'B', 'A', 'K', 'E'};
-constexpr size_t kHeaderBytes = 16;        // magic, version, section count
+constexpr size_t kHeaderBytes = 16;  // magic, version, section count
 constexpr size_t kChecksumBytes = 8;
 constexpr size_t kSectionHeaderBytes = 12;  // tag, payload size
 
@@ -58,10 +58,10 @@ constexpr uint32_t kPrxy = makeTag("PRXY");
 constexpr uint32_t kProb = makeTag("PROB");
 
 // Fixed sizes of the per-element records (bytes), used to bound counts.
-constexpr uint64_t kPageMinBytes = 4 + 4 + 8 + 4;   // width, height, hash, name length
+constexpr uint64_t kPageMinBytes = 4 + 4 + 8 + 4;  // width, height, hash, name length
 constexpr uint64_t kTriangleUvBytes = 4 * 3 + 6 * 4;
-constexpr uint64_t kPatchBytes = 16 * 4 + 2 * 4;    // 16 floats, first, count
-constexpr uint64_t kClusterBytes = 4 * 4 + 7 * 4;   // 4 ints, bounds, area
+constexpr uint64_t kPatchBytes = 16 * 4 + 2 * 4;       // 16 floats, first, count
+constexpr uint64_t kClusterBytes = 4 * 4 + 7 * 4;      // 4 ints, bounds, area
 constexpr uint64_t kEmitterMinBytes = 4 + 4 + 12 + 4;  // kind, index, flux, count
 
 // Printable form of a tag: its four characters, or hex when they are not ASCII.
@@ -340,28 +340,33 @@ std::string osError(int error) { return std::generic_category().message(error); 
 
 constexpr int kKnownSectionCount = 9;
 constexpr int kRequiredSectionCount = 3;  // HEAD, PAGE, TUVS; the rest are the runtime sections
-constexpr uint32_t kKnown[kKnownSectionCount] = {kHead, kPage, kTuvs, kPtch, kPelm, kClst, kEmit, kPrxy, kProb};
+constexpr uint32_t kKnown[kKnownSectionCount] = {kHead, kPage, kTuvs, kPtch, kPelm,
+                                                 kClst, kEmit, kPrxy, kProb};
 
 // A short prefix of the magic is a cut file; anything else is not ours.
 Status checkMagic(const uint8_t* bytes, size_t size, const std::string& path) {
   const size_t magic_bytes = std::min(size, sizeof kMagic);
   if (magic_bytes > 0 && std::memcmp(bytes, kMagic, magic_bytes) != 0) {
     std::string seen;
-    for (size_t i = 0; i < magic_bytes; ++i) seen += (bytes[i] >= 0x20 && bytes[i] <= 0x7e) ? char(bytes[i]) : '?';
+    for (size_t i = 0; i < magic_bytes; ++i)
+      seen += (bytes[i] >= 0x20 && bytes[i] <= 0x7e) ? char(bytes[i]) : '?';
     return invalid(path, "not a bake file: magic \"" + seen + "\", expected \"SVITBAKE\"");
   }
   if (size < kHeaderBytes + kChecksumBytes) {
-    return invalid(path, truncatedText("the smallest bake file (header and checksum)", kHeaderBytes + kChecksumBytes, size));
+    return invalid(path, truncatedText("the smallest bake file (header and checksum)",
+                                       kHeaderBytes + kChecksumBytes, size));
   }
   return Status();
 }
 
-Status readHeader(const uint8_t* bytes, const std::string& path, uint32_t& version, uint32_t& section_count) {
+Status readHeader(const uint8_t* bytes, const std::string& path, uint32_t& version,
+                  uint32_t& section_count) {
   ByteReader header(bytes + sizeof kMagic, kHeaderBytes - sizeof kMagic);
   version = header.u32();
   section_count = header.u32();
   if (version != kBakeFileVersion) {
-    return invalid(path, "bake file version " + num(version) + ", this build reads version " + num(kBakeFileVersion));
+    return invalid(path, "bake file version " + num(version) + ", this build reads version " +
+                             num(kBakeFileVersion));
   }
   return Status();
 }
@@ -369,20 +374,22 @@ Status readHeader(const uint8_t* bytes, const std::string& path, uint32_t& versi
 // Walks the section table within [header, checksum) before trusting any
 // size: a cut file shows up here as a section longer than what is left.
 // Then checks the checksum, and that nothing follows the last section.
-Status readSectionTable(const uint8_t* bytes, size_t size, uint32_t section_count, const std::string& path,
-                        std::vector<SectionRef>& sections) {
+Status readSectionTable(const uint8_t* bytes, size_t size, uint32_t section_count,
+                        const std::string& path, std::vector<SectionRef>& sections) {
   const size_t body_end = size - kChecksumBytes;
   ByteReader body(bytes + kHeaderBytes, body_end - kHeaderBytes);
   for (uint32_t i = 0; i < section_count; ++i) {
     if (!body.need(kSectionHeaderBytes)) {
-      return invalid(path, truncatedText("section table entry " + num(i) + " of " + num(section_count),
-                                         body.failedNeed(), body.failedLeft()));
+      return invalid(path,
+                     truncatedText("section table entry " + num(i) + " of " + num(section_count),
+                                   body.failedNeed(), body.failedLeft()));
     }
     SectionRef ref;
     ref.tag = body.u32();
     const uint64_t payload = body.u64();
     if (!body.need(payload)) {
-      return invalid(path, truncatedText("section " + tagName(ref.tag), body.failedNeed(), body.failedLeft()));
+      return invalid(
+          path, truncatedText("section " + tagName(ref.tag), body.failedNeed(), body.failedLeft()));
     }
     ref.offset = kHeaderBytes + body.offset();
     ref.size = size_t(payload);
@@ -391,10 +398,11 @@ Status readSectionTable(const uint8_t* bytes, size_t size, uint32_t section_coun
   }
   uint64_t stored = 0;
   for (size_t i = 0; i < kChecksumBytes; ++i) stored |= uint64_t(bytes[body_end + i]) << (8 * i);
-  if (stored != fnv1a64(bytes, body_end)) return invalid(path, "checksum mismatch: file is corrupt");
+  if (stored != fnv1a64(bytes, body_end))
+    return invalid(path, "checksum mismatch: file is corrupt");
   if (body.remaining() != 0) {
-    return invalid(path, num(uint64_t(body.remaining())) + " unexpected bytes after the last of " + num(section_count) +
-                             " sections");
+    return invalid(path, num(uint64_t(body.remaining())) + " unexpected bytes after the last of " +
+                             num(section_count) + " sections");
   }
   return Status();
 }
@@ -402,7 +410,8 @@ Status readSectionTable(const uint8_t* bytes, size_t size, uint32_t section_coun
 // found[k]: the section of tag kKnown[k], or null. Each known tag at most
 // once, the required ones present, the runtime ones all or none.
 Status findKnownSections(const std::vector<SectionRef>& sections, const std::string& path,
-                         const SectionRef* (&found)[kKnownSectionCount], bool& has_runtime_sections) {
+                         const SectionRef* (&found)[kKnownSectionCount],
+                         bool& has_runtime_sections) {
   for (const SectionRef& ref : sections) {
     for (int k = 0; k < kKnownSectionCount; ++k) {
       if (ref.tag != kKnown[k]) continue;
@@ -415,12 +424,13 @@ Status findKnownSections(const std::vector<SectionRef>& sections, const std::str
     if (!found[k]) return invalid(path, "missing required section " + tagName(kKnown[k]));
   }
   int runtime_present = 0;
-  for (int k = kRequiredSectionCount; k < kKnownSectionCount; ++k) runtime_present += found[k] != nullptr;
+  for (int k = kRequiredSectionCount; k < kKnownSectionCount; ++k)
+    runtime_present += found[k] != nullptr;
   if (runtime_present != 0 && runtime_present != 6) {
     for (int k = kRequiredSectionCount; k < kKnownSectionCount; ++k) {
       if (!found[k]) {
-        return invalid(path, "runtime sections incomplete: " + num(int32_t(runtime_present)) + " of 6 present, " +
-                                 tagName(kKnown[k]) + " missing");
+        return invalid(path, "runtime sections incomplete: " + num(int32_t(runtime_present)) +
+                                 " of 6 present, " + tagName(kKnown[k]) + " missing");
       }
     }
   }
@@ -430,11 +440,13 @@ Status findKnownSections(const std::vector<SectionRef>& sections, const std::str
 
 // Decodes one section's payload; it must fill the payload exactly.
 template <typename Decoder>
-Status parseSection(const uint8_t* bytes, const SectionRef& ref, const std::string& path, Decoder decoder,
-                    BakeData& data) {
+Status parseSection(const uint8_t* bytes, const SectionRef& ref, const std::string& path,
+                    Decoder decoder, BakeData& data) {
   ByteReader r(bytes + ref.offset, ref.size);
   decoder(r, data);
-  if (r.failed()) return invalid(path, truncatedText("section " + tagName(ref.tag), r.failedNeed(), r.failedLeft()));
+  if (r.failed())
+    return invalid(path,
+                   truncatedText("section " + tagName(ref.tag), r.failedNeed(), r.failedLeft()));
   if (r.remaining() != 0) {
     return invalid(path, "section " + tagName(ref.tag) + ": " + num(uint64_t(r.remaining())) +
                              " unexpected bytes after its data");
@@ -444,13 +456,17 @@ Status parseSection(const uint8_t* bytes, const SectionRef& ref, const std::stri
 
 Status parseSections(const uint8_t* bytes, const SectionRef* const (&found)[kKnownSectionCount],
                      const std::string& path, BakeData& data) {
-  auto parse = [&](int k, auto decoder) { return parseSection(bytes, *found[k], path, decoder, data); };
+  auto parse = [&](int k, auto decoder) {
+    return parseSection(bytes, *found[k], path, decoder, data);
+  };
   if (Status s = parse(0, decodeHead); !s.ok()) return s;
   if (Status s = parse(1, decodePages); !s.ok()) return s;
   if (Status s = parse(2, decodeTriangleUvs); !s.ok()) return s;
   if (data.has_runtime_sections) {
     if (Status s = parse(3, decodePatches); !s.ok()) return s;
-    if (Status s = parse(4, [](ByteReader& r, BakeData& d) { decodeU32s(r, d.patch_elements); }); !s.ok()) return s;
+    if (Status s = parse(4, [](ByteReader& r, BakeData& d) { decodeU32s(r, d.patch_elements); });
+        !s.ok())
+      return s;
     if (Status s = parse(5, decodeClusters); !s.ok()) return s;
     if (Status s = parse(6, decodeEmitters); !s.ok()) return s;
     if (Status s = parse(7, decodeProxy); !s.ok()) return s;
@@ -472,7 +488,8 @@ Expected<BakeData> decodeBakeFile(const uint8_t* bytes, size_t size, const std::
   const SectionRef* found[kKnownSectionCount] = {};
   BakeData data;
   data.version = version;
-  if (Status s = findKnownSections(sections, path, found, data.has_runtime_sections); !s.ok()) return s;
+  if (Status s = findKnownSections(sections, path, found, data.has_runtime_sections); !s.ok())
+    return s;
   if (Status s = parseSections(bytes, found, path, data); !s.ok()) return s;
   if (Status s = validateBakeData(data, path); !s.ok()) return s;
   return data;
@@ -518,7 +535,8 @@ Status writeBakeFile(const BakeData& data, const std::string& path) {
       const int error = errno;
       out.close();
       removeTemporary();
-      return Status(StatusCode::kIoError, temporary + ": cannot write " + num(uint64_t(bytes.size())) +
+      return Status(StatusCode::kIoError, temporary + ": cannot write " +
+                                              num(uint64_t(bytes.size())) +
                                               " bytes: " + osError(error));
     }
     out.close();
@@ -532,7 +550,8 @@ Status writeBakeFile(const BakeData& data, const std::string& path) {
   fs::rename(temporary, path, ec);
   if (ec) {
     removeTemporary();
-    return Status(StatusCode::kIoError, path + ": cannot replace it with " + temporary + ": " + ec.message());
+    return Status(StatusCode::kIoError,
+                  path + ": cannot replace it with " + temporary + ": " + ec.message());
   }
   return Status();
 }
@@ -556,7 +575,8 @@ std::vector<BakeSectionSize> bakeSectionSizes(const BakeData& data) {
 Expected<BakeData> readBakeFile(const std::string& path) {
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
-  if (status.type() == fs::file_type::not_found) return Status(StatusCode::kNotFound, path + ": file not found");
+  if (status.type() == fs::file_type::not_found)
+    return Status(StatusCode::kNotFound, path + ": file not found");
   if (ec) return Status(StatusCode::kIoError, path + ": cannot stat: " + ec.message());
   if (status.type() == fs::file_type::directory) {
     return Status(StatusCode::kIoError, path + ": is a directory, not a bake file");

@@ -27,8 +27,12 @@ std::string num(uint64_t v) { return std::to_string(v); }
 std::string num(int64_t v) { return std::to_string(v); }
 std::string num(uint32_t v) { return std::to_string(v); }
 std::string num(int32_t v) { return std::to_string(v); }
-std::string vecText(const Vec3& v) { return "(" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + ")"; }
-std::string vecText(const Rgb& c) { return "(" + num(c.r) + ", " + num(c.g) + ", " + num(c.b) + ")"; }
+std::string vecText(const Vec3& v) {
+  return "(" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + ")";
+}
+std::string vecText(const Rgb& c) {
+  return "(" + num(c.r) + ", " + num(c.g) + ", " + num(c.b) + ")";
+}
 std::string vecText(const Vec2& v) { return "(" + num(v.x) + ", " + num(v.y) + ")"; }
 
 Status invalid(const std::string& path, const std::string& what) {
@@ -61,8 +65,8 @@ bool safeRelativeName(const std::string& name) {
 
 Status checkCount(const std::string& path, const char* section, const char* what, size_t count) {
   if (count > std::numeric_limits<uint32_t>::max()) {
-    return invalid(path, std::string("section ") + section + ": " + num(uint64_t(count)) + " " + what +
-                             " exceed the format's limit of 4294967295");
+    return invalid(path, std::string("section ") + section + ": " + num(uint64_t(count)) + " " +
+                             what + " exceed the format's limit of 4294967295");
   }
   return Status();
 }
@@ -74,22 +78,29 @@ Status validateStatic(const BakeData& d, const std::string& path) {
     const BakeLightmapPage& page = d.pages[p];
     const std::string where = "section PAGE page " + num(uint64_t(p)) + ": ";
     if (page.width == 0 || page.height == 0) {
-      return invalid(path, where + "size " + num(page.width) + " x " + num(page.height) + " is empty");
+      return invalid(path,
+                     where + "size " + num(page.width) + " x " + num(page.height) + " is empty");
     }
     if (!safeRelativeName(page.file)) {
-      return invalid(path, where + "file \"" + page.file +
-                               "\" is not a relative name inside the bake directory (empty, absolute, '..', NUL "
-                               "or longer than " + num(uint64_t(kMaxPageFileChars)) + " characters)");
+      return invalid(
+          path,
+          where + "file \"" + page.file +
+              "\" is not a relative name inside the bake directory (empty, absolute, '..', NUL "
+              "or longer than " +
+              num(uint64_t(kMaxPageFileChars)) + " characters)");
     }
   }
   for (size_t t = 0; t < d.triangle_uvs.size(); ++t) {
     const BakeTriangleUv& uv = d.triangle_uvs[t];
     const std::string where = "section TUVS triangle " + num(uint64_t(t)) + ": ";
     if (uv.page >= d.pages.size()) {
-      return invalid(path, where + "page " + num(uv.page) + " >= page count " + num(uint64_t(d.pages.size())));
+      return invalid(
+          path, where + "page " + num(uv.page) + " >= page count " + num(uint64_t(d.pages.size())));
     }
     for (int k = 0; k < 3; ++k) {
-      if (!finite(uv.uv[k])) return invalid(path, where + "uv " + std::to_string(k) + " " + vecText(uv.uv[k]) + " is not finite");
+      if (!finite(uv.uv[k]))
+        return invalid(
+            path, where + "uv " + std::to_string(k) + " " + vecText(uv.uv[k]) + " is not finite");
     }
   }
   return Status();
@@ -97,20 +108,24 @@ Status validateStatic(const BakeData& d, const std::string& path) {
 
 Status validateRuntimeAbsent(const BakeData& d, const std::string& path) {
   auto refuse = [&](const char* section, const char* what, size_t count) {
-    return invalid(path, std::string("section ") + section + ": has_runtime_sections is false but " + what + " holds " +
+    return invalid(path, std::string("section ") + section +
+                             ": has_runtime_sections is false but " + what + " holds " +
                              num(uint64_t(count)) + " entries, which would not be written");
   };
   if (!d.patches.empty()) return refuse("PTCH", "patches", d.patches.size());
   if (!d.patch_elements.empty()) return refuse("PELM", "patch_elements", d.patch_elements.size());
   if (!d.clusters.empty()) return refuse("CLST", "clusters", d.clusters.size());
   if (!d.emitters.empty()) return refuse("EMIT", "emitters", d.emitters.size());
-  if (!d.proxy.positions.empty()) return refuse("PRXY", "proxy.positions", d.proxy.positions.size());
+  if (!d.proxy.positions.empty())
+    return refuse("PRXY", "proxy.positions", d.proxy.positions.size());
   if (!d.proxy.indices.empty()) return refuse("PRXY", "proxy.indices", d.proxy.indices.size());
-  if (!d.proxy.face_patch.empty()) return refuse("PRXY", "proxy.face_patch", d.proxy.face_patch.size());
+  if (!d.proxy.face_patch.empty())
+    return refuse("PRXY", "proxy.face_patch", d.proxy.face_patch.size());
   if (!d.probes.sh.empty()) return refuse("PROB", "probes.sh", d.probes.sh.size());
   if (d.probes.dims[0] != 0 || d.probes.dims[1] != 0 || d.probes.dims[2] != 0) {
-    return invalid(path, "section PROB: has_runtime_sections is false but probe dims are " + num(d.probes.dims[0]) +
-                             " x " + num(d.probes.dims[1]) + " x " + num(d.probes.dims[2]) + ", which would not be written");
+    return invalid(path, "section PROB: has_runtime_sections is false but probe dims are " +
+                             num(d.probes.dims[0]) + " x " + num(d.probes.dims[1]) + " x " +
+                             num(d.probes.dims[2]) + ", which would not be written");
   }
   return Status();
 }
@@ -120,24 +135,32 @@ Status validatePatches(const BakeData& d, const std::string& path) {
   for (size_t p = 0; p < d.patches.size(); ++p) {
     const BakePatch& patch = d.patches[p];
     const std::string where = "section PTCH patch " + num(uint64_t(p)) + ": ";
-    if (!finite(patch.centroid)) return invalid(path, where + "centroid " + vecText(patch.centroid) + " is not finite");
-    if (!finite(patch.normal)) return invalid(path, where + "normal " + vecText(patch.normal) + " is not finite");
-    if (!finite(patch.area_m2)) return invalid(path, where + "area_m2 " + num(patch.area_m2) + " is not finite");
-    if (!finite(patch.albedo)) return invalid(path, where + "albedo " + vecText(patch.albedo) + " is not finite");
-    if (!finite(patch.emission)) return invalid(path, where + "emission " + vecText(patch.emission) + " is not finite");
-    if (!finite(patch.radiosity)) return invalid(path, where + "radiosity " + vecText(patch.radiosity) + " is not finite");
+    if (!finite(patch.centroid))
+      return invalid(path, where + "centroid " + vecText(patch.centroid) + " is not finite");
+    if (!finite(patch.normal))
+      return invalid(path, where + "normal " + vecText(patch.normal) + " is not finite");
+    if (!finite(patch.area_m2))
+      return invalid(path, where + "area_m2 " + num(patch.area_m2) + " is not finite");
+    if (!finite(patch.albedo))
+      return invalid(path, where + "albedo " + vecText(patch.albedo) + " is not finite");
+    if (!finite(patch.emission))
+      return invalid(path, where + "emission " + vecText(patch.emission) + " is not finite");
+    if (!finite(patch.radiosity))
+      return invalid(path, where + "radiosity " + vecText(patch.radiosity) + " is not finite");
     const uint64_t end = uint64_t(patch.first_element) + patch.element_count;
     if (end > d.patch_elements.size()) {
       return invalid(path, where + "elements [" + num(patch.first_element) + ", " + num(end) +
-                               ") exceed patch_elements size " + num(uint64_t(d.patch_elements.size())));
+                               ") exceed patch_elements size " +
+                               num(uint64_t(d.patch_elements.size())));
     }
   }
   for (size_t e = 0; e < d.patch_elements.size(); ++e) {
     // element = triangle * 2 + side, triangles in TUVS order.
     const uint32_t element = d.patch_elements[e];
     if (element / 2 >= triangles) {
-      return invalid(path, "section PELM element " + num(uint64_t(e)) + ": " + num(element) + " names triangle " +
-                               num(element / 2) + " >= triangle count " + num(uint64_t(triangles)));
+      return invalid(path, "section PELM element " + num(uint64_t(e)) + ": " + num(element) +
+                               " names triangle " + num(element / 2) + " >= triangle count " +
+                               num(uint64_t(triangles)));
     }
   }
   return Status();
@@ -154,14 +177,16 @@ Status validateClusters(const BakeData& d, const std::string& path) {
     const BakeClusterNode& c = d.clusters[size_t(i)];
     const std::string where = "section CLST cluster " + num(i) + ": ";
     if (c.parent != -1 && (c.parent < 0 || c.parent >= i)) {
-      return invalid(path, where + "parent " + num(c.parent) + " is not -1 or an earlier cluster (< " + num(i) +
+      return invalid(path, where + "parent " + num(c.parent) +
+                               " is not -1 or an earlier cluster (< " + num(i) +
                                "; clusters are stored in pre-order)");
     }
     for (int k = 0; k < 2; ++k) {
       const int32_t child = c.child[k];
       if (child != -1 && (child <= i || child >= n)) {
         return invalid(path, where + "child " + std::to_string(k) + " index " + num(child) +
-                                 " is not -1 or a later cluster (in (" + num(i) + ", " + num(n) + "))");
+                                 " is not -1 or a later cluster (in (" + num(i) + ", " + num(n) +
+                                 "))");
       }
     }
     if (c.patch != -1 && (c.patch < 0 || uint64_t(c.patch) >= d.patches.size())) {
@@ -169,17 +194,20 @@ Status validateClusters(const BakeData& d, const std::string& path) {
                                num(uint64_t(d.patches.size())));
     }
     if (!finite(c.bounds.min) || !finite(c.bounds.max)) {
-      return invalid(path, where + "bounds " + vecText(c.bounds.min) + " - " + vecText(c.bounds.max) + " are not finite");
+      return invalid(path, where + "bounds " + vecText(c.bounds.min) + " - " +
+                               vecText(c.bounds.max) + " are not finite");
     }
-    if (!finite(c.area_m2)) return invalid(path, where + "area_m2 " + num(c.area_m2) + " is not finite");
+    if (!finite(c.area_m2))
+      return invalid(path, where + "area_m2 " + num(c.area_m2) + " is not finite");
   }
   for (int64_t i = 0; i < n; ++i) {
     const BakeClusterNode& c = d.clusters[size_t(i)];
     for (int k = 0; k < 2; ++k) {
       const int32_t child = c.child[k];
       if (child != -1 && d.clusters[size_t(child)].parent != i) {
-        return invalid(path, "section CLST cluster " + num(i) + ": child " + std::to_string(k) + " (cluster " +
-                                 num(child) + ") has parent " + num(d.clusters[size_t(child)].parent) + ", not " + num(i));
+        return invalid(path, "section CLST cluster " + num(i) + ": child " + std::to_string(k) +
+                                 " (cluster " + num(child) + ") has parent " +
+                                 num(d.clusters[size_t(child)].parent) + ", not " + num(i));
       }
     }
   }
@@ -192,28 +220,35 @@ Status validateEmitters(const BakeData& d, const std::string& path) {
     const BakeEmitter& emitter = d.emitters[e];
     const std::string where = "section EMIT emitter " + num(uint64_t(e)) + ": ";
     const uint32_t kind = uint32_t(emitter.kind);
-    if (kind > uint32_t(BakeEmitter::Kind::kSky)) return invalid(path, where + "kind " + num(kind) + " is unknown (0..3)");
+    if (kind > uint32_t(BakeEmitter::Kind::kSky))
+      return invalid(path, where + "kind " + num(kind) + " is unknown (0..3)");
     if (emitter.kind == BakeEmitter::Kind::kPatch && emitter.index >= patches) {
-      return invalid(path, where + "emitting patch " + num(emitter.index) + " >= patch count " + num(uint64_t(patches)));
+      return invalid(path, where + "emitting patch " + num(emitter.index) + " >= patch count " +
+                               num(uint64_t(patches)));
     }
-    if (!finite(emitter.flux)) return invalid(path, where + "flux " + vecText(emitter.flux) + " is not finite");
+    if (!finite(emitter.flux))
+      return invalid(path, where + "flux " + vecText(emitter.flux) + " is not finite");
     if (emitter.factors.size() != emitter.patches.size()) {
       return invalid(path, where + num(uint64_t(emitter.factors.size())) + " factors for " +
-                               num(uint64_t(emitter.patches.size())) + " patches (want one per patch)");
+                               num(uint64_t(emitter.patches.size())) +
+                               " patches (want one per patch)");
     }
-    if (Status s = checkCount(path, "EMIT", "lit patches", emitter.patches.size()); !s.ok()) return s;
+    if (Status s = checkCount(path, "EMIT", "lit patches", emitter.patches.size()); !s.ok())
+      return s;
     for (size_t i = 0; i < emitter.patches.size(); ++i) {
       const uint32_t patch = emitter.patches[i];
       if (patch >= patches) {
-        return invalid(path, where + "lit patch " + num(uint64_t(i)) + " is " + num(patch) + " >= patch count " +
-                                 num(uint64_t(patches)));
+        return invalid(path, where + "lit patch " + num(uint64_t(i)) + " is " + num(patch) +
+                                 " >= patch count " + num(uint64_t(patches)));
       }
       if (i > 0 && patch <= emitter.patches[i - 1]) {
-        return invalid(path, where + "lit patch " + num(uint64_t(i)) + " is " + num(patch) + ", not above the previous " +
-                                 num(emitter.patches[i - 1]) + " (patches must be ascending)");
+        return invalid(path, where + "lit patch " + num(uint64_t(i)) + " is " + num(patch) +
+                                 ", not above the previous " + num(emitter.patches[i - 1]) +
+                                 " (patches must be ascending)");
       }
       if (!finite(emitter.factors[i])) {
-        return invalid(path, where + "factor " + num(uint64_t(i)) + " " + num(emitter.factors[i]) + " is not finite");
+        return invalid(path, where + "factor " + num(uint64_t(i)) + " " + num(emitter.factors[i]) +
+                                 " is not finite");
       }
     }
   }
@@ -224,27 +259,31 @@ Status validateProxy(const BakeData& d, const std::string& path) {
   const BakeProxyMesh& proxy = d.proxy;
   for (size_t v = 0; v < proxy.positions.size(); ++v) {
     if (!finite(proxy.positions[v])) {
-      return invalid(path, "section PRXY vertex " + num(uint64_t(v)) + ": position " + vecText(proxy.positions[v]) +
-                               " is not finite");
+      return invalid(path, "section PRXY vertex " + num(uint64_t(v)) + ": position " +
+                               vecText(proxy.positions[v]) + " is not finite");
     }
   }
   if (proxy.indices.size() % 3 != 0) {
-    return invalid(path, "section PRXY: " + num(uint64_t(proxy.indices.size())) + " indices, not a multiple of 3");
+    return invalid(path, "section PRXY: " + num(uint64_t(proxy.indices.size())) +
+                             " indices, not a multiple of 3");
   }
   for (size_t i = 0; i < proxy.indices.size(); ++i) {
     if (proxy.indices[i] >= proxy.positions.size()) {
-      return invalid(path, "section PRXY face " + num(uint64_t(i / 3)) + ": index " + num(proxy.indices[i]) +
-                               " >= vertex count " + num(uint64_t(proxy.positions.size())));
+      return invalid(path, "section PRXY face " + num(uint64_t(i / 3)) + ": index " +
+                               num(proxy.indices[i]) + " >= vertex count " +
+                               num(uint64_t(proxy.positions.size())));
     }
   }
   if (proxy.face_patch.size() != proxy.indices.size() / 3) {
-    return invalid(path, "section PRXY: " + num(uint64_t(proxy.face_patch.size())) + " face patches for " +
-                             num(uint64_t(proxy.indices.size() / 3)) + " faces (want one per face)");
+    return invalid(path, "section PRXY: " + num(uint64_t(proxy.face_patch.size())) +
+                             " face patches for " + num(uint64_t(proxy.indices.size() / 3)) +
+                             " faces (want one per face)");
   }
   for (size_t f = 0; f < proxy.face_patch.size(); ++f) {
     if (proxy.face_patch[f] >= d.patches.size()) {
-      return invalid(path, "section PRXY face " + num(uint64_t(f)) + ": patch " + num(proxy.face_patch[f]) +
-                               " >= patch count " + num(uint64_t(d.patches.size())));
+      return invalid(path, "section PRXY face " + num(uint64_t(f)) + ": patch " +
+                               num(proxy.face_patch[f]) + " >= patch count " +
+                               num(uint64_t(d.patches.size())));
     }
   }
   return Status();
@@ -252,20 +291,25 @@ Status validateProxy(const BakeData& d, const std::string& path) {
 
 Status validateProbes(const BakeData& d, const std::string& path) {
   const BakeProbeGrid& grid = d.probes;
-  if (!finite(grid.origin)) return invalid(path, "section PROB: origin " + vecText(grid.origin) + " is not finite");
-  if (!finite(grid.spacing)) return invalid(path, "section PROB: spacing " + vecText(grid.spacing) + " is not finite");
+  if (!finite(grid.origin))
+    return invalid(path, "section PROB: origin " + vecText(grid.origin) + " is not finite");
+  if (!finite(grid.spacing))
+    return invalid(path, "section PROB: spacing " + vecText(grid.spacing) + " is not finite");
   uint64_t floats = 12;
-  const bool fits = mulNoOverflow(floats, grid.dims[0], floats) && mulNoOverflow(floats, grid.dims[1], floats) &&
+  const bool fits = mulNoOverflow(floats, grid.dims[0], floats) &&
+                    mulNoOverflow(floats, grid.dims[1], floats) &&
                     mulNoOverflow(floats, grid.dims[2], floats);
-  const std::string dims = num(grid.dims[0]) + " x " + num(grid.dims[1]) + " x " + num(grid.dims[2]);
+  const std::string dims =
+      num(grid.dims[0]) + " x " + num(grid.dims[1]) + " x " + num(grid.dims[2]);
   if (!fits || floats != grid.sh.size()) {
-    return invalid(path, "section PROB: " + num(uint64_t(grid.sh.size())) + " SH floats for dims " + dims +
-                             " (want 12 per probe" + (fits ? " = " + num(floats) : std::string(", which overflows")) + ")");
+    return invalid(path, "section PROB: " + num(uint64_t(grid.sh.size())) + " SH floats for dims " +
+                             dims + " (want 12 per probe" +
+                             (fits ? " = " + num(floats) : std::string(", which overflows")) + ")");
   }
   for (size_t i = 0; i < grid.sh.size(); ++i) {
     if (!finite(grid.sh[i])) {
-      return invalid(path, "section PROB probe " + num(uint64_t(i / 12)) + ": SH float " + num(uint64_t(i % 12)) + " " +
-                               num(grid.sh[i]) + " is not finite");
+      return invalid(path, "section PROB probe " + num(uint64_t(i / 12)) + ": SH float " +
+                               num(uint64_t(i % 12)) + " " + num(grid.sh[i]) + " is not finite");
     }
   }
   return Status();
@@ -277,7 +321,8 @@ Status validateBakeData(const BakeData& d, const std::string& path) {
   if (Status s = validateStatic(d, path); !s.ok()) return s;
   if (!d.has_runtime_sections) return validateRuntimeAbsent(d, path);
   if (Status s = checkCount(path, "PTCH", "patches", d.patches.size()); !s.ok()) return s;
-  if (Status s = checkCount(path, "PELM", "patch elements", d.patch_elements.size()); !s.ok()) return s;
+  if (Status s = checkCount(path, "PELM", "patch elements", d.patch_elements.size()); !s.ok())
+    return s;
   if (Status s = checkCount(path, "CLST", "clusters", d.clusters.size()); !s.ok()) return s;
   if (Status s = checkCount(path, "EMIT", "emitters", d.emitters.size()); !s.ok()) return s;
   if (Status s = checkCount(path, "PRXY", "vertices", d.proxy.positions.size()); !s.ok()) return s;

@@ -16,7 +16,8 @@ namespace {
 
 // Closest point on triangle abc to p (Ericson, Real-Time Collision
 // Detection 5.1.5), returned as barycentrics (weights of b and c).
-glm::dvec2 closestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+glm::dvec2 closestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
+                             const glm::dvec3& c) {
   const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
   if (d1 <= 0 && d2 <= 0) return {0, 0};
@@ -51,25 +52,31 @@ Expected<BakedSurfaces> BakedSurfaces::build(const Scene& scene, const BakeData&
     const BakeTriangleUv& uv = bake.triangle_uvs[t];
     const std::string where = "bake triangle " + std::to_string(t);
     if (uv.instance >= scene.instances.size()) {
-      return Status(StatusCode::kInvalidInput, where + ": instance " + std::to_string(uv.instance) + " is not in the level");
+      return Status(StatusCode::kInvalidInput,
+                    where + ": instance " + std::to_string(uv.instance) + " is not in the level");
     }
     const Instance& instance = scene.instances[uv.instance];
     if (instance.dynamic) {
-      return Status(StatusCode::kInvalidInput, where + ": instance " + std::to_string(uv.instance) + " is dynamic in the level");
+      return Status(StatusCode::kInvalidInput, where + ": instance " + std::to_string(uv.instance) +
+                                                   " is dynamic in the level");
     }
     const Mesh& mesh = scene.meshes[size_t(instance.mesh)];
     if (uv.mesh_triangle >= mesh.triangleCount()) {
-      return Status(StatusCode::kInvalidInput, where + ": mesh triangle " + std::to_string(uv.mesh_triangle) +
-                                                   " >= triangle count " + std::to_string(mesh.triangleCount()));
+      return Status(StatusCode::kInvalidInput,
+                    where + ": mesh triangle " + std::to_string(uv.mesh_triangle) +
+                        " >= triangle count " + std::to_string(mesh.triangleCount()));
     }
     const glm::mat4 world = toGlm(instance.world_from_object);
     glm::dvec3 p[3];
     for (int k = 0; k < 3; ++k) {
-      p[k] = glm::dvec3(transformPoint(world, toGlm(mesh.positions[mesh.indices[size_t(uv.mesh_triangle) * 3 + size_t(k)]])));
+      p[k] = glm::dvec3(transformPoint(
+          world, toGlm(mesh.positions[mesh.indices[size_t(uv.mesh_triangle) * 3 + size_t(k)]])));
       s.positions_.push_back(fromGlm(glm::vec3(p[k])));
       const Vec3& q = s.positions_.back();
-      s.bounds_.min = {std::min(s.bounds_.min.x, q.x), std::min(s.bounds_.min.y, q.y), std::min(s.bounds_.min.z, q.z)};
-      s.bounds_.max = {std::max(s.bounds_.max.x, q.x), std::max(s.bounds_.max.y, q.y), std::max(s.bounds_.max.z, q.z)};
+      s.bounds_.min = {std::min(s.bounds_.min.x, q.x), std::min(s.bounds_.min.y, q.y),
+                       std::min(s.bounds_.min.z, q.z)};
+      s.bounds_.max = {std::max(s.bounds_.max.x, q.x), std::max(s.bounds_.max.y, q.y),
+                       std::max(s.bounds_.max.z, q.z)};
       s.uvs_.push_back(uv.uv[k]);
     }
     // Normal from the transformed corners, as the baker takes it (mirroring
@@ -78,13 +85,15 @@ Expected<BakedSurfaces> BakedSurfaces::build(const Scene& scene, const BakeData&
     const double length = glm::length(cross);
     s.normals_.push_back(length > 0 ? fromGlm(glm::vec3(cross / length)) : Vec3{0, 1, 0});
     s.areas_m2_.push_back(float(0.5 * length));
-    s.double_sided_.push_back(scene.materials[mesh.triangle_material[uv.mesh_triangle]].double_sided ? 1 : 0);
+    s.double_sided_.push_back(
+        scene.materials[mesh.triangle_material[uv.mesh_triangle]].double_sided ? 1 : 0);
     s.page_.push_back(uv.page);
   }
   return s;
 }
 
-std::optional<SurfaceHit> BakedSurfaces::nearest(const Vec3& point, const Vec3& normal, double cos_limit) const {
+std::optional<SurfaceHit> BakedSurfaces::nearest(const Vec3& point, const Vec3& normal,
+                                                 double cos_limit) const {
   const glm::dvec3 p = dvec(point);
   const double length = glm::length(dvec(normal));
   if (!(length > 0)) return std::nullopt;
@@ -138,23 +147,30 @@ Expected<std::vector<ProbePoint>> readProbePoints(const std::string& path) {
       numbers = end != tokens[i].c_str() && *end == '\0';
     }
     if (!numbers) {
-      return Status(StatusCode::kInvalidInput, path + ":" + std::to_string(number) + ": expected 6 numbers 'x y z nx ny nz'");
+      return Status(StatusCode::kInvalidInput,
+                    path + ":" + std::to_string(number) + ": expected 6 numbers 'x y z nx ny nz'");
     }
     for (double x : v) {
-      if (!std::isfinite(x)) return Status(StatusCode::kInvalidInput, path + ":" + std::to_string(number) + ": not finite");
+      if (!std::isfinite(x))
+        return Status(StatusCode::kInvalidInput,
+                      path + ":" + std::to_string(number) + ": not finite");
     }
     if (v[3] == 0 && v[4] == 0 && v[5] == 0) {
-      return Status(StatusCode::kInvalidInput, path + ":" + std::to_string(number) + ": the normal is zero");
+      return Status(StatusCode::kInvalidInput,
+                    path + ":" + std::to_string(number) + ": the normal is zero");
     }
-    points.push_back({{float(v[0]), float(v[1]), float(v[2])}, {float(v[3]), float(v[4]), float(v[5])}});
+    points.push_back(
+        {{float(v[0]), float(v[1]), float(v[2])}, {float(v[3]), float(v[4]), float(v[5])}});
   }
   return points;
 }
 
-Expected<std::vector<LightmapImage>> readLightmapPages(const BakeData& bake, const std::string& bake_dir) {
+Expected<std::vector<LightmapImage>> readLightmapPages(const BakeData& bake,
+                                                       const std::string& bake_dir) {
   std::vector<LightmapImage> pages;
   for (const BakeLightmapPage& page : bake.pages) {
-    Expected<LightmapImage> image = readLightmapExr((std::filesystem::path(bake_dir) / page.file).string());
+    Expected<LightmapImage> image =
+        readLightmapExr((std::filesystem::path(bake_dir) / page.file).string());
     if (!image.ok()) return image.status();
     pages.push_back(std::move(image).value());
   }

@@ -16,8 +16,9 @@ namespace {
 Status invalid(const std::string& message) { return Status(StatusCode::kInvalidInput, message); }
 
 // The node and path a channel animates, and its sampler's interpolation.
-Status readChannelTarget(const tinygltf::AnimationChannel& channel, const tinygltf::AnimationSampler& sampler,
-                         const std::string& where, AnimationTrack& track) {
+Status readChannelTarget(const tinygltf::AnimationChannel& channel,
+                         const tinygltf::AnimationSampler& sampler, const std::string& where,
+                         AnimationTrack& track) {
   track.node = channel.target_node;
   if (channel.target_path == "translation") {
     track.path = AnimationPath::kTranslation;
@@ -48,8 +49,8 @@ Status readKeyTimes(const tinygltf::Model& model, const tinygltf::AnimationSampl
   for (size_t k = 0; k < track.times_s.size(); ++k) {
     const bool ordered = k == 0 || track.times_s[k] > track.times_s[k - 1];
     if (!std::isfinite(track.times_s[k]) || !ordered) {
-      return invalid(where + " input key " + std::to_string(k) + ": time " + std::to_string(track.times_s[k]) +
-                     " is not finite and increasing");
+      return invalid(where + " input key " + std::to_string(k) + ": time " +
+                     std::to_string(track.times_s[k]) + " is not finite and increasing");
     }
   }
   return Status();
@@ -67,12 +68,14 @@ Status readKeyValues(const tinygltf::Model& model, const tinygltf::AnimationSamp
   }
   std::vector<float> values;
   const int read_components = track.path == AnimationPath::kWeights ? 1 : track.components;
-  if (Status s = readFloats(model, sampler.output, read_components, where + " output", values); !s.ok()) {
+  if (Status s = readFloats(model, sampler.output, read_components, where + " output", values);
+      !s.ok()) {
     return s;
   }
   if (keys == 0 || values.size() != keys * per_key * size_t(std::max(track.components, 1))) {
-    return invalid(where + ": " + std::to_string(values.size()) + " output values for " + std::to_string(keys) +
-                   " keys of " + std::to_string(track.components) + " components");
+    return invalid(where + ": " + std::to_string(values.size()) + " output values for " +
+                   std::to_string(keys) + " keys of " + std::to_string(track.components) +
+                   " components");
   }
   for (size_t v = 0; v < values.size(); ++v) {
     if (!std::isfinite(values[v])) {

@@ -17,9 +17,9 @@ namespace svit {
 namespace {
 
 const std::set<std::string>& supportedExtensions() {
-  static const std::set<std::string> supported = {
-      "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_texture_transform",
-      "KHR_mesh_quantization"};
+  static const std::set<std::string> supported = {"KHR_lights_punctual",
+                                                  "KHR_materials_emissive_strength",
+                                                  "KHR_texture_transform", "KHR_mesh_quantization"};
   return supported;
 }
 
@@ -49,23 +49,27 @@ Status copyBufferViewImages(const tinygltf::Model& model, const std::string& pat
     if (view_index < 0) continue;
     // tinygltf checked that the view and its buffer exist; check again
     // rather than depend on it.
-    const std::string what = path + ": image " + std::to_string(i) + ": bufferView " + std::to_string(view_index);
+    const std::string what =
+        path + ": image " + std::to_string(i) + ": bufferView " + std::to_string(view_index);
     if (size_t(view_index) >= model.bufferViews.size()) {
       return Status(StatusCode::kInvalidInput, what + " does not exist");
     }
     const tinygltf::BufferView& view = model.bufferViews[size_t(view_index)];
     if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size()) {
-      return Status(StatusCode::kInvalidInput, what + ": buffer " + std::to_string(view.buffer) + " does not exist");
+      return Status(StatusCode::kInvalidInput,
+                    what + ": buffer " + std::to_string(view.buffer) + " does not exist");
     }
     const std::vector<unsigned char>& data = model.buffers[size_t(view.buffer)].data;
     if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset) {
       return Status(StatusCode::kInvalidInput,
                     what + " bytes [" + std::to_string(view.byteOffset) + ", " +
-                        std::to_string(uint64_t(view.byteOffset) + view.byteLength) + ") out of bounds of buffer " +
-                        std::to_string(view.buffer) + " (" + std::to_string(data.size()) + " bytes)");
+                        std::to_string(uint64_t(view.byteOffset) + view.byteLength) +
+                        ") out of bounds of buffer " + std::to_string(view.buffer) + " (" +
+                        std::to_string(data.size()) + " bytes)");
     }
     if (images.size() <= i) images.resize(i + 1);
-    images[i].assign(data.begin() + long(view.byteOffset), data.begin() + long(view.byteOffset + view.byteLength));
+    images[i].assign(data.begin() + long(view.byteOffset),
+                     data.begin() + long(view.byteOffset + view.byteLength));
   }
   return Status();
 }
@@ -109,11 +113,12 @@ Status checkGlbLength(const std::string& path) {
   if (got < 12 || std::memcmp(header, "glTF", 4) != 0) {
     return Status(StatusCode::kInvalidInput, path + ": not a GLB file (no 12-byte 'glTF' header)");
   }
-  const uint32_t declared = uint32_t(header[8]) | uint32_t(header[9]) << 8 | uint32_t(header[10]) << 16 |
-                            uint32_t(header[11]) << 24;
+  const uint32_t declared = uint32_t(header[8]) | uint32_t(header[9]) << 8 |
+                            uint32_t(header[10]) << 16 | uint32_t(header[11]) << 24;
   if (!ec && declared > size) {
-    return Status(StatusCode::kInvalidInput, path + ": truncated GLB: header length " + std::to_string(declared) +
-                                                 " bytes, file has " + std::to_string(size));
+    return Status(StatusCode::kInvalidInput, path + ": truncated GLB: header length " +
+                                                 std::to_string(declared) + " bytes, file has " +
+                                                 std::to_string(size));
   }
   return Status();
 }

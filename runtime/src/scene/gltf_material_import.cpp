@@ -42,15 +42,15 @@ std::string imageLabel(const tinygltf::Image& image, int index) {
 int decodeTexture(ImportContext& context, int texture_index, const std::string& user) {
   const tinygltf::Model& model = context.model;
   if (texture_index < 0 || size_t(texture_index) >= model.textures.size()) return -2;
-  if (context.texture_map[size_t(texture_index)] != -3) return context.texture_map[size_t(texture_index)];
+  if (context.texture_map[size_t(texture_index)] != -3)
+    return context.texture_map[size_t(texture_index)];
   int& slot = context.texture_map[size_t(texture_index)];
   slot = -1;
   if (!context.options.load_textures) return slot;
   const tinygltf::Texture& gltf_texture = model.textures[size_t(texture_index)];
   const int source = gltf_texture.source;
   if (source < 0 || size_t(source) >= model.images.size()) {
-    context.scene.warnings.push_back(user + ": texture " +
-                                     std::to_string(texture_index) +
+    context.scene.warnings.push_back(user + ": texture " + std::to_string(texture_index) +
                                      " has no image; the factor is used alone");
     ++context.scene.counters.missing_textures;
     return slot;
@@ -59,8 +59,7 @@ int decodeTexture(ImportContext& context, int texture_index, const std::string& 
   const std::string label = "image " + imageLabel(image, source);
   const auto& encoded = *context.encoded_images;
   if (size_t(source) >= encoded.size() || encoded[size_t(source)].empty()) {
-    context.scene.warnings.push_back(user + ": " + label +
-                                     " is missing; the factor is used alone");
+    context.scene.warnings.push_back(user + ": " + label + " is missing; the factor is used alone");
     ++context.scene.counters.missing_textures;
     return slot;
   }
@@ -69,8 +68,8 @@ int decodeTexture(ImportContext& context, int texture_index, const std::string& 
   unsigned char* pixels =
       stbi_load_from_memory(bytes.data(), int(bytes.size()), &width, &height, &channels, 0);
   if (pixels == nullptr) {
-    context.scene.warnings.push_back(user + ": " + label +
-                                     " cannot be decoded (" + printableReason(stbi_failure_reason()) +
+    context.scene.warnings.push_back(user + ": " + label + " cannot be decoded (" +
+                                     printableReason(stbi_failure_reason()) +
                                      "); the factor is used alone");
     ++context.scene.counters.missing_textures;
     return slot;
@@ -99,8 +98,8 @@ Status readFactor(const std::vector<double>& values, size_t expected, const std:
   }
   for (size_t i = 0; i < expected; ++i) {
     if (!std::isfinite(values[i]) || values[i] < 0.0 || values[i] > max_value) {
-      return Status(StatusCode::kInvalidInput, what + "[" + std::to_string(i) + "] = " +
-                                                   std::to_string(values[i]) +
+      return Status(StatusCode::kInvalidInput, what + "[" + std::to_string(i) +
+                                                   "] = " + std::to_string(values[i]) +
                                                    " is outside [0, 1]");
     }
     out[i] = float(values[i]);
@@ -113,8 +112,8 @@ Status readTextureRef(ImportContext& context, const tinygltf::TextureInfo& info,
   if (info.index < 0) return Status();
   const int decoded = decodeTexture(context, info.index, what);
   if (decoded == -2) {
-    return Status(StatusCode::kInvalidInput, what + ": texture " + std::to_string(info.index) +
-                                                 " does not exist");
+    return Status(StatusCode::kInvalidInput,
+                  what + ": texture " + std::to_string(info.index) + " does not exist");
   }
   ref.texture = decoded;
   // The UV set as a double until it is known to be 0 or 1: an int cast of
@@ -127,10 +126,12 @@ Status readTextureRef(ImportContext& context, const tinygltf::TextureInfo& info,
       return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
     };
     if (t.Has("offset") && t.Get("offset").ArrayLen() == 2) {
-      ref.offset = {float(number(t.Get("offset").Get(0), 0)), float(number(t.Get("offset").Get(1), 0))};
+      ref.offset = {float(number(t.Get("offset").Get(0), 0)),
+                    float(number(t.Get("offset").Get(1), 0))};
     }
     if (t.Has("scale") && t.Get("scale").ArrayLen() == 2) {
-      ref.scale = {float(number(t.Get("scale").Get(0), 1)), float(number(t.Get("scale").Get(1), 1))};
+      ref.scale = {float(number(t.Get("scale").Get(0), 1)),
+                   float(number(t.Get("scale").Get(1), 1))};
     }
     if (t.Has("rotation")) ref.rotation_rad = float(number(t.Get("rotation"), 0));
     if (t.Has("texCoord")) texcoord = number(t.Get("texCoord"), texcoord);
@@ -169,8 +170,7 @@ std::string nodeLabel(const tinygltf::Model& model, int node_index) {
 
 std::string materialLabel(const tinygltf::Model& model, int material_index) {
   const std::string& name = model.materials[size_t(material_index)].name;
-  return name.empty() ? "material " + std::to_string(material_index)
-                      : "material '" + name + "'";
+  return name.empty() ? "material " + std::to_string(material_index) : "material '" + name + "'";
 }
 
 Status importMaterials(ImportContext& context) {

@@ -53,8 +53,7 @@ Status readAttribute(const tinygltf::Model& model, const tinygltf::Primitive& pr
       if (!std::isfinite(out[v * size_t(components) + size_t(c)])) {
         return Status(StatusCode::kInvalidInput,
                       where + " vertex " + std::to_string(v) + ": " +
-                          formatVec(&out[v * size_t(components)], components) +
-                          " is not finite");
+                          formatVec(&out[v * size_t(components)], components) + " is not finite");
       }
     }
   }
@@ -132,8 +131,8 @@ bool isPointOrLineMode(int mode) {
 Status checkTriangleMode(int mode, const tinygltf::Primitive& primitive, const std::string& what) {
   if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
       mode != TINYGLTF_MODE_TRIANGLE_FAN) {
-    return Status(StatusCode::kInvalidInput, what + ": mode " + std::to_string(mode) +
-                                                 " is not a glTF primitive mode");
+    return Status(StatusCode::kInvalidInput,
+                  what + ": mode " + std::to_string(mode) + " is not a glTF primitive mode");
   }
   if (!primitive.attributes.count("POSITION")) {
     return Status(StatusCode::kInvalidInput, what + ": has no POSITION attribute");
@@ -185,9 +184,10 @@ Status resolveMaterial(ImportContext& context, const tinygltf::Primitive& primit
   const tinygltf::Model& model = context.model;
   if (primitive.material >= 0) {
     if (size_t(primitive.material) >= model.materials.size()) {
-      return Status(StatusCode::kInvalidInput,
-                    what + ": material " + std::to_string(primitive.material) +
-                        " does not exist (file has " + std::to_string(model.materials.size()) + ")");
+      return Status(StatusCode::kInvalidInput, what + ": material " +
+                                                   std::to_string(primitive.material) +
+                                                   " does not exist (file has " +
+                                                   std::to_string(model.materials.size()) + ")");
     }
     data.material = uint32_t(primitive.material);
     return Status();
@@ -224,7 +224,8 @@ NormalRepair findNormalsToRepair(const PrimitiveData& data) {
 
 void appendVertex(MeshImport& importing, const PrimitiveData& data, size_t v, const Vec3& normal) {
   Mesh& mesh = importing.mesh;
-  mesh.positions.push_back({data.positions[v * 3], data.positions[v * 3 + 1], data.positions[v * 3 + 2]});
+  mesh.positions.push_back(
+      {data.positions[v * 3], data.positions[v * 3 + 1], data.positions[v * 3 + 2]});
   mesh.normals.push_back(normal);
   if (importing.any_uv0) {
     mesh.uv0.push_back(data.has_uv0 ? Vec2{data.uv0[v * 2], data.uv0[v * 2 + 1]} : Vec2{0, 0});
@@ -273,7 +274,7 @@ Status appendTriangles(MeshImport& importing, size_t p, uint32_t base, const Pri
     if (!(glm::length(cross) > kZeroAreaRelative * longest2)) {
       if (importing.zero_area < kListedWarningsPerMesh) {
         importing.context.scene.warnings.push_back(what + " triangle " + std::to_string(t) +
-                                                ": zero area, skipped");
+                                                   ": zero area, skipped");
       }
       ++importing.zero_area;
       continue;
@@ -360,20 +361,23 @@ void computeTriangleMeans(Scene& scene, Mesh& mesh, const std::string& label) {
   bool missing_uvs = false;
   for (size_t t = 0; t < triangle_count; ++t) {
     const Material& material = scene.materials[mesh.triangle_material[t]];
-    const Rgb albedo_texture = textureMean(scene, material.base_color_texture, mesh, t, missing_uvs);
+    const Rgb albedo_texture =
+        textureMean(scene, material.base_color_texture, mesh, t, missing_uvs);
     mesh.triangle_albedo[t] = {material.base_color.r * albedo_texture.r,
                                material.base_color.g * albedo_texture.g,
                                material.base_color.b * albedo_texture.b};
     const Rgb& e = material.emissive_luminance;
     if (e.r > 0 || e.g > 0 || e.b > 0) {
-      const Rgb emission_texture = textureMean(scene, material.emissive_texture, mesh, t, missing_uvs);
+      const Rgb emission_texture =
+          textureMean(scene, material.emissive_texture, mesh, t, missing_uvs);
       mesh.triangle_emission[t] = {e.r * emission_texture.r, e.g * emission_texture.g,
                                    e.b * emission_texture.b};
     }
   }
   if (missing_uvs) {
-    scene.warnings.push_back(label + ": a material's texture needs texture coordinates the mesh "
-                                     "lacks; its factor is used alone");
+    scene.warnings.push_back(label +
+                             ": a material's texture needs texture coordinates the mesh "
+                             "lacks; its factor is used alone");
   }
 }
 

@@ -16,7 +16,9 @@
 namespace svit::gltf {
 namespace {
 
-Status invalid(std::string message) { return Status(StatusCode::kInvalidInput, std::move(message)); }
+Status invalid(std::string message) {
+  return Status(StatusCode::kInvalidInput, std::move(message));
+}
 
 Status readDoubles(const std::vector<double>& values, size_t expected, const std::string& what,
                    double* out) {
@@ -44,7 +46,8 @@ Status readLocalTransform(const tinygltf::Node& source, const std::string& what,
   }
   double t[3] = {0, 0, 0}, r[4] = {0, 0, 0, 1}, s[3] = {1, 1, 1};
   if (!source.translation.empty()) {
-    if (Status st = readDoubles(source.translation, 3, what + ": translation", t); !st.ok()) return st;
+    if (Status st = readDoubles(source.translation, 3, what + ": translation", t); !st.ok())
+      return st;
   }
   if (!source.rotation.empty()) {
     if (Status st = readDoubles(source.rotation, 4, what + ": rotation", r); !st.ok()) return st;
@@ -83,7 +86,8 @@ Status lightNumber(const tinygltf::Value& object, const char* key, const std::st
   out = v.GetNumberAsDouble();
   // Values beyond float range turn into infinity when stored as float.
   if (!std::isfinite(out) || std::abs(out) > double(std::numeric_limits<float>::max())) {
-    return invalid(what + ": " + key + " " + std::to_string(out) + " is not finite (as a 32-bit float)");
+    return invalid(what + ": " + key + " " + std::to_string(out) +
+                   " is not finite (as a 32-bit float)");
   }
   return Status();
 }
@@ -102,10 +106,12 @@ Status readLight(const tinygltf::Value& object, const std::string& what, Light& 
   } else {
     return invalid(what + ": type '" + type + "' is not point, spot or directional");
   }
-  if (object.Has("name") && object.Get("name").IsString()) light.name = object.Get("name").Get<std::string>();
+  if (object.Has("name") && object.Get("name").IsString())
+    light.name = object.Get("name").Get<std::string>();
   double intensity = 1.0;
   if (Status s = lightNumber(object, "intensity", what, 1.0, intensity); !s.ok()) return s;
-  if (intensity < 0) return invalid(what + ": intensity " + std::to_string(intensity) + " is negative");
+  if (intensity < 0)
+    return invalid(what + ": intensity " + std::to_string(intensity) + " is negative");
   light.intensity = float(intensity);
   double range = 0.0;
   if (Status s = lightNumber(object, "range", what, 0.0, range); !s.ok()) return s;
@@ -113,7 +119,8 @@ Status readLight(const tinygltf::Value& object, const std::string& what, Light& 
   light.range_m = float(range);
   if (object.Has("color")) {
     const tinygltf::Value& color = object.Get("color");
-    if (!color.IsArray() || color.ArrayLen() != 3) return invalid(what + ": color must have 3 numbers");
+    if (!color.IsArray() || color.ArrayLen() != 3)
+      return invalid(what + ": color must have 3 numbers");
     float rgb[3];
     for (int i = 0; i < 3; ++i) {
       const tinygltf::Value& c = color.Get(i);
@@ -131,8 +138,10 @@ Status readLight(const tinygltf::Value& object, const std::string& what, Light& 
     }
     double inner = 0, outer = kPi / 4;  // glTF default
     const tinygltf::Value& spot = object.Get("spot");
-    if (Status s = lightNumber(spot, "innerConeAngle", what + ": spot", 0.0, inner); !s.ok()) return s;
-    if (Status s = lightNumber(spot, "outerConeAngle", what + ": spot", outer, outer); !s.ok()) return s;
+    if (Status s = lightNumber(spot, "innerConeAngle", what + ": spot", 0.0, inner); !s.ok())
+      return s;
+    if (Status s = lightNumber(spot, "outerConeAngle", what + ": spot", outer, outer); !s.ok())
+      return s;
     if (!(inner >= 0 && inner < outer && outer <= kPi / 2)) {
       return invalid(what + ": spot cone angles inner " + std::to_string(inner) + ", outer " +
                      std::to_string(outer) + " need 0 <= inner < outer <= pi/2");
@@ -144,7 +153,8 @@ Status readLight(const tinygltf::Value& object, const std::string& what, Light& 
 }
 
 // Light definitions of KHR_lights_punctual, placed by the nodes that use them.
-Status readLightDefinitions(const tinygltf::Model& model, const std::string& path, std::vector<Light>& definitions) {
+Status readLightDefinitions(const tinygltf::Model& model, const std::string& path,
+                            std::vector<Light>& definitions) {
   auto lights_ext = model.extensions.find("KHR_lights_punctual");
   if (lights_ext == model.extensions.end() || !lights_ext->second.Has("lights")) return Status();
   const tinygltf::Value& lights = lights_ext->second.Get("lights");

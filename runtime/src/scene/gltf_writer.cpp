@@ -52,10 +52,13 @@ tinygltf::TextureInfo textureInfo(const TextureRef& ref) {
   tinygltf::TextureInfo info;
   info.index = ref.texture;
   info.texCoord = ref.texcoord;
-  if (ref.offset.x != 0 || ref.offset.y != 0 || ref.rotation_rad != 0 || ref.scale.x != 1 || ref.scale.y != 1) {
+  if (ref.offset.x != 0 || ref.offset.y != 0 || ref.rotation_rad != 0 || ref.scale.x != 1 ||
+      ref.scale.y != 1) {
     tinygltf::Value::Object t;
-    t["offset"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(double(ref.offset.x)), tinygltf::Value(double(ref.offset.y))});
-    t["scale"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(double(ref.scale.x)), tinygltf::Value(double(ref.scale.y))});
+    t["offset"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(double(ref.offset.x)),
+                                                         tinygltf::Value(double(ref.offset.y))});
+    t["scale"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(double(ref.scale.x)),
+                                                        tinygltf::Value(double(ref.scale.y))});
     t["rotation"] = tinygltf::Value(double(ref.rotation_rad));
     info.extensions["KHR_texture_transform"] = tinygltf::Value(t);
   }
@@ -63,7 +66,8 @@ tinygltf::TextureInfo textureInfo(const TextureRef& ref) {
 }
 
 void addExtensionUsed(tinygltf::Model& model, const std::string& name) {
-  if (std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(), name) == model.extensionsUsed.end()) {
+  if (std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(), name) ==
+      model.extensionsUsed.end()) {
     model.extensionsUsed.push_back(name);
   }
 }
@@ -102,7 +106,8 @@ void writeMaterials(const Scene& scene, tinygltf::Model& model) {
     if (material.base_color_texture.texture >= 0) {
       m.pbrMetallicRoughness.baseColorTexture = textureInfo(material.base_color_texture);
     }
-    if (material.emissive_texture.texture >= 0) m.emissiveTexture = textureInfo(material.emissive_texture);
+    if (material.emissive_texture.texture >= 0)
+      m.emissiveTexture = textureInfo(material.emissive_texture);
     const Rgb& e = material.emissive_luminance;
     const double strength = std::max({double(e.r), double(e.g), double(e.b)});
     if (strength > 0) {
@@ -134,8 +139,9 @@ void writeMesh(const Mesh& mesh, tinygltf::Model& model) {
     return;
   }
   const size_t vertices = mesh.positions.size();
-  const int positions = addAccessor(model, addView(model, mesh.positions.data(), vertices * 12, TINYGLTF_TARGET_ARRAY_BUFFER),
-                                    TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, vertices);
+  const int positions = addAccessor(
+      model, addView(model, mesh.positions.data(), vertices * 12, TINYGLTF_TARGET_ARRAY_BUFFER),
+      TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, vertices);
   std::vector<double> lo(3, kNoUpperBound), hi(3, kNoLowerBound);
   for (const Vec3& p : mesh.positions) {
     const float c[3] = {p.x, p.y, p.z};
@@ -146,15 +152,18 @@ void writeMesh(const Mesh& mesh, tinygltf::Model& model) {
   }
   model.accessors[size_t(positions)].minValues = lo;
   model.accessors[size_t(positions)].maxValues = hi;
-  const int normals = addAccessor(model, addView(model, mesh.normals.data(), vertices * 12, TINYGLTF_TARGET_ARRAY_BUFFER),
-                                  TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, vertices);
+  const int normals = addAccessor(
+      model, addView(model, mesh.normals.data(), vertices * 12, TINYGLTF_TARGET_ARRAY_BUFFER),
+      TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, vertices);
   int uv0 = -1, uv1 = -1;
   if (!mesh.uv0.empty()) {
-    uv0 = addAccessor(model, addView(model, mesh.uv0.data(), vertices * 8, TINYGLTF_TARGET_ARRAY_BUFFER),
+    uv0 = addAccessor(model,
+                      addView(model, mesh.uv0.data(), vertices * 8, TINYGLTF_TARGET_ARRAY_BUFFER),
                       TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, vertices);
   }
   if (!mesh.uv1.empty()) {
-    uv1 = addAccessor(model, addView(model, mesh.uv1.data(), vertices * 8, TINYGLTF_TARGET_ARRAY_BUFFER),
+    uv1 = addAccessor(model,
+                      addView(model, mesh.uv1.data(), vertices * 8, TINYGLTF_TARGET_ARRAY_BUFFER),
                       TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, vertices);
   }
   // One primitive per material, in order of first use so re-import keeps
@@ -177,7 +186,8 @@ void writeMesh(const Mesh& mesh, tinygltf::Model& model) {
     if (uv0 >= 0) primitive.attributes["TEXCOORD_0"] = uv0;
     if (uv1 >= 0) primitive.attributes["TEXCOORD_1"] = uv1;
     primitive.indices = addAccessor(
-        model, addView(model, indices.data(), indices.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+        model,
+        addView(model, indices.data(), indices.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
         TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
     out.primitives.push_back(primitive);
   }
@@ -212,7 +222,9 @@ void writeNodes(const Scene& scene, tinygltf::Model& model) {
     if (light.node < 0) continue;  // level.json lights stay in level.json
     tinygltf::Light out;
     out.name = light.name;
-    out.type = light.type == LightType::kPoint ? "point" : light.type == LightType::kSpot ? "spot" : "directional";
+    out.type = light.type == LightType::kPoint  ? "point"
+               : light.type == LightType::kSpot ? "spot"
+                                                : "directional";
     out.color = {light.color.r, light.color.g, light.color.b};
     out.intensity = light.intensity;
     out.range = light.range_m;
@@ -256,7 +268,8 @@ Status writeGltf(const Scene& scene, const std::string& path) {
   if (ec) {
     std::error_code ignored;
     std::filesystem::remove(temporary, ignored);
-    return Status(StatusCode::kIoError, path + ": cannot replace with " + temporary + ": " + ec.message());
+    return Status(StatusCode::kIoError,
+                  path + ": cannot replace with " + temporary + ": " + ec.message());
   }
   return Status();
 }

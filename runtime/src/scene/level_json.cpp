@@ -34,7 +34,8 @@ constexpr int kMaxSphereSegments = 256;
 // Appends triangle (a, b, c) of a convex mesh centred on the origin, wound
 // counter-clockwise seen from outside (glTF's front face).
 void addOutwardTriangle(Mesh& mesh, uint32_t a, uint32_t b, uint32_t c) {
-  const glm::vec3 pa = toGlm(mesh.positions[a]), pb = toGlm(mesh.positions[b]), pc = toGlm(mesh.positions[c]);
+  const glm::vec3 pa = toGlm(mesh.positions[a]), pb = toGlm(mesh.positions[b]),
+                  pc = toGlm(mesh.positions[c]);
   const bool outward = glm::dot(glm::cross(pb - pa, pc - pa), pa + pb + pc) > 0;
   mesh.indices.insert(mesh.indices.end(), {a, outward ? b : c, outward ? c : b});
 }
@@ -161,7 +162,8 @@ struct LevelReader {
 
   Status direction(const Json& value, const std::string& field, Vec3& out) const {
     if (Status s = vec3(value, field, out); !s.ok()) return s;
-    const double length = std::sqrt(double(out.x) * out.x + double(out.y) * out.y + double(out.z) * out.z);
+    const double length =
+        std::sqrt(double(out.x) * out.x + double(out.y) * out.y + double(out.z) * out.z);
     if (!(length > 1e-12)) return error(field, "has zero length");
     out = {float(out.x / length), float(out.y / length), float(out.z / length)};
     return Status();
@@ -187,7 +189,8 @@ struct LevelReader {
   Status quat(const Json& value, const std::string& field, Quat& out) const {
     float v[4];
     if (Status s = vector(value, field, 4, v); !s.ok()) return s;
-    const double length = std::sqrt(double(v[0]) * v[0] + double(v[1]) * v[1] + double(v[2]) * v[2] + double(v[3]) * v[3]);
+    const double length = std::sqrt(double(v[0]) * v[0] + double(v[1]) * v[1] +
+                                    double(v[2]) * v[2] + double(v[3]) * v[3]);
     if (!(length > 1e-6)) return error(field, "quaternion has zero length");
     out = {float(v[0] / length), float(v[1] / length), float(v[2] / length), float(v[3] / length)};
     return Status();
@@ -208,13 +211,15 @@ struct LevelReader {
   // A node named by a string (the first node of that name, in file order) or
   // by its index in the glTF's `nodes` array (for files whose nodes have no
   // names). Nodes left out by `exclude` cannot be named.
-  Status nodeByName(const Json& value, const std::string& field, const Scene& scene, int& node) const {
+  Status nodeByName(const Json& value, const std::string& field, const Scene& scene,
+                    int& node) const {
     const std::string file = std::filesystem::path(scene.gltf_path).filename().string();
     if (value.is_number_integer()) {
       const bool in_range = value.is_number_unsigned() && value.get<uint64_t>() < gltf_nodes;
       if (!in_range) {
-        return Status(StatusCode::kNotFound, path + ": " + field + ": no node " + value.dump() + " in " + file +
-                                                 " (it has " + std::to_string(gltf_nodes) + " nodes)");
+        return Status(StatusCode::kNotFound, path + ": " + field + ": no node " + value.dump() +
+                                                 " in " + file + " (it has " +
+                                                 std::to_string(gltf_nodes) + " nodes)");
       }
       node = int(value.get<uint64_t>());
     } else {
@@ -235,13 +240,23 @@ struct LevelReader {
   }
 
   Status readSun(const Json& j, Sun& sun) const {
-    if (Status s = checkKeys(j, "sun", {"direction_to_sun", "illuminance_lux", "angular_radius_rad", "color"}); !s.ok()) return s;
+    if (Status s = checkKeys(
+            j, "sun", {"direction_to_sun", "illuminance_lux", "angular_radius_rad", "color"});
+        !s.ok())
+      return s;
     if (!j.contains("direction_to_sun")) return error("sun.direction_to_sun", "is required");
     if (!j.contains("illuminance_lux")) return error("sun.illuminance_lux", "is required");
-    if (Status s = direction(j["direction_to_sun"], "sun.direction_to_sun", sun.direction_to_sun); !s.ok()) return s;
-    if (Status s = nonNegative(j["illuminance_lux"], "sun.illuminance_lux", sun.illuminance_lux); !s.ok()) return s;
+    if (Status s = direction(j["direction_to_sun"], "sun.direction_to_sun", sun.direction_to_sun);
+        !s.ok())
+      return s;
+    if (Status s = nonNegative(j["illuminance_lux"], "sun.illuminance_lux", sun.illuminance_lux);
+        !s.ok())
+      return s;
     if (j.contains("angular_radius_rad")) {
-      if (Status s = nonNegative(j["angular_radius_rad"], "sun.angular_radius_rad", sun.angular_radius_rad); !s.ok()) return s;
+      if (Status s = nonNegative(j["angular_radius_rad"], "sun.angular_radius_rad",
+                                 sun.angular_radius_rad);
+          !s.ok())
+        return s;
       if (sun.angular_radius_rad > 0.5f) return error("sun.angular_radius_rad", "must be <= 0.5");
     }
     if (j.contains("color")) {
@@ -252,9 +267,13 @@ struct LevelReader {
   }
 
   Status readSky(const Json& j, Sky& sky) const {
-    if (Status s = checkKeys(j, "sky", {"model", "zenith_luminance", "horizon_luminance", "ground_luminance"}); !s.ok()) return s;
+    if (Status s = checkKeys(
+            j, "sky", {"model", "zenith_luminance", "horizon_luminance", "ground_luminance"});
+        !s.ok())
+      return s;
     std::string model;
-    if (!j.contains("model")) return error("sky.model", "is required (\"uniform\" or \"gradient\")");
+    if (!j.contains("model"))
+      return error("sky.model", "is required (\"uniform\" or \"gradient\")");
     if (Status s = string(j["model"], "sky.model", model); !s.ok()) return s;
     if (model == "uniform") {
       sky.model = SkyModel::kUniform;
@@ -267,21 +286,28 @@ struct LevelReader {
       return error("sky.model", "'" + model + "' is not \"uniform\" or \"gradient\"");
     }
     if (!j.contains("zenith_luminance")) return error("sky.zenith_luminance", "is required");
-    if (Status s = rgb(j["zenith_luminance"], "sky.zenith_luminance", sky.zenith_luminance); !s.ok()) return s;
+    if (Status s = rgb(j["zenith_luminance"], "sky.zenith_luminance", sky.zenith_luminance);
+        !s.ok())
+      return s;
     sky.horizon_luminance = sky.zenith_luminance;
     if (j.contains("horizon_luminance")) {
-      if (Status s = rgb(j["horizon_luminance"], "sky.horizon_luminance", sky.horizon_luminance); !s.ok()) return s;
+      if (Status s = rgb(j["horizon_luminance"], "sky.horizon_luminance", sky.horizon_luminance);
+          !s.ok())
+        return s;
     }
     if (j.contains("ground_luminance")) {
-      if (Status s = rgb(j["ground_luminance"], "sky.ground_luminance", sky.ground_luminance); !s.ok()) return s;
+      if (Status s = rgb(j["ground_luminance"], "sky.ground_luminance", sky.ground_luminance);
+          !s.ok())
+        return s;
     }
     return Status();
   }
 
   Status readLight(const Json& j, const std::string& field, Scene& scene, Light& light) const {
-    if (Status s = checkKeys(j, field, {"name", "type", "position", "direction", "color", "intensity_cd",
-                                        "illuminance_lux", "range_m", "inner_cone_rad",
-                                        "outer_cone_rad", "dynamic", "node"});
+    if (Status s = checkKeys(
+            j, field,
+            {"name", "type", "position", "direction", "color", "intensity_cd", "illuminance_lux",
+             "range_m", "inner_cone_rad", "outer_cone_rad", "dynamic", "node"});
         !s.ok()) {
       return s;
     }
@@ -308,7 +334,8 @@ struct LevelReader {
       if (!j.contains(key)) return error(field + "." + key, "is required for a " + type + " light");
     }
     for (const std::string& key : forbidden) {
-      if (j.contains(key)) return error(field + "." + key, "does not apply to a " + type + " light");
+      if (j.contains(key))
+        return error(field + "." + key, "does not apply to a " + type + " light");
     }
     light.name = field;
     if (j.contains("name")) {
@@ -318,24 +345,36 @@ struct LevelReader {
       if (Status s = vec3(j["position"], field + ".position", light.position); !s.ok()) return s;
     }
     if (j.contains("direction")) {
-      if (Status s = direction(j["direction"], field + ".direction", light.direction); !s.ok()) return s;
+      if (Status s = direction(j["direction"], field + ".direction", light.direction); !s.ok())
+        return s;
     }
     if (j.contains("color")) {
       if (Status s = rgb(j["color"], field + ".color", light.color); !s.ok()) return s;
     }
-    const char* intensity_key = light.type == LightType::kDirectional ? "illuminance_lux" : "intensity_cd";
-    if (Status s = nonNegative(j[intensity_key], field + "." + intensity_key, light.intensity); !s.ok()) return s;
+    const char* intensity_key =
+        light.type == LightType::kDirectional ? "illuminance_lux" : "intensity_cd";
+    if (Status s = nonNegative(j[intensity_key], field + "." + intensity_key, light.intensity);
+        !s.ok())
+      return s;
     if (j.contains("range_m")) {
-      if (Status s = nonNegative(j["range_m"], field + ".range_m", light.range_m); !s.ok()) return s;
+      if (Status s = nonNegative(j["range_m"], field + ".range_m", light.range_m); !s.ok())
+        return s;
     }
     if (light.type == LightType::kSpot) {
       if (j.contains("inner_cone_rad")) {
-        if (Status s = nonNegative(j["inner_cone_rad"], field + ".inner_cone_rad", light.inner_cone_rad); !s.ok()) return s;
+        if (Status s =
+                nonNegative(j["inner_cone_rad"], field + ".inner_cone_rad", light.inner_cone_rad);
+            !s.ok())
+          return s;
       }
       if (j.contains("outer_cone_rad")) {
-        if (Status s = nonNegative(j["outer_cone_rad"], field + ".outer_cone_rad", light.outer_cone_rad); !s.ok()) return s;
+        if (Status s =
+                nonNegative(j["outer_cone_rad"], field + ".outer_cone_rad", light.outer_cone_rad);
+            !s.ok())
+          return s;
       }
-      if (!(light.inner_cone_rad < light.outer_cone_rad && light.outer_cone_rad <= float(kPi / 2))) {
+      if (!(light.inner_cone_rad < light.outer_cone_rad &&
+            light.outer_cone_rad <= float(kPi / 2))) {
         return error(field, "spot cone angles need 0 <= inner_cone_rad < outer_cone_rad <= pi/2");
       }
     }
@@ -357,7 +396,7 @@ struct LevelReader {
   static void hangOnNode(Scene& scene, int parent, Light& light) {
     const Vec3 d = light.direction;
     // Shortest rotation from (0, 0, -1) to d: (axis (0,0,-1) x d, 1 + cos).
-    glm::quat q(1.0f + -d.z, d.y, -d.x, 0.0f);  // glm order: w, x, y, z
+    glm::quat q(1.0f + -d.z, d.y, -d.x, 0.0f);      // glm order: w, x, y, z
     if (!(q.w > 1e-6f)) q = glm::quat(0, 1, 0, 0);  // d = +Z: half a turn about X
     q = glm::normalize(q);
     Node node;
@@ -374,9 +413,10 @@ struct LevelReader {
   // A primitive prop (docs/level-format.md "objects"): appends a mesh, its
   // material and a root node holding it.
   Status readObject(const Json& j, const std::string& field, Scene& scene, int& node_out) const {
-    if (Status s = checkKeys(j, field, {"name", "shape", "radius_m", "size_m", "segments", "albedo",
-                                        "emissive_luminance", "double_sided", "translation", "rotation",
-                                        "dynamic"});
+    if (Status s =
+            checkKeys(j, field,
+                      {"name", "shape", "radius_m", "size_m", "segments", "albedo",
+                       "emissive_luminance", "double_sided", "translation", "rotation", "dynamic"});
         !s.ok()) {
       return s;
     }
@@ -404,11 +444,14 @@ struct LevelReader {
     return Status();
   }
 
-  Status readObjectName(const Json& j, const std::string& field, const Scene& scene, std::string& name) const {
-    if (!j.contains("name")) return error(field + ".name", "is required (paths name the object by it)");
+  Status readObjectName(const Json& j, const std::string& field, const Scene& scene,
+                        std::string& name) const {
+    if (!j.contains("name"))
+      return error(field + ".name", "is required (paths name the object by it)");
     if (Status s = string(j["name"], field + ".name", name); !s.ok()) return s;
     if (name.empty()) return error(field + ".name", "must not be empty");
-    if (scene.findNode(name) >= 0) return error(field + ".name", "a node named '" + name + "' already exists");
+    if (scene.findNode(name) >= 0)
+      return error(field + ".name", "a node named '" + name + "' already exists");
     return Status();
   }
 
@@ -443,19 +486,27 @@ struct LevelReader {
       if (Status s = rgb(j["albedo"], field + ".albedo", material.base_color); !s.ok()) return s;
       const float c[3] = {material.base_color.r, material.base_color.g, material.base_color.b};
       for (int i = 0; i < 3; ++i) {
-        if (c[i] > 1) return error(field + ".albedo", "must be <= 1 (a surface reflects at most what it receives)");
+        if (c[i] > 1)
+          return error(field + ".albedo",
+                       "must be <= 1 (a surface reflects at most what it receives)");
       }
     }
     if (j.contains("emissive_luminance")) {
-      if (Status s = rgb(j["emissive_luminance"], field + ".emissive_luminance", material.emissive_luminance); !s.ok()) return s;
+      if (Status s = rgb(j["emissive_luminance"], field + ".emissive_luminance",
+                         material.emissive_luminance);
+          !s.ok())
+        return s;
     }
     if (j.contains("double_sided")) {
-      if (Status s = boolean(j["double_sided"], field + ".double_sided", material.double_sided); !s.ok()) return s;
+      if (Status s = boolean(j["double_sided"], field + ".double_sided", material.double_sided);
+          !s.ok())
+        return s;
     }
     return Status();
   }
 
-  Status buildObjectMesh(const Json& j, const std::string& field, const std::string& shape, Mesh& mesh) const {
+  Status buildObjectMesh(const Json& j, const std::string& field, const std::string& shape,
+                         Mesh& mesh) const {
     if (shape == "sphere") {
       float radius = 0;
       if (Status s = positiveLength(j["radius_m"], field + ".radius_m", radius); !s.ok()) return s;
@@ -476,8 +527,9 @@ struct LevelReader {
     if (!v.is_number_integer()) return error(field + ".segments", "must be an integer");
     if (!v.is_number_unsigned() || v.get<uint64_t>() < uint64_t(kMinSphereSegments) ||
         v.get<uint64_t>() > uint64_t(kMaxSphereSegments)) {
-      return error(field + ".segments", v.dump() + " is outside [" + std::to_string(kMinSphereSegments) +
-                                            ", " + std::to_string(kMaxSphereSegments) + "]");
+      return error(field + ".segments", v.dump() + " is outside [" +
+                                            std::to_string(kMinSphereSegments) + ", " +
+                                            std::to_string(kMaxSphereSegments) + "]");
     }
     segments = int(v.get<uint64_t>());
     return Status();
@@ -499,10 +551,12 @@ struct LevelReader {
     return Status();
   }
 
-  Status readObjectNode(const Json& j, const std::string& field, const std::string& name, Node& node) const {
+  Status readObjectNode(const Json& j, const std::string& field, const std::string& name,
+                        Node& node) const {
     node.name = name;
     if (j.contains("translation")) {
-      if (Status s = vec3(j["translation"], field + ".translation", node.translation); !s.ok()) return s;
+      if (Status s = vec3(j["translation"], field + ".translation", node.translation); !s.ok())
+        return s;
     }
     if (j.contains("rotation")) {
       if (Status s = quat(j["rotation"], field + ".rotation", node.rotation); !s.ok()) return s;
@@ -510,7 +564,8 @@ struct LevelReader {
     if (j.contains("dynamic")) {
       if (Status s = boolean(j["dynamic"], field + ".dynamic", node.dynamic); !s.ok()) return s;
     }
-    node.parent_from_node = fromGlm(composeTrs(toGlm(node.translation), toGlm(node.rotation), glm::vec3(1)));
+    node.parent_from_node =
+        fromGlm(composeTrs(toGlm(node.translation), toGlm(node.rotation), glm::vec3(1)));
     return Status();
   }
 
@@ -524,7 +579,8 @@ struct LevelReader {
     return Status();
   }
 
-  Status readPath(const Json& j, const std::string& field, Scene& scene, ObjectPath& path_out) const {
+  Status readPath(const Json& j, const std::string& field, Scene& scene,
+                  ObjectPath& path_out) const {
     if (Status s = checkKeys(j, field, {"node", "loop", "keys", "animation"}); !s.ok()) return s;
     if (!j.contains("node")) return error(field + ".node", "is required");
     if (Status s = nodeByName(j["node"], field + ".node", scene, path_out.node); !s.ok()) return s;
@@ -539,7 +595,8 @@ struct LevelReader {
       if (a.is_number_integer()) {
         const long index = a.get<long>();
         if (index < 0 || size_t(index) >= scene.animations.size()) {
-          return error(field + ".animation", "index " + std::to_string(index) + " does not exist (the glTF has " +
+          return error(field + ".animation", "index " + std::to_string(index) +
+                                                 " does not exist (the glTF has " +
                                                  std::to_string(scene.animations.size()) + ")");
         }
         path_out.animation = int(index);
@@ -549,26 +606,34 @@ struct LevelReader {
         for (size_t i = 0; i < scene.animations.size(); ++i) {
           if (scene.animations[i].name == name) path_out.animation = int(i);
         }
-        if (path_out.animation < 0) return error(field + ".animation", "no animation named '" + name + "'");
+        if (path_out.animation < 0)
+          return error(field + ".animation", "no animation named '" + name + "'");
       }
     } else {
       const Json& keys = j["keys"];
-      if (!keys.is_array() || keys.empty()) return error(field + ".keys", "must be a non-empty array");
+      if (!keys.is_array() || keys.empty())
+        return error(field + ".keys", "must be a non-empty array");
       const Node& node = scene.nodes[size_t(path_out.node)];
       for (size_t k = 0; k < keys.size(); ++k) {
         const std::string key_field = field + ".keys[" + std::to_string(k) + "]";
-        if (Status s = checkKeys(keys[k], key_field, {"t_s", "translation", "rotation", "scale"}); !s.ok()) return s;
+        if (Status s = checkKeys(keys[k], key_field, {"t_s", "translation", "rotation", "scale"});
+            !s.ok())
+          return s;
         PathKey key{0, node.translation, node.rotation, node.scale};
         if (!keys[k].contains("t_s")) return error(key_field + ".t_s", "is required");
         double t = 0;
         if (Status s = number(keys[k]["t_s"], key_field + ".t_s", t); !s.ok()) return s;
         key.t_s = float(t);
-        if (k > 0 && !(key.t_s > path_out.keys.back().t_s)) return error(key_field + ".t_s", "must increase");
+        if (k > 0 && !(key.t_s > path_out.keys.back().t_s))
+          return error(key_field + ".t_s", "must increase");
         if (keys[k].contains("translation")) {
-          if (Status s = vec3(keys[k]["translation"], key_field + ".translation", key.translation); !s.ok()) return s;
+          if (Status s = vec3(keys[k]["translation"], key_field + ".translation", key.translation);
+              !s.ok())
+            return s;
         }
         if (keys[k].contains("rotation")) {
-          if (Status s = quat(keys[k]["rotation"], key_field + ".rotation", key.rotation); !s.ok()) return s;
+          if (Status s = quat(keys[k]["rotation"], key_field + ".rotation", key.rotation); !s.ok())
+            return s;
         }
         if (keys[k].contains("scale")) {
           if (Status s = vec3(keys[k]["scale"], key_field + ".scale", key.scale); !s.ok()) return s;
@@ -596,7 +661,9 @@ struct LevelReader {
     const Json& keys = j["keys"];
     for (size_t k = 0; k < keys.size(); ++k) {
       const std::string key_field = field + ".keys[" + std::to_string(k) + "]";
-      if (Status s = checkKeys(keys[k], key_field, {"t_s", "position", "look_at", "yfov_rad"}); !s.ok()) return s;
+      if (Status s = checkKeys(keys[k], key_field, {"t_s", "position", "look_at", "yfov_rad"});
+          !s.ok())
+        return s;
       CameraKey key;
       for (const char* required : {"t_s", "position", "look_at"}) {
         if (!keys[k].contains(required)) return error(key_field + "." + required, "is required");
@@ -604,10 +671,14 @@ struct LevelReader {
       double t = 0;
       if (Status s = number(keys[k]["t_s"], key_field + ".t_s", t); !s.ok()) return s;
       key.t_s = float(t);
-      if (k > 0 && !(key.t_s > camera.keys.back().t_s)) return error(key_field + ".t_s", "must increase");
-      if (Status s = vec3(keys[k]["position"], key_field + ".position", key.position); !s.ok()) return s;
-      if (Status s = vec3(keys[k]["look_at"], key_field + ".look_at", key.look_at); !s.ok()) return s;
-      if (key.position.x == key.look_at.x && key.position.y == key.look_at.y && key.position.z == key.look_at.z) {
+      if (k > 0 && !(key.t_s > camera.keys.back().t_s))
+        return error(key_field + ".t_s", "must increase");
+      if (Status s = vec3(keys[k]["position"], key_field + ".position", key.position); !s.ok())
+        return s;
+      if (Status s = vec3(keys[k]["look_at"], key_field + ".look_at", key.look_at); !s.ok())
+        return s;
+      if (key.position.x == key.look_at.x && key.position.y == key.look_at.y &&
+          key.position.z == key.look_at.z) {
         return error(key_field + ".look_at", "equals position: no view direction");
       }
       if (keys[k].contains("yfov_rad")) {
@@ -626,7 +697,8 @@ struct LevelReader {
 
 Expected<Json> readLevelRoot(const std::string& path) {
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return Status(StatusCode::kNotFound, path + ": file not found");
+  if (!std::filesystem::exists(path, ec))
+    return Status(StatusCode::kNotFound, path + ": file not found");
   std::ifstream file(path, std::ios::binary);
   if (!file || std::filesystem::is_directory(path, ec)) {
     return Status(StatusCode::kIoError, path + ": cannot open for reading");
@@ -643,12 +715,15 @@ Expected<Json> readLevelRoot(const std::string& path) {
 }
 
 // The level's glTF, not yet finalized: the level adds to it first.
-Expected<Scene> importLevelGltf(const Json& root, const std::string& path, const LoadOptions& options,
-                                LevelReader& reader, std::vector<int>& roots) {
-  if (!root.contains("gltf")) return reader.error("gltf", "is required (the glTF file of the level)");
+Expected<Scene> importLevelGltf(const Json& root, const std::string& path,
+                                const LoadOptions& options, LevelReader& reader,
+                                std::vector<int>& roots) {
+  if (!root.contains("gltf"))
+    return reader.error("gltf", "is required (the glTF file of the level)");
   std::string gltf;
   if (Status s = reader.string(root["gltf"], "gltf", gltf); !s.ok()) return s;
-  const std::string gltf_path = (std::filesystem::path(path).parent_path() / gltf).lexically_normal().string();
+  const std::string gltf_path =
+      (std::filesystem::path(path).parent_path() / gltf).lexically_normal().string();
   Expected<Scene> imported = importGltfUnfinalized(gltf_path, options, roots);
   if (!imported.ok()) {
     return Status(imported.status().code(), path + ": gltf: " + imported.status().message());
@@ -667,21 +742,25 @@ Status forEachElement(const Json& root, const char* key, const LevelReader& read
   if (!root.contains(key)) return Status();
   if (!root[key].is_array()) return reader.error(key, not_array);
   for (size_t i = 0; i < root[key].size(); ++i) {
-    if (Status s = read(root[key][i], std::string(key) + "[" + std::to_string(i) + "]"); !s.ok()) return s;
+    if (Status s = read(root[key][i], std::string(key) + "[" + std::to_string(i) + "]"); !s.ok())
+      return s;
   }
   return Status();
 }
 
-Status readExclusions(const Json& root, LevelReader& reader, Scene& scene, std::vector<int>& roots) {
+Status readExclusions(const Json& root, LevelReader& reader, Scene& scene,
+                      std::vector<int>& roots) {
   if (!root.contains("exclude")) return Status();
   std::vector<int> nodes;
-  const Status listed = forEachElement(root, "exclude", reader, "must be an array of node names or indices",
-                                       [&](const Json& element, const std::string& field) {
-                                         int node = -1;
-                                         if (Status s = reader.nodeByName(element, field, scene, node); !s.ok()) return s;
-                                         nodes.push_back(node);
-                                         return Status();
-                                       });
+  const Status listed =
+      forEachElement(root, "exclude", reader, "must be an array of node names or indices",
+                     [&](const Json& element, const std::string& field) {
+                       int node = -1;
+                       if (Status s = reader.nodeByName(element, field, scene, node); !s.ok())
+                         return s;
+                       nodes.push_back(node);
+                       return Status();
+                     });
   if (!listed.ok()) return listed;
   reader.excluded.assign(scene.nodes.size(), 0);
   for (int node : nodes) {
@@ -691,13 +770,16 @@ Status readExclusions(const Json& root, LevelReader& reader, Scene& scene, std::
   return Status();
 }
 
-Status readObjects(const Json& root, const LevelReader& reader, Scene& scene, std::vector<int>& roots) {
-  return forEachElement(root, "objects", reader, "must be an array", [&](const Json& element, const std::string& field) {
-    int node = -1;
-    if (Status s = reader.readObject(element, field, scene, node); !s.ok()) return s;
-    roots.push_back(node);
-    return Status();
-  });
+Status readObjects(const Json& root, const LevelReader& reader, Scene& scene,
+                   std::vector<int>& roots) {
+  return forEachElement(root, "objects", reader, "must be an array",
+                        [&](const Json& element, const std::string& field) {
+                          int node = -1;
+                          if (Status s = reader.readObject(element, field, scene, node); !s.ok())
+                            return s;
+                          roots.push_back(node);
+                          return Status();
+                        });
 }
 
 Status readSunAndSky(const Json& root, const LevelReader& reader, Scene& scene) {
@@ -711,37 +793,43 @@ Status readSunAndSky(const Json& root, const LevelReader& reader, Scene& scene) 
 }
 
 Status readLights(const Json& root, const LevelReader& reader, Scene& scene) {
-  return forEachElement(root, "lights", reader, "must be an array", [&](const Json& element, const std::string& field) {
-    Light light;
-    if (Status s = reader.readLight(element, field, scene, light); !s.ok()) return s;
-    scene.lights.push_back(light);
-    return Status();
-  });
+  return forEachElement(root, "lights", reader, "must be an array",
+                        [&](const Json& element, const std::string& field) {
+                          Light light;
+                          if (Status s = reader.readLight(element, field, scene, light); !s.ok())
+                            return s;
+                          scene.lights.push_back(light);
+                          return Status();
+                        });
 }
 
 Status readDynamicNodes(const Json& root, const LevelReader& reader, Scene& scene) {
   return forEachElement(root, "dynamic", reader, "must be an array of node names",
                         [&](const Json& element, const std::string& field) {
                           int node = -1;
-                          if (Status s = reader.nodeByName(element, field, scene, node); !s.ok()) return s;
+                          if (Status s = reader.nodeByName(element, field, scene, node); !s.ok())
+                            return s;
                           scene.nodes[size_t(node)].dynamic = true;
                           return Status();
                         });
 }
 
 Status readPaths(const Json& root, const LevelReader& reader, Scene& scene) {
-  const Status object_paths = forEachElement(root, "paths", reader, "must be an array",
-                                             [&](const Json& element, const std::string& field) {
-                                               ObjectPath object_path;
-                                               if (Status s = reader.readPath(element, field, scene, object_path); !s.ok()) return s;
-                                               scene.object_paths.push_back(std::move(object_path));
-                                               return Status();
-                                             });
+  const Status object_paths =
+      forEachElement(root, "paths", reader, "must be an array",
+                     [&](const Json& element, const std::string& field) {
+                       ObjectPath object_path;
+                       if (Status s = reader.readPath(element, field, scene, object_path); !s.ok())
+                         return s;
+                       scene.object_paths.push_back(std::move(object_path));
+                       return Status();
+                     });
   if (!object_paths.ok()) return object_paths;
   return forEachElement(root, "camera_paths", reader, "must be an array",
                         [&](const Json& element, const std::string& field) {
                           CameraPath camera;
-                          if (Status s = reader.readCameraPath(element, field, camera); !s.ok()) return s;
+                          if (Status s = reader.readCameraPath(element, field, camera); !s.ok())
+                            return s;
                           scene.camera_paths.push_back(std::move(camera));
                           return Status();
                         });
@@ -752,8 +840,9 @@ Expected<Scene> loadLevelJson(const std::string& path, const LoadOptions& option
   if (!parsed.ok()) return parsed.status();
   const Json& root = parsed.value();
   LevelReader reader{path, 0, {}};
-  if (Status s = reader.checkKeys(root, "", {"gltf", "description", "sun", "sky", "exclude", "objects",
-                                             "lights", "dynamic", "paths", "camera_paths"});
+  if (Status s = reader.checkKeys(root, "",
+                                  {"gltf", "description", "sun", "sky", "exclude", "objects",
+                                   "lights", "dynamic", "paths", "camera_paths"});
       !s.ok()) {
     return s;
   }
@@ -775,7 +864,8 @@ Expected<Scene> loadLevelJson(const std::string& path, const LoadOptions& option
   // finalizeScene names the glTF; the level file is what the user loaded
   // and what made it so (an `exclude` that leaves no triangles: found by
   // fuzz_level_json's check that every error names the file).
-  if (Status s = finalizeScene(scene, roots); !s.ok()) return Status(s.code(), path + ": " + s.message());
+  if (Status s = finalizeScene(scene, roots); !s.ok())
+    return Status(s.code(), path + ": " + s.message());
   return scene;
 }
 

@@ -33,9 +33,9 @@ Status writeLightmapExr(const LightmapImage& image, const std::string& path) {
   }
   for (size_t i = 0; i < image.rgb.size(); ++i) {
     if (!std::isfinite(image.rgb[i])) {
-      return Status(StatusCode::kInvalidInput, path + ": texel (" + std::to_string((i / 3) % size_t(image.width)) +
-                                                   ", " + std::to_string((i / 3) / size_t(image.width)) +
-                                                   ") is not finite");
+      return Status(StatusCode::kInvalidInput,
+                    path + ": texel (" + std::to_string((i / 3) % size_t(image.width)) + ", " +
+                        std::to_string((i / 3) / size_t(image.width)) + ") is not finite");
     }
   }
   // EXR stores channels as planes, conventionally sorted by name: B, G, R.
@@ -140,11 +140,12 @@ bool headerAttributes(const std::vector<unsigned char>& bytes, const std::string
     if (!cString(attribute)) return false;
     if (attribute.empty()) return true;
     if (!cString(type) || bytes.size() - at < 4) return false;
-    const uint32_t size = uint32_t(bytes[at]) | uint32_t(bytes[at + 1]) << 8 | uint32_t(bytes[at + 2]) << 16 |
-                          uint32_t(bytes[at + 3]) << 24;
+    const uint32_t size = uint32_t(bytes[at]) | uint32_t(bytes[at + 1]) << 8 |
+                          uint32_t(bytes[at + 2]) << 16 | uint32_t(bytes[at + 3]) << 24;
     at += 4;
     if (size > bytes.size() - at) return false;
-    if (attribute == name) values.emplace_back(reinterpret_cast<const char*>(bytes.data()) + at, size);
+    if (attribute == name)
+      values.emplace_back(reinterpret_cast<const char*>(bytes.data()) + at, size);
     at += size;
   }
 }
@@ -155,8 +156,10 @@ Status invalidExr(const std::string& path, const std::string& what) {
 
 Expected<std::vector<unsigned char>> readFileBytes(const std::string& path) {
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return Status(StatusCode::kNotFound, path + ": file not found");
-  if (std::filesystem::is_directory(path, ec)) return Status(StatusCode::kIoError, path + ": is a directory, not an EXR");
+  if (!std::filesystem::exists(path, ec))
+    return Status(StatusCode::kNotFound, path + ": file not found");
+  if (std::filesystem::is_directory(path, ec))
+    return Status(StatusCode::kIoError, path + ": is a directory, not an EXR");
   std::ifstream in(path, std::ios::binary);
   if (!in) return Status(StatusCode::kIoError, path + ": cannot open");
   std::vector<unsigned char> bytes;
@@ -169,14 +172,18 @@ Expected<std::vector<unsigned char>> readFileBytes(const std::string& path) {
   return bytes;
 }
 
-Status checkVersion(const std::vector<unsigned char>& bytes, const std::string& path, EXRVersion& version) {
+Status checkVersion(const std::vector<unsigned char>& bytes, const std::string& path,
+                    EXRVersion& version) {
   if (ParseEXRVersionFromMemory(&version, bytes.data(), bytes.size()) != TINYEXR_SUCCESS) {
     return invalidExr(path, "not a readable EXR: no OpenEXR magic number and version 2");
   }
   if (version.multipart || version.non_image || version.tiled) {
-    return Status(StatusCode::kUnsupported, path + ": " +
-                                                (version.multipart ? "multi-part" : version.non_image ? "deep" : "tiled") +
-                                                " EXR; lightmap pages are single-part scanline images");
+    return Status(StatusCode::kUnsupported,
+                  path + ": " +
+                      (version.multipart   ? "multi-part"
+                       : version.non_image ? "deep"
+                                           : "tiled") +
+                      " EXR; lightmap pages are single-part scanline images");
   }
   return Status();
 }
@@ -188,7 +195,8 @@ Status checkVersion(const std::vector<unsigned char>& bytes, const std::string& 
 // with data), read as tinyexr reads it: up to the first NUL.
 Status checkPartTypes(const std::vector<unsigned char>& bytes, const std::string& path) {
   std::vector<std::string> part_types;
-  if (!headerAttributes(bytes, "type", part_types)) return invalidExr(path, "not a readable EXR: header runs past the file");
+  if (!headerAttributes(bytes, "type", part_types))
+    return invalidExr(path, "not a readable EXR: header runs past the file");
   for (const std::string& value : part_types) {
     const std::string part_type = value.substr(0, value.find('\0'));
     if (part_type.empty() || part_type == "scanlineimage") continue;
@@ -200,10 +208,11 @@ Status checkPartTypes(const std::vector<unsigned char>& bytes, const std::string
   return Status();
 }
 
-Status parseHeader(const std::vector<unsigned char>& bytes, const EXRVersion& version, const std::string& path,
-                   EXRHeader& h) {
+Status parseHeader(const std::vector<unsigned char>& bytes, const EXRVersion& version,
+                   const std::string& path, EXRHeader& h) {
   const char* error = nullptr;
-  if (ParseEXRHeaderFromMemory(&h, &version, bytes.data(), bytes.size(), &error) != TINYEXR_SUCCESS) {
+  if (ParseEXRHeaderFromMemory(&h, &version, bytes.data(), bytes.size(), &error) !=
+      TINYEXR_SUCCESS) {
     return invalidExr(path, "not a readable EXR: " + exrMessage(error));
   }
   if (h.tiled || h.multipart || h.non_image) {
@@ -217,10 +226,13 @@ Status parseHeader(const std::vector<unsigned char>& bytes, const EXRVersion& ve
 // header past the end of a short chunk (heap overread, found by
 // fuzz_lightmap_exr), and its other decoders were never needed here.
 Status checkCompression(const EXRHeader& h, const std::string& path) {
-  if (h.compression_type != TINYEXR_COMPRESSIONTYPE_NONE && h.compression_type != TINYEXR_COMPRESSIONTYPE_RLE &&
-      h.compression_type != TINYEXR_COMPRESSIONTYPE_ZIPS && h.compression_type != TINYEXR_COMPRESSIONTYPE_ZIP) {
-    return Status(StatusCode::kUnsupported, path + ": compression " + std::to_string(h.compression_type) +
-                                                " (lightmap pages are uncompressed, RLE or ZIP; PIZ is not read)");
+  if (h.compression_type != TINYEXR_COMPRESSIONTYPE_NONE &&
+      h.compression_type != TINYEXR_COMPRESSIONTYPE_RLE &&
+      h.compression_type != TINYEXR_COMPRESSIONTYPE_ZIPS &&
+      h.compression_type != TINYEXR_COMPRESSIONTYPE_ZIP) {
+    return Status(StatusCode::kUnsupported,
+                  path + ": compression " + std::to_string(h.compression_type) +
+                      " (lightmap pages are uncompressed, RLE or ZIP; PIZ is not read)");
   }
   return Status();
 }
@@ -234,54 +246,64 @@ Status selectChannels(EXRHeader& h, const std::string& path, int rgb_channel[3])
     }
     if (h.pixel_types[c] != TINYEXR_PIXELTYPE_HALF && h.pixel_types[c] != TINYEXR_PIXELTYPE_FLOAT &&
         h.pixel_types[c] != TINYEXR_PIXELTYPE_UINT) {
-      return invalidExr(path, "channel " + std::to_string(c) + " has unknown pixel type " + std::to_string(h.pixel_types[c]));
+      return invalidExr(path, "channel " + std::to_string(c) + " has unknown pixel type " +
+                                  std::to_string(h.pixel_types[c]));
     }
     if (channel.x_sampling != 1 || channel.y_sampling != 1) {
-      return Status(StatusCode::kUnsupported, path + ": channel " + std::to_string(c) + " is subsampled (" +
+      return Status(StatusCode::kUnsupported, path + ": channel " + std::to_string(c) +
+                                                  " is subsampled (" +
                                                   std::to_string(channel.x_sampling) + " x " +
                                                   std::to_string(channel.y_sampling) + ")");
     }
     // Everything is decoded as float (HALF widened); UINT channels other than
     // R, G, B are read and ignored.
-    if (h.pixel_types[c] == TINYEXR_PIXELTYPE_HALF) h.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+    if (h.pixel_types[c] == TINYEXR_PIXELTYPE_HALF)
+      h.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
   }
   for (int k = 0; k < 3; ++k) {
-    if (rgb_channel[k] < 0) return invalidExr(path, std::string("no ") + "RGB"[k] + " channel (a lightmap page has R, G and B)");
+    if (rgb_channel[k] < 0)
+      return invalidExr(
+          path, std::string("no ") + "RGB"[k] + " channel (a lightmap page has R, G and B)");
     if (h.pixel_types[rgb_channel[k]] == TINYEXR_PIXELTYPE_UINT) {
-      return invalidExr(path, std::string("channel ") + "RGB"[k] + " holds unsigned integers, not half or float");
+      return invalidExr(
+          path, std::string("channel ") + "RGB"[k] + " holds unsigned integers, not half or float");
     }
   }
   return Status();
 }
 
 // Refuses sizes that a file of this length cannot hold before any pixel is allocated.
-Status checkImageSize(const EXRHeader& h, size_t file_bytes, const std::string& path, int64_t& width,
-                      int64_t& height) {
+Status checkImageSize(const EXRHeader& h, size_t file_bytes, const std::string& path,
+                      int64_t& width, int64_t& height) {
   width = int64_t(h.data_window.max_x) - h.data_window.min_x + 1;
   height = int64_t(h.data_window.max_y) - h.data_window.min_y + 1;
   if (width < 1 || height < 1 || width > kMaxLightmapSide || height > kMaxLightmapSide) {
-    return invalidExr(path, "data window " + std::to_string(width) + " x " + std::to_string(height) +
-                                " texels is empty or larger than " + std::to_string(kMaxLightmapSide) + " on a side");
+    return invalidExr(path, "data window " + std::to_string(width) + " x " +
+                                std::to_string(height) + " texels is empty or larger than " +
+                                std::to_string(kMaxLightmapSide) + " on a side");
   }
   // The offset table holds one 8-byte offset per chunk of at least one
   // scanline; tinyexr sizes it from a chunkCount attribute if there is one
   // (825 million for 9 scanlines asked for 6.6 GB: found by
   // fuzz_lightmap_exr).
-  if (h.chunk_count < 0 || h.chunk_count > height || int64_t(h.chunk_count) * 8 > int64_t(file_bytes)) {
-    return invalidExr(path, "chunkCount " + std::to_string(h.chunk_count) + " does not fit " + std::to_string(height) +
-                                " scanlines in a file of " + std::to_string(file_bytes) + " bytes");
+  if (h.chunk_count < 0 || h.chunk_count > height ||
+      int64_t(h.chunk_count) * 8 > int64_t(file_bytes)) {
+    return invalidExr(path, "chunkCount " + std::to_string(h.chunk_count) + " does not fit " +
+                                std::to_string(height) + " scanlines in a file of " +
+                                std::to_string(file_bytes) + " bytes");
   }
   const int64_t decoded_bytes = width * height * int64_t(h.num_channels) * 4;
   if (decoded_bytes > kMaxExpansion * int64_t(file_bytes)) {
     return invalidExr(path, std::to_string(width) + " x " + std::to_string(height) + " texels of " +
-                                std::to_string(h.num_channels) + " channels cannot be stored in a file of " +
+                                std::to_string(h.num_channels) +
+                                " channels cannot be stored in a file of " +
                                 std::to_string(file_bytes) + " bytes");
   }
   return Status();
 }
 
-Status decodeImage(const std::vector<unsigned char>& bytes, EXRHeader& h, int64_t width, int64_t height,
-                   const std::string& path, EXRImage& exr) {
+Status decodeImage(const std::vector<unsigned char>& bytes, EXRHeader& h, int64_t width,
+                   int64_t height, const std::string& path, EXRImage& exr) {
   // tinyexr 1.0.1 sets num_channels only once decoding succeeds, so when a
   // corrupt chunk fails the decode its own cleanup frees no channel planes
   // (a leak per bad file, found by fuzz_lightmap_exr). Set it up front: the
@@ -294,7 +316,8 @@ Status decodeImage(const std::vector<unsigned char>& bytes, EXRHeader& h, int64_
     InitEXRImage(&exr);
     return invalidExr(path, "not a readable EXR: " + exrMessage(error));
   }
-  if (exr.images == nullptr || exr.width != width || exr.height != height || exr.num_channels != h.num_channels) {
+  if (exr.images == nullptr || exr.width != width || exr.height != height ||
+      exr.num_channels != h.num_channels) {
     return invalidExr(path, "decoded image does not match its header");
   }
   return Status();
@@ -314,7 +337,8 @@ Expected<LightmapImage> copyRgbPlanes(const EXRImage& exr, const int rgb_channel
       // the texel (found by fuzz_lightmap_exr: such pages were accepted).
       if (!std::isfinite(plane[i])) {
         return invalidExr(path, "texel (" + std::to_string(i % size_t(width)) + ", " +
-                                    std::to_string(i / size_t(width)) + ") channel " + "RGB"[k] + " is not finite");
+                                    std::to_string(i / size_t(width)) + ") channel " + "RGB"[k] +
+                                    " is not finite");
       }
       out.rgb[i * 3 + size_t(k)] = plane[i];
     }

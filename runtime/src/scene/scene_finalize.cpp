@@ -35,7 +35,8 @@ namespace {
 void addInstance(Scene& scene, int n, const glm::mat4& world) {
   const Node& node = scene.nodes[size_t(n)];
   const glm::mat3 linear(world);
-  const double scale = double(glm::length(linear[0])) * glm::length(linear[1]) * glm::length(linear[2]);
+  const double scale =
+      double(glm::length(linear[0])) * glm::length(linear[1]) * glm::length(linear[2]);
   if (!(std::abs(double(glm::determinant(linear))) > 1e-12 * scale) || scale == 0.0) {
     scene.warnings.push_back(scene.gltf_path + ": " + nodeName(scene, n) +
                              ": singular transform (zero scale), instance skipped");
@@ -50,7 +51,8 @@ void addInstance(Scene& scene, int n, const glm::mat4& world) {
 Status placeNodes(Scene& scene, const std::vector<int>& scene_roots, std::vector<bool>& reached) {
   const std::string& path = scene.gltf_path;
   std::vector<int> stack(scene_roots.rbegin(), scene_roots.rend());
-  for (int root : scene_roots) scene.nodes[size_t(root)].world_from_node = scene.nodes[size_t(root)].parent_from_node;
+  for (int root : scene_roots)
+    scene.nodes[size_t(root)].world_from_node = scene.nodes[size_t(root)].parent_from_node;
   size_t animated_static = 0;
   scene.instances.clear();
   while (!stack.empty()) {
@@ -95,9 +97,9 @@ Status placeLights(Scene& scene, const std::vector<bool>& reached) {
       light.position = fromGlm(transformPoint(world, glm::vec3(0)));
       const glm::vec3 direction = glm::mat3(world) * glm::vec3(0, 0, -1);
       if (!(glm::length(direction) > 0.0f)) {
-        return Status(StatusCode::kInvalidInput,
-                      scene.gltf_path + ": light '" + light.name + "' on " + nodeName(scene, light.node) +
-                          ": singular transform gives it no direction");
+        return Status(StatusCode::kInvalidInput, scene.gltf_path + ": light '" + light.name +
+                                                     "' on " + nodeName(scene, light.node) +
+                                                     ": singular transform gives it no direction");
       }
       light.direction = fromGlm(glm::normalize(direction));
       light.dynamic = light.dynamic || node.dynamic;
@@ -110,11 +112,13 @@ Status placeLights(Scene& scene, const std::vector<bool>& reached) {
 
 Status checkHasTriangles(const Scene& scene) {
   size_t triangles = 0;
-  for (const Instance& instance : scene.instances) triangles += scene.meshes[size_t(instance.mesh)].triangleCount();
+  for (const Instance& instance : scene.instances)
+    triangles += scene.meshes[size_t(instance.mesh)].triangleCount();
   if (triangles == 0) {
-    return Status(StatusCode::kInvalidInput,
-                  scene.gltf_path + ": empty scene: no triangles to light (" + std::to_string(scene.nodes.size()) +
-                      " nodes, " + std::to_string(scene.meshes.size()) + " meshes)");
+    return Status(StatusCode::kInvalidInput, scene.gltf_path +
+                                                 ": empty scene: no triangles to light (" +
+                                                 std::to_string(scene.nodes.size()) + " nodes, " +
+                                                 std::to_string(scene.meshes.size()) + " meshes)");
   }
   return Status();
 }

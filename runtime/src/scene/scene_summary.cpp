@@ -27,11 +27,14 @@ SceneSummary summarize(const Scene& scene) {
     for (size_t t = 0; t < triangles; ++t) {
       glm::dvec3 p[3];
       for (int k = 0; k < 3; ++k) {
-        const glm::vec3 w = transformPoint(world, toGlm(mesh.positions[mesh.indices[t * 3 + size_t(k)]]));
+        const glm::vec3 w =
+            transformPoint(world, toGlm(mesh.positions[mesh.indices[t * 3 + size_t(k)]]));
         p[k] = glm::dvec3(w);
-        summary.bounds.min = {std::min(summary.bounds.min.x, w.x), std::min(summary.bounds.min.y, w.y),
+        summary.bounds.min = {std::min(summary.bounds.min.x, w.x),
+                              std::min(summary.bounds.min.y, w.y),
                               std::min(summary.bounds.min.z, w.z)};
-        summary.bounds.max = {std::max(summary.bounds.max.x, w.x), std::max(summary.bounds.max.y, w.y),
+        summary.bounds.max = {std::max(summary.bounds.max.x, w.x),
+                              std::max(summary.bounds.max.y, w.y),
                               std::max(summary.bounds.max.z, w.z)};
       }
       const Rgb& e = mesh.triangle_emission[t];
@@ -89,17 +92,18 @@ std::string summaryToText(const std::string& level_path, const SceneSummary& s) 
   out += "emitters    " + std::to_string(s.emissive_triangles) + " emissive triangles, " +
          format("%.6g lm (RGB %.6g, ", s.emitted_flux_lm, s.emitted_flux_rgb.r) +
          format("%.6g, %.6g)\n", s.emitted_flux_rgb.g, s.emitted_flux_rgb.b);
-  out += "lights      " + std::to_string(s.point_lights) + " point, " + std::to_string(s.spot_lights) +
-         " spot, " + std::to_string(s.directional_lights) + " directional (" +
-         std::to_string(s.dynamic_lights) + " dynamic); sun " + (s.has_sun ? "yes" : "no") +
-         ", sky " + (s.has_sky ? "yes" : "no") + "\n";
+  out += "lights      " + std::to_string(s.point_lights) + " point, " +
+         std::to_string(s.spot_lights) + " spot, " + std::to_string(s.directional_lights) +
+         " directional (" + std::to_string(s.dynamic_lights) + " dynamic); sun " +
+         (s.has_sun ? "yes" : "no") + ", sky " + (s.has_sky ? "yes" : "no") + "\n";
   out += "animation   " + std::to_string(s.animations) + " animations, " +
          std::to_string(s.animation_tracks) + " tracks; " + std::to_string(s.object_paths) +
          " object paths, " + std::to_string(s.camera_paths) + " camera paths\n";
   if (s.bounds.empty()) {
     out += "bounds      empty\n";
   } else {
-    out += "bounds      " + format("min (%.4g, %.4g, %.4g)", s.bounds.min.x, s.bounds.min.y, s.bounds.min.z) +
+    out += "bounds      " +
+           format("min (%.4g, %.4g, %.4g)", s.bounds.min.x, s.bounds.min.y, s.bounds.min.z) +
            format(" max (%.4g, %.4g, %.4g) m\n", s.bounds.max.x, s.bounds.max.y, s.bounds.max.z);
   }
   out += "warnings    " + std::to_string(s.warnings.size()) + "\n";
@@ -115,14 +119,17 @@ std::string summaryToJson(const std::string& level_path, const SceneSummary& s) 
   j["meshes"] = s.meshes;
   j["materials"] = s.materials;
   j["textures"] = s.textures;
-  j["emitters"] = {{"emissive_triangles", s.emissive_triangles},
-                   {"flux_lm", s.emitted_flux_lm},
-                   {"flux_rgb", {s.emitted_flux_rgb.r, s.emitted_flux_rgb.g, s.emitted_flux_rgb.b}}};
-  j["lights"] = {{"point", s.point_lights}, {"spot", s.spot_lights},
-                 {"directional", s.directional_lights}, {"dynamic", s.dynamic_lights},
-                 {"sun", s.has_sun}, {"sky", s.has_sky}};
-  j["animations"] = {{"animations", s.animations}, {"tracks", s.animation_tracks},
-                     {"object_paths", s.object_paths}, {"camera_paths", s.camera_paths}};
+  j["emitters"] = {
+      {"emissive_triangles", s.emissive_triangles},
+      {"flux_lm", s.emitted_flux_lm},
+      {"flux_rgb", {s.emitted_flux_rgb.r, s.emitted_flux_rgb.g, s.emitted_flux_rgb.b}}};
+  j["lights"] = {
+      {"point", s.point_lights},     {"spot", s.spot_lights}, {"directional", s.directional_lights},
+      {"dynamic", s.dynamic_lights}, {"sun", s.has_sun},      {"sky", s.has_sky}};
+  j["animations"] = {{"animations", s.animations},
+                     {"tracks", s.animation_tracks},
+                     {"object_paths", s.object_paths},
+                     {"camera_paths", s.camera_paths}};
   if (s.bounds.empty()) {
     j["bounds_m"] = nullptr;
   } else {

@@ -8,13 +8,13 @@
 #include <cstdio>
 #include <cstdlib>
 
-#define SVIT_CHECK(condition, ...)                                                   \
-  do {                                                                               \
-    if (!(condition)) {                                                              \
-      std::fprintf(stderr, "%s:%d: svit internal check failed: %s: ", __FILE__,      \
-                   __LINE__, #condition);                                            \
-      std::fprintf(stderr, __VA_ARGS__);                                             \
-      std::fputc('\n', stderr);                                                      \
-      std::abort();                                                                  \
-    }                                                                                \
+#define SVIT_CHECK(condition, ...)                                                        \
+  do {                                                                                    \
+    if (!(condition)) {                                                                   \
+      std::fprintf(stderr, "%s:%d: svit internal check failed: %s: ", __FILE__, __LINE__, \
+                   #condition);                                                           \
+      std::fprintf(stderr, __VA_ARGS__);                                                  \
+      std::fputc('\n', stderr);                                                           \
+      std::abort();                                                                       \
+    }                                                                                     \
   } while (false)

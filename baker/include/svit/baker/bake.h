@@ -26,7 +26,8 @@ struct BakeOptions {
   double quality = 0.5;
   double texels_per_m = 0;  ///< 0: chosen from the level's size (about 256k texels)
   int threads = 0;          ///< 0: all cores
-  std::string reference_dir;  ///< a previous bake of the same level and settings, for the true error
+  /// a previous bake of the same level and settings, for the true error
+  std::string reference_dir;
   int max_page_size = 2048;
 };
 
@@ -35,10 +36,11 @@ Status validateBakeOptions(const BakeOptions& options);
 
 /// What the progress callback sees.
 struct BakeProgress {
-  std::string stage;       ///< "load", "radiosity", "atlas", "texels", "lighting", "pages", "runtime", "write"
+  /// "load", "radiosity", "atlas", "texels", "lighting", "pages", "runtime", "write"
+  std::string stage;
   double stage_fraction = 0;  ///< 0..1 within the stage
   double elapsed_s = 0;
-  double eta_s = -1;       ///< estimated seconds left for the whole bake, < 0 when unknown
+  double eta_s = -1;  ///< estimated seconds left for the whole bake, < 0 when unknown
 };
 
 struct BakeResult {
@@ -54,7 +56,8 @@ struct BakeResult {
 /// false cancels); `cancel` may be set from any thread or a signal handler.
 /// Returns kCancelled when cancelled, kInvalidInput for bad levels or
 /// references, kIoError for output problems; OUT is untouched unless Ok.
-Expected<BakeResult> bakeLevel(const BakeOptions& options, const std::function<bool(const BakeProgress&)>& progress,
+Expected<BakeResult> bakeLevel(const BakeOptions& options,
+                               const std::function<bool(const BakeProgress&)>& progress,
                                const std::atomic<bool>* cancel);
 
 }  // namespace svit::baker

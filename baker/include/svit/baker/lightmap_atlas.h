@@ -26,10 +26,12 @@ struct LightmapAtlas {
   int page_width = 0;
   int page_height = 0;
   int page_count = 0;
-  bool authored = false;               ///< true: from TEXCOORD_1, false: xatlas
+  bool authored = false;                ///< true: from TEXCOORD_1, false: xatlas
   std::vector<uint32_t> triangle_page;  ///< per triangle
-  std::vector<Vec2> triangle_uv;       ///< 3 per triangle, page coordinates in [0, 1] (u right, v down the rows)
-  std::vector<uint32_t> triangle_chart; ///< per triangle: chart id (unique across pages); seams are chart borders
+  /// 3 per triangle, page coordinates in [0, 1] (u right, v down the rows)
+  std::vector<Vec2> triangle_uv;
+  /// per triangle: chart id (unique across pages); seams are chart borders
+  std::vector<uint32_t> triangle_chart;
 };
 
 /// Builds the atlas. Instances of one mesh get their own texels.
@@ -48,19 +50,19 @@ Expected<LightmapAtlas> buildLightmapAtlas(const Scene& scene, const BakeGeometr
 /// One texel that some triangle covers.
 struct TexelSample {
   uint32_t page = 0;
-  uint32_t x = 0, y = 0;     ///< texel column and row
-  uint32_t triangle = 0;     ///< the covering triangle with most area in the texel
-  float u = 0, v = 0;        ///< barycentrics of the sample point in that triangle
-  Vec3 position;             ///< world sample point (moved off walls when needed), metres
-  Vec3 normal;               ///< world unit geometric normal of `triangle`
-  float coverage = 0;        ///< fraction of the texel's area covered by triangles, (0, 1]
+  uint32_t x = 0, y = 0;  ///< texel column and row
+  uint32_t triangle = 0;  ///< the covering triangle with most area in the texel
+  float u = 0, v = 0;     ///< barycentrics of the sample point in that triangle
+  Vec3 position;          ///< world sample point (moved off walls when needed), metres
+  Vec3 normal;            ///< world unit geometric normal of `triangle`
+  float coverage = 0;     ///< fraction of the texel's area covered by triangles, (0, 1]
 };
 
 /// All covered texels of all pages, and a per-texel index for lookups.
 struct TexelSet {
   int page_width = 0, page_height = 0, page_count = 0;
-  std::vector<TexelSample> samples;       ///< in (page, y, x) order
-  std::vector<int32_t> texel_to_sample;   ///< page_count * width * height, -1 where nothing covers
+  std::vector<TexelSample> samples;      ///< in (page, y, x) order
+  std::vector<int32_t> texel_to_sample;  ///< page_count * width * height, -1 where nothing covers
 
   int32_t sampleAt(uint32_t page, uint32_t x, uint32_t y) const {
     return texel_to_sample[(size_t(page) * size_t(page_height) + y) * size_t(page_width) + x];
@@ -80,7 +82,7 @@ struct RasterSettings {
 /// it. Sample points that lie inside or behind geometry (a probe ray from
 /// them hits a back face first) are moved towards the covered part's visible
 /// side, or dropped when no point of the texel is outside. Deterministic.
-Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapAtlas& atlas, const RayCaster& caster,
-                                   const RasterSettings& settings);
+Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapAtlas& atlas,
+                                   const RayCaster& caster, const RasterSettings& settings);
 
 }  // namespace svit::baker

@@ -14,20 +14,22 @@
 namespace svit::baker {
 
 struct PageSettings {
-  int dilation_texels = 2;          ///< rings of empty texels filled around every chart
-  bool edge_aware_filter = false;   ///< smooth gather noise in the indirect light
+  int dilation_texels = 2;         ///< rings of empty texels filled around every chart
+  bool edge_aware_filter = false;  ///< smooth gather noise in the indirect light
   int filter_radius_texels = 2;
   double filter_normal_power = 16;  ///< weight cos(normal angle)^power
   int seam_iterations = 4;
 };
 
 struct LightmapPages {
-  std::vector<LightmapImage> images;       ///< irradiance, lux
-  std::vector<std::vector<uint8_t>> valid; ///< per page texel: 1 covered, 2 dilated, 0 empty
+  std::vector<LightmapImage> images;        ///< irradiance, lux
+  std::vector<std::vector<uint8_t>> valid;  ///< per page texel: 1 covered, 2 dilated, 0 empty
 };
 
-LightmapPages buildLightmapPages(const BakeGeometry& geometry, const LightmapAtlas& atlas, const TexelSet& texels,
-                                 const std::vector<TexelIrradiance>& lighting, const PageSettings& settings);
+LightmapPages buildLightmapPages(const BakeGeometry& geometry, const LightmapAtlas& atlas,
+                                 const TexelSet& texels,
+                                 const std::vector<TexelIrradiance>& lighting,
+                                 const PageSettings& settings);
 
 /// Pairs of (page, uv) on both sides of each UV seam, sampled along shared
 /// edges; what seam stitching makes agree, exposed for tests.

@@ -12,6 +12,7 @@ namespace svit::baker {
 
 /// Writes the pages side by side into one PNG (via `path`.tmp and a rename).
 /// `exposure` > 0 multiplies luminance before the sRGB curve; 0 = automatic.
-Status writeLightmapPreviewPng(const std::vector<LightmapImage>& pages, const std::string& path, double exposure = 0);
+Status writeLightmapPreviewPng(const std::vector<LightmapImage>& pages, const std::string& path,
+                               double exposure = 0);
 
 }  // namespace svit::baker

@@ -16,9 +16,9 @@ using svit::ProbePoint;
 using svit::readProbePoints;
 
 struct ProbeResult {
-  Rgb irradiance;        ///< lux, from the lightmap
-  Vec3 surface_point;    ///< the nearest static surface point facing `normal`
-  double distance_m = 0; ///< from the query point to it
+  Rgb irradiance;         ///< lux, from the lightmap
+  Vec3 surface_point;     ///< the nearest static surface point facing `normal`
+  double distance_m = 0;  ///< from the query point to it
   uint32_t triangle = 0;
 };
 
@@ -26,6 +26,7 @@ struct ProbeResult {
 /// in report.json, which must still hash to the bake's level hash) and looks
 /// up each point on the nearest static triangle whose normal is within 60
 /// degrees of the point's normal (brute force over triangles).
-Expected<std::vector<ProbeResult>> probeBake(const std::string& out_dir, const std::vector<ProbePoint>& points);
+Expected<std::vector<ProbeResult>> probeBake(const std::string& out_dir,
+                                             const std::vector<ProbePoint>& points);
 
 }  // namespace svit::baker

@@ -65,17 +65,18 @@ struct StopRule {
   double max_seconds = std::numeric_limits<double>::infinity();  ///< this call's wall time
   double target_est_rel_error = 0.0;  ///< stop once the estimate is at or below (needs 2 passes)
   double target_shot_fraction = 2.0;  ///< stop once the current pass has shot this share (<= 1)
-  uint32_t max_passes = std::numeric_limits<uint32_t>::max();  ///< stop once this many passes completed
-  uint64_t max_rays = std::numeric_limits<uint64_t>::max();    ///< over the solver's life
-  const std::atomic<bool>* cancel = nullptr;  ///< set from any thread to cancel
+  /// stop once this many passes completed
+  uint32_t max_passes = std::numeric_limits<uint32_t>::max();
+  uint64_t max_rays = std::numeric_limits<uint64_t>::max();  ///< over the solver's life
+  const std::atomic<bool>* cancel = nullptr;                 ///< set from any thread to cancel
   /// Called between batches; returning false cancels.
   std::function<bool(const SolverProgress&)> progress;
 };
 
 /// One point of the error-versus-time series (what report.json carries).
 struct ErrorPoint {
-  double t_s = 0;                 ///< solver wall time so far
-  double est_rel_error = 1.0;     ///< estimate: pass variance and ambient share
+  double t_s = 0;              ///< solver wall time so far
+  double est_rel_error = 1.0;  ///< estimate: pass variance and ambient share
   double ref_rel_error = std::numeric_limits<double>::quiet_NaN();  ///< with a reference
   uint64_t rays = 0;
 };
@@ -83,7 +84,7 @@ struct ErrorPoint {
 struct SolverStats {
   uint64_t rays = 0;
   uint64_t hits = 0;
-  uint64_t back_absorbed = 0;   ///< hits on the black back of single-sided surfaces
+  uint64_t back_absorbed = 0;  ///< hits on the black back of single-sided surfaces
   /// Reflected rays that started inside a solid (a back face ahead and along
   /// the origin's normal): their flux was shot again from the visible part.
   uint64_t inside_origin_rays = 0;
@@ -91,15 +92,15 @@ struct SolverStats {
   uint32_t passes_completed = 0;
   size_t nodes = 0;
   size_t leaves = 0;
-  size_t elements = 0;          ///< triangle sides
-  uint64_t subdivisions = 0;    ///< leaves split (criterion and conformity)
-  uint64_t hit_elements = 0;    ///< leaves that received hits, summed over batches
-  uint64_t propagation_visits = 0;  ///< nodes touched by upward propagation
-  uint64_t propagation_bound = 0;   ///< sum over hit leaves of (depth + 1)
-  double cast_seconds = 0;      ///< inside the ray caster
-  double seconds = 0;           ///< solver wall time
+  size_t elements = 0;                   ///< triangle sides
+  uint64_t subdivisions = 0;             ///< leaves split (criterion and conformity)
+  uint64_t hit_elements = 0;             ///< leaves that received hits, summed over batches
+  uint64_t propagation_visits = 0;       ///< nodes touched by upward propagation
+  uint64_t propagation_bound = 0;        ///< sum over hit leaves of (depth + 1)
+  double cast_seconds = 0;               ///< inside the ray caster
+  double seconds = 0;                    ///< solver wall time
   std::string compensation = "ambient";  ///< how unshot energy is estimated (thesis 5.5)
-  double captured_fraction = 1; ///< surface rays that hit the scene (1 = closed)
+  double captured_fraction = 1;          ///< surface rays that hit the scene (1 = closed)
 };
 
 enum class InterpolationMode {
@@ -114,7 +115,8 @@ class RadiositySolver {
   /// Sets up elements, clusters, emitters and light sources for the static
   /// `geometry` of `scene`; `caster` must trace that geometry. All three must
   /// outlive the solver. Errors: bad settings, albedo or emission not finite.
-  static Expected<std::unique_ptr<RadiositySolver>> create(const Scene& scene, const BakeGeometry& geometry,
+  static Expected<std::unique_ptr<RadiositySolver>> create(const Scene& scene,
+                                                           const BakeGeometry& geometry,
                                                            const RayCaster& caster,
                                                            const RadiositySettings& settings);
   ~RadiositySolver();

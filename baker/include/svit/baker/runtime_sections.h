@@ -19,7 +19,7 @@
 namespace svit::baker {
 
 struct RuntimeSectionSettings {
-  double patch_max_area_m2 = 0;     ///< 0: 1/256 of the static surface area
+  double patch_max_area_m2 = 0;                      ///< 0: 1/256 of the static surface area
   double patch_max_normal_rad = 0.5235987755982988;  ///< 30 degrees
   double proxy_ratio = 0.25;         ///< proxy faces / static faces (fast-simplification target)
   double probe_spacing_m = 0;        ///< 0: bounds diagonal / 32
@@ -59,8 +59,9 @@ bool levelNeedsRuntimeSections(const Scene& scene);
 /// its value), a solver over other geometry, a light's flux not finite;
 /// kCancelled when `cancel` is set. Thread-safe: no; uses
 /// `settings.threads` workers (0 = all cores) inside.
-Status buildRuntimeSections(const Scene& scene, const BakeGeometry& geometry, const RayCaster& caster,
-                            const RadiositySolver& solver, const RuntimeSectionSettings& settings, BakeData& data,
+Status buildRuntimeSections(const Scene& scene, const BakeGeometry& geometry,
+                            const RayCaster& caster, const RadiositySolver& solver,
+                            const RuntimeSectionSettings& settings, BakeData& data,
                             const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace svit::baker

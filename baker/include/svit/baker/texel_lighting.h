@@ -20,11 +20,12 @@ namespace svit::baker {
 
 struct TexelLightingSettings {
   uint64_t seed = 1;
-  int threads = 0;                 ///< 0 = all cores; results do not depend on it
+  int threads = 0;                   ///< 0 = all cores; results do not depend on it
   uint32_t area_light_samples = 16;  ///< shadow rays per texel to emissive surfaces
-  uint32_t sun_samples = 8;        ///< shadow rays per texel across the sun's disk
-  uint32_t max_point_lights = 16;  ///< point/spot lights evaluated per texel; more are sampled by importance
-  uint32_t gather_rays = 64;       ///< final-gather rays per texel (indirect light and sky)
+  uint32_t sun_samples = 8;          ///< shadow rays per texel across the sun's disk
+  /// point/spot lights evaluated per texel; more are sampled by importance
+  uint32_t max_point_lights = 16;
+  uint32_t gather_rays = 64;  ///< final-gather rays per texel (indirect light and sky)
 };
 
 /// Direct and indirect irradiance of one texel, lux per channel.
@@ -36,10 +37,10 @@ struct TexelIrradiance {
 /// Lights every texel of `texels`. `solver` must hold a solution for the same
 /// geometry. `progress(done, total)` is called from the calling thread
 /// between chunks; returning false (or `cancel`) stops with kCancelled.
-Expected<std::vector<TexelIrradiance>> lightTexels(const Scene& scene, const BakeGeometry& geometry,
-                                                   const RayCaster& caster, const RadiositySolver& solver,
-                                                   const TexelSet& texels, const TexelLightingSettings& settings,
-                                                   const std::atomic<bool>* cancel = nullptr,
-                                                   const std::function<bool(size_t, size_t)>& progress = {});
+Expected<std::vector<TexelIrradiance>> lightTexels(
+    const Scene& scene, const BakeGeometry& geometry, const RayCaster& caster,
+    const RadiositySolver& solver, const TexelSet& texels, const TexelLightingSettings& settings,
+    const std::atomic<bool>* cancel = nullptr,
+    const std::function<bool(size_t, size_t)>& progress = {});
 
 }  // namespace svit::baker
