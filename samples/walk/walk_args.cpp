@@ -82,6 +82,20 @@ void printUsage(FILE* out) {
       "exit: 0 ok, 1 bad input (level, bake, script, points), 2 bad usage\n");
 }
 
+namespace {
+
+// What the options given together must satisfy; empty when they do.
+std::string combinationError(const WalkOptions& o) {
+  if (o.level.empty()) return "no LEVEL given";
+  if (o.bake_dir.empty()) return "--bake OUT is required";
+  if (o.probe.empty() != o.probe_out.empty()) return "--probe and --probe-out go together";
+  if (!o.headless && (o.frames || !o.frames_out.empty()))
+    return "--frames and --frames-out need --headless";
+  return "";
+}
+
+}  // namespace
+
 ParsedArgs parseWalkArgs(int argc, const char* const* argv) {
   ParsedArgs parsed;
   WalkOptions& o = parsed.options;
@@ -158,11 +172,7 @@ ParsedArgs parseWalkArgs(int argc, const char* const* argv) {
       return fail("unexpected argument '" + arg + "'");
     }
   }
-  if (o.level.empty()) return fail("no LEVEL given");
-  if (o.bake_dir.empty()) return fail("--bake OUT is required");
-  if (o.probe.empty() != o.probe_out.empty()) return fail("--probe and --probe-out go together");
-  if (!o.headless && (o.frames || !o.frames_out.empty()))
-    return fail("--frames and --frames-out need --headless");
+  if (std::string error = combinationError(o); !error.empty()) return fail(error);
   return parsed;
 }
 

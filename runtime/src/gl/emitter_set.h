@@ -29,6 +29,7 @@ struct EmitterContext {
 struct EmitterSet {
   std::vector<Emitter> emitters;
   std::vector<uint32_t> group_emitter;  ///< per group: its emitter or kInvalidId
+  bool baked_emitters_added = false;    ///< addBakedEmitters ran
 };
 
 /// Adds the baked emitters and the bright patch groups of the bake.

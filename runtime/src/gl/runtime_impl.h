@@ -114,7 +114,10 @@ struct Runtime::Impl {
   // The frame (runtime_update.cpp).
   FrameStats update(double budget_ms);
   bool anythingDue() const;
+  /// The index-map renderer, made on the first update with runtime content.
   Status ensureRenderer();
+  /// The bake's emitters (emitter_set.h), added on that first update too.
+  void ensureBakedEmitters();
   void rebuildDynamicMaps();
   void addRuntimeLightEmitters();
   void settleUnreachedBakedEmitters();

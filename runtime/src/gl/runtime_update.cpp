@@ -48,8 +48,13 @@ Status Runtime::Impl::ensureRenderer() {
   renderer->setStaticTriangles(level.static_map);
   renderer->setReceiverCount(uint32_t(receivers.size()));
   ++gl_objects_created;
-  rt::addBakedEmitters(emitter_set, emitterContext());
   return Status();
+}
+
+void Runtime::Impl::ensureBakedEmitters() {
+  if (emitter_set.baked_emitters_added) return;
+  rt::addBakedEmitters(emitter_set, emitterContext());
+  emitter_set.baked_emitters_added = true;
 }
 
 void Runtime::Impl::rebuildDynamicMaps() {
@@ -240,6 +245,7 @@ FrameStats Runtime::Impl::update(double budget_ms) {
     stats.total_ms = msSince(start);
     return stats;
   }
+  ensureBakedEmitters();
   if (changes.dynamic_geometry_changed) rebuildDynamicMaps();
   addRuntimeLightEmitters();
   invalidateMoved();

@@ -303,14 +303,8 @@ struct LevelReader {
     return Status();
   }
 
-  Status readLight(const Json& j, const std::string& field, Scene& scene, Light& light) const {
-    if (Status s = checkKeys(
-            j, field,
-            {"name", "type", "position", "direction", "color", "intensity_cd", "illuminance_lux",
-             "range_m", "inner_cone_rad", "outer_cone_rad", "dynamic", "node"});
-        !s.ok()) {
-      return s;
-    }
+  // The light's type, and that exactly the keys of that type are given.
+  Status readLightType(const Json& j, const std::string& field, Light& light) const {
     std::string type;
     if (!j.contains("type")) return error(field + ".type", "is required");
     if (Status s = string(j["type"], field + ".type", type); !s.ok()) return s;
@@ -337,6 +331,30 @@ struct LevelReader {
       if (j.contains(key))
         return error(field + "." + key, "does not apply to a " + type + " light");
     }
+    return Status();
+  }
+
+  Status readSpotCone(const Json& j, const std::string& field, Light& light) const {
+    if (j.contains("inner_cone_rad")) {
+      if (Status s =
+              nonNegative(j["inner_cone_rad"], field + ".inner_cone_rad", light.inner_cone_rad);
+          !s.ok())
+        return s;
+    }
+    if (j.contains("outer_cone_rad")) {
+      if (Status s =
+              nonNegative(j["outer_cone_rad"], field + ".outer_cone_rad", light.outer_cone_rad);
+          !s.ok())
+        return s;
+    }
+    if (!(light.inner_cone_rad < light.outer_cone_rad && light.outer_cone_rad <= float(kPi / 2))) {
+      return error(field, "spot cone angles need 0 <= inner_cone_rad < outer_cone_rad <= pi/2");
+    }
+    return Status();
+  }
+
+  // Name, place, colour, intensity and range, as far as given.
+  Status readLightValues(const Json& j, const std::string& field, Light& light) const {
     light.name = field;
     if (j.contains("name")) {
       if (Status s = string(j["name"], field + ".name", light.name); !s.ok()) return s;
@@ -360,23 +378,21 @@ struct LevelReader {
       if (Status s = nonNegative(j["range_m"], field + ".range_m", light.range_m); !s.ok())
         return s;
     }
+    return Status();
+  }
+
+  Status readLight(const Json& j, const std::string& field, Scene& scene, Light& light) const {
+    if (Status s = checkKeys(
+            j, field,
+            {"name", "type", "position", "direction", "color", "intensity_cd", "illuminance_lux",
+             "range_m", "inner_cone_rad", "outer_cone_rad", "dynamic", "node"});
+        !s.ok()) {
+      return s;
+    }
+    if (Status s = readLightType(j, field, light); !s.ok()) return s;
+    if (Status s = readLightValues(j, field, light); !s.ok()) return s;
     if (light.type == LightType::kSpot) {
-      if (j.contains("inner_cone_rad")) {
-        if (Status s =
-                nonNegative(j["inner_cone_rad"], field + ".inner_cone_rad", light.inner_cone_rad);
-            !s.ok())
-          return s;
-      }
-      if (j.contains("outer_cone_rad")) {
-        if (Status s =
-                nonNegative(j["outer_cone_rad"], field + ".outer_cone_rad", light.outer_cone_rad);
-            !s.ok())
-          return s;
-      }
-      if (!(light.inner_cone_rad < light.outer_cone_rad &&
-            light.outer_cone_rad <= float(kPi / 2))) {
-        return error(field, "spot cone angles need 0 <= inner_cone_rad < outer_cone_rad <= pi/2");
-      }
+      if (Status s = readSpotCone(j, field, light); !s.ok()) return s;
     }
     if (j.contains("dynamic")) {
       if (Status s = boolean(j["dynamic"], field + ".dynamic", light.dynamic); !s.ok()) return s;
