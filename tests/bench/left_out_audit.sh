@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# "Leave out what a scene does not need", audited (issue 8 item 4): bakes
+# "Leave out what a scene does not need", audited: bakes
 # every sample level and the plain Cornell box glTF (a static level), walks
 # each headless for a few frames, and tabulates the bake sections written
 # (bytes) and left out (why) from report.json, and the runtime's and
 # renderer's buffers allocated (bytes) and left out (why) from svit-walk's
 # stats JSON (Runtime::resources(), SceneRenderer::resources()).
-# Writes OUT/audit.md (the table in docs/performance.md), OUT/audit.json and per level
+# Writes OUT/audit.md (the table in docs/performance.md, and with
+# resource_audit_header.md docs/resource-audit.md), OUT/audit.json and per level
 # OUT/LEVEL/{bake,stats.json}.
 # usage: tests/bench/left_out_audit.sh [BUILD_DIR] [OUT_DIR]
 # (SVIT_AUDIT_REUSE=1 keeps bakes already in OUT_DIR.)
@@ -33,3 +34,5 @@ for entry in "${levels[@]}"; do
     --headless --frames 3 --budget-ms 20 --stats "$out/$name/stats.json" >"$out/$name/walk.txt"
 done
 python3 "$root/tests/bench/left_out_audit.py" "$out" "${levels[@]%%=*}"
+# docs/resource-audit.md: its fixed introduction, then the tables just measured.
+cat "$root/tests/bench/resource_audit_header.md" "$out/audit.md" >"$root/docs/resource-audit.md"
