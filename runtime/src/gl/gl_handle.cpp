@@ -18,40 +18,35 @@ void deleteGlName(GlKind kind, uint32_t name) {
   }
 }
 
+namespace {
+
+// A handle owning the one name `create` (a glCreate* call) writes.
+template <typename Handle, typename Create>
+Handle created(Create&& create) {
+  GLuint n = 0;
+  create(&n);
+  return Handle(n);
+}
+
+}  // namespace
+
 GlBuffer createGlBuffer() {
-  GLuint n = 0;
-  glCreateBuffers(1, &n);
-  return GlBuffer(n);
+  return created<GlBuffer>([](GLuint* n) { glCreateBuffers(1, n); });
 }
-
 GlTexture createGlTexture(uint32_t target) {
-  GLuint n = 0;
-  glCreateTextures(GLenum(target), 1, &n);
-  return GlTexture(n);
+  return created<GlTexture>([&](GLuint* n) { glCreateTextures(GLenum(target), 1, n); });
 }
-
 GlFramebuffer createGlFramebuffer() {
-  GLuint n = 0;
-  glCreateFramebuffers(1, &n);
-  return GlFramebuffer(n);
+  return created<GlFramebuffer>([](GLuint* n) { glCreateFramebuffers(1, n); });
 }
-
 GlRenderbuffer createGlRenderbuffer() {
-  GLuint n = 0;
-  glCreateRenderbuffers(1, &n);
-  return GlRenderbuffer(n);
+  return created<GlRenderbuffer>([](GLuint* n) { glCreateRenderbuffers(1, n); });
 }
-
 GlVertexArray createGlVertexArray() {
-  GLuint n = 0;
-  glCreateVertexArrays(1, &n);
-  return GlVertexArray(n);
+  return created<GlVertexArray>([](GLuint* n) { glCreateVertexArrays(1, n); });
 }
-
 GlQuery createGlQuery(uint32_t target) {
-  GLuint n = 0;
-  glCreateQueries(GLenum(target), 1, &n);
-  return GlQuery(n);
+  return created<GlQuery>([&](GLuint* n) { glCreateQueries(GLenum(target), 1, n); });
 }
 
 }  // namespace svit::gl

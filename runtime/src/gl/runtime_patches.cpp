@@ -43,6 +43,23 @@ void subCorners(int n, int i, int j, bool flipped, double w[3][2]) {
   }
 }
 
+// Calls visit(slot, w) for every sub-triangle of an n x n tessellation, in
+// slot order (slot = (i * n + j) * 2 + flipped), w its corners as subCorners
+// gives them.
+template <typename Visit>
+void forEachSubTriangle(int n, Visit&& visit) {
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; i + j < n; ++j) {
+      for (int flipped = 0; flipped < 2; ++flipped) {
+        if (flipped && i + j >= n - 1) continue;
+        double w[3][2];
+        subCorners(n, i, j, flipped != 0, w);
+        visit(uint32_t((i * n + j) * 2 + flipped), w);
+      }
+    }
+  }
+}
+
 // Splits items[begin, end) by the median of centroids along the longest
 // axis until a group's area fits; appends groups as index ranges.
 void splitGroups(std::vector<Item*>& items, size_t begin, size_t end, double max_area,
@@ -118,34 +135,27 @@ void tessellateElement(const BakedSurfaces& surfaces, const BakeTriangleUv& uv, 
                        uint32_t element, uint32_t t, int n, Tessellation& tess) {
   const glm::dvec3 a = dvec(surfaces.corner(t, 0)), b = dvec(surfaces.corner(t, 1)),
                    c = dvec(surfaces.corner(t, 2));
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; i + j < n; ++j) {
-      for (int flipped = 0; flipped < 2; ++flipped) {
-        if (flipped && i + j >= n - 1) continue;
-        double w[3][2];
-        subCorners(n, i, j, flipped != 0, w);
-        Item item;
-        for (int k = 0; k < 3; ++k) {
-          item.p[k] = a + w[k][0] * (b - a) + w[k][1] * (c - a);
-          item.uv[k] = {float((1 - w[k][0] - w[k][1]) * uv.uv[0].x + w[k][0] * uv.uv[1].x +
-                              w[k][1] * uv.uv[2].x),
-                        float((1 - w[k][0] - w[k][1]) * uv.uv[0].y + w[k][0] * uv.uv[1].y +
-                              w[k][1] * uv.uv[2].y)};
-        }
-        if (element % 2 == 1) {  // the back side faces the other way: reverse the winding
-          std::swap(item.p[1], item.p[2]);
-          std::swap(item.uv[1], item.uv[2]);
-        }
-        item.page = uv.page;
-        item.element = element;
-        item.slot = uint32_t((i * n + j) * 2 + flipped);
-        item.area = surfaces.area(t) / double(n * n);
-        item.centroid = (item.p[0] + item.p[1] + item.p[2]) / 3.0;
-        tess.patch_items[p].push_back(tess.items.size());
-        tess.items.push_back(item);
-      }
+  forEachSubTriangle(n, [&](uint32_t slot, const double(&w)[3][2]) {
+    Item item;
+    for (int k = 0; k < 3; ++k) {
+      item.p[k] = a + w[k][0] * (b - a) + w[k][1] * (c - a);
+      item.uv[k] = {
+          float((1 - w[k][0] - w[k][1]) * uv.uv[0].x + w[k][0] * uv.uv[1].x + w[k][1] * uv.uv[2].x),
+          float((1 - w[k][0] - w[k][1]) * uv.uv[0].y + w[k][0] * uv.uv[1].y +
+                w[k][1] * uv.uv[2].y)};
     }
-  }
+    if (element % 2 == 1) {  // the back side faces the other way: reverse the winding
+      std::swap(item.p[1], item.p[2]);
+      std::swap(item.uv[1], item.uv[2]);
+    }
+    item.page = uv.page;
+    item.element = element;
+    item.slot = slot;
+    item.area = surfaces.area(t) / double(n * n);
+    item.centroid = (item.p[0] + item.p[1] + item.p[2]) / 3.0;
+    tess.patch_items[p].push_back(tess.items.size());
+    tess.items.push_back(item);
+  });
 }
 
 // Every bake patch's elements, tessellated; sets out's element tables and
@@ -410,23 +420,15 @@ std::vector<MapTriangles> cutProxyFaces(const BakeProxyMesh& proxy, const PatchO
     glm::dvec3 c[3];
     if (!proxyFace(proxy, po, f, group, c) || !use_proxy[group]) continue;
     const int n = tessellation(areaOf(c[0], c[1], c[2]), max_area_m2 / 4);
-    for (int i = 0; i < n; ++i) {
-      for (int j = 0; i + j < n; ++j) {
-        for (int flipped = 0; flipped < 2; ++flipped) {
-          if (flipped && i + j >= n - 1) continue;
-          double w[3][2];
-          subCorners(n, i, j, flipped != 0, w);
-          glm::dvec3 p[3];
-          for (int k = 0; k < 3; ++k)
-            p[k] = c[0] + w[k][0] * (c[1] - c[0]) + w[k][1] * (c[2] - c[0]);
-          const glm::dvec3 centroid = (p[0] + p[1] + p[2]) / 3.0;
-          const uint32_t best = nearestReceiver(po.originals[group], centroid);
-          for (const glm::dvec3& q : p) pieces[group].positions.push_back(fromGlm(glm::vec3(q)));
-          pieces[group].front_receiver.push_back(best);
-          pieces[group].back_receiver.push_back(kNoReceiver);
-        }
-      }
-    }
+    forEachSubTriangle(n, [&](uint32_t, const double(&w)[3][2]) {
+      glm::dvec3 p[3];
+      for (int k = 0; k < 3; ++k) p[k] = c[0] + w[k][0] * (c[1] - c[0]) + w[k][1] * (c[2] - c[0]);
+      const glm::dvec3 centroid = (p[0] + p[1] + p[2]) / 3.0;
+      const uint32_t best = nearestReceiver(po.originals[group], centroid);
+      for (const glm::dvec3& q : p) pieces[group].positions.push_back(fromGlm(glm::vec3(q)));
+      pieces[group].front_receiver.push_back(best);
+      pieces[group].back_receiver.push_back(kNoReceiver);
+    });
   }
   return pieces;
 }
