@@ -128,7 +128,9 @@ class SceneRenderer {
   Status writeExr(const std::string& path) const;
   int width() const;
   int height() const;
-  void resize(int width, int height);
+  /// Replaces the offscreen target (the last frame is gone). Error (the
+  /// size stays): a width or height outside 1..16384.
+  Status resize(int width, int height);
 
   /// What the renderer holds on the GPU now, one line per buffer or
   /// texture set, measured through GL queries; what it left out says why

@@ -158,20 +158,21 @@ ObjectId Runtime::objectForNode(int node) const {
 
 Expected<ObjectId> Runtime::addObject(const DynamicMesh& mesh, const Mat4& world_from_object) {
   if (Status s = checkMesh(mesh); !s.ok()) return s;
-  if (!finite(world_from_object))
-    return Status(StatusCode::kInvalidInput,
-                  "svit runtime: object '" + mesh.name + "': transform is not finite");
+  if (Status s = checkPlacement(mesh.positions, world_from_object,
+                                "svit runtime: object '" + mesh.name + "'");
+      !s.ok())
+    return s;
   if (!impl_->level.bake.has_runtime_sections) return noRuntimeSections(impl_->level.bake_dir);
   return impl_->addObjectInternal(objectFromMesh(mesh, world_from_object));
 }
 
 Status Runtime::setObjectTransform(ObjectId id, const Mat4& world_from_object) {
   if (id >= impl_->objects.size() || impl_->objects[id].removed) return unknownObject(id);
-  if (!finite(world_from_object)) {
-    return Status(StatusCode::kInvalidInput,
-                  "svit runtime: object " + std::to_string(id) + ": transform is not finite");
-  }
   rt::DynamicObject& o = impl_->objects[id];
+  if (Status s = checkPlacement(o.object_positions, world_from_object,
+                                "svit runtime: object " + std::to_string(id));
+      !s.ok())
+    return s;
   if (o.world_from_object.m == world_from_object.m) return Status();
   impl_->changeObject(
       o, [&](rt::DynamicObject& object) { object.world_from_object = world_from_object; });
@@ -187,13 +188,10 @@ Status Runtime::deformObject(ObjectId id, std::span<const Vec3> positions) {
                       std::to_string(positions.size()) + " positions, it has " +
                       std::to_string(o.object_positions.size()) + " (3 per triangle)");
   }
-  for (size_t i = 0; i < positions.size(); ++i) {
-    if (!finite(positions[i])) {
-      return Status(StatusCode::kInvalidInput, "svit runtime: object " + std::to_string(id) +
-                                                   ": position " + std::to_string(i) +
-                                                   " is not finite");
-    }
-  }
+  if (Status s = checkPlacement(positions, o.world_from_object,
+                                "svit runtime: object " + std::to_string(id));
+      !s.ok())
+    return s;
   impl_->changeObject(o, [&](rt::DynamicObject& object) {
     object.object_positions.assign(positions.begin(), positions.end());
     rt::binObjectTriangles(object);
@@ -285,11 +283,9 @@ Status Runtime::setLightEnabled(LightId id, bool enabled) {
 
 Status Runtime::setLightDimmer(LightId id, float scale) {
   if (id >= impl_->lights.size()) return unknownLight(id);
-  if (!(scale >= 0) || !std::isfinite(scale)) {
-    return Status(StatusCode::kInvalidInput, "svit runtime: light " + std::to_string(id) +
-                                                 ": dimmer " + std::to_string(scale) +
-                                                 " must be finite and >= 0");
-  }
+  if (Status s = checkScale(scale, "svit runtime: light " + std::to_string(id) + ": dimmer");
+      !s.ok())
+    return s;
   impl_->lights[id].dimmer = scale;
   impl_->changes.lighting_changed = true;
   return Status();
@@ -302,11 +298,10 @@ Status Runtime::setBakedEmitterScale(uint32_t bake_emitter, float scale) {
                                              std::to_string(bake_emitter) + " (the bake has " +
                                              std::to_string(bake_emitters) + ")");
   }
-  if (!(scale >= 0) || !std::isfinite(scale)) {
-    return Status(
-        StatusCode::kInvalidInput,
-        "svit runtime: baked emitter scale " + std::to_string(scale) + " must be finite and >= 0");
-  }
+  if (Status s = checkScale(
+          scale, "svit runtime: baked emitter " + std::to_string(bake_emitter) + ": scale");
+      !s.ok())
+    return s;
   if (impl_->light_scale.setEmitterScale(bake_emitter, scale)) {
     impl_->have_content = true;
     impl_->changes.lighting_changed = true;
@@ -328,7 +323,15 @@ Expected<RuntimeLightInfo> Runtime::lightInfo(LightId id) const {
   return RuntimeLightInfo{s.light, s.enabled, s.dimmer};
 }
 
-FrameStats Runtime::update(double budget_ms) { return impl_->update(budget_ms); }
+FrameStats Runtime::update(double budget_ms) {
+  // A bad budget is refused before anything happens: not even a frame counted.
+  if (Status s = checkUpdateBudget(budget_ms); !s.ok()) {
+    FrameStats stats;
+    stats.error = s.message();
+    return stats;
+  }
+  return impl_->update(budget_ms);
+}
 
 Status Runtime::setView(const RuntimeView& view) {
   if (Status s = checkView(view); !s.ok()) return s;

@@ -27,6 +27,7 @@
 #include "gl_program.h"
 #include "glm_interop.h"
 #include "numeric.h"
+#include "runtime_checks.h"
 #include "scene_renderer_bindings.h"
 #include "scene_renderer_dynamic_objects.h"
 #include "scene_renderer_lightmaps.h"
@@ -102,25 +103,33 @@ struct FramePass {
 
 // A camera that can be drawn from, or an error naming what is wrong.
 Status checkCamera(const Camera& camera) {
-  if (!finite(camera.position) || !finite(camera.look_at) || !finite(camera.up)) {
-    return Status(StatusCode::kInvalidInput,
-                  "SceneRenderer::render: camera position, look_at or up is not finite");
-  }
+  auto error = [](const std::string& why) {
+    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera " + why);
+  };
+  if (!finite(camera.position)) return error("position is not finite");
+  if (!finite(camera.look_at)) return error("look_at is not finite");
+  if (!finite(camera.up)) return error("up is not finite");
   const glm::vec3 eye = toGlm(camera.position), centre = toGlm(camera.look_at),
                   up = toGlm(camera.up);
   const glm::vec3 forward = centre - eye;
-  if (!(glm::length(forward) > 0) || !(glm::length(glm::cross(forward, up)) > 0)) {
-    return Status(StatusCode::kInvalidInput,
-                  "SceneRenderer::render: camera looks nowhere (look_at == position or along up)");
-  }
-  if (!(camera.yfov_rad > 0 && camera.yfov_rad < float(kPi)) ||
-      !(camera.near_m > 0 && camera.far_m > camera.near_m)) {
-    return Status(StatusCode::kInvalidInput, "SceneRenderer::render: camera yfov_rad " +
-                                                 std::to_string(camera.yfov_rad) + " or near/far " +
-                                                 std::to_string(camera.near_m) + "/" +
-                                                 std::to_string(camera.far_m) + " out of range");
+  if (!(glm::length(forward) > 0) || !(glm::length(glm::cross(forward, up)) > 0))
+    return error("looks nowhere (look_at == position, or up zero or along the view)");
+  if (!(camera.yfov_rad > 0 && camera.yfov_rad < float(kPi)))
+    return error("yfov_rad " + std::to_string(camera.yfov_rad) + " is outside (0, pi)");
+  if (!(camera.near_m > 0 && camera.far_m > camera.near_m && finite(camera.far_m))) {
+    return error("near/far " + std::to_string(camera.near_m) + "/" + std::to_string(camera.far_m) +
+                 " needs 0 < near < far < infinity");
   }
   return Status();
+}
+
+Status checkShadingView(ShadingView view) {
+  if (view == ShadingView::kBakedOnly || view == ShadingView::kRuntime ||
+      view == ShadingView::kPatchDelta)
+    return Status();
+  return Status(StatusCode::kInvalidInput, "SceneRenderer::render: view " +
+                                               std::to_string(int(view)) +
+                                               " is not a ShadingView (0, 1 or 2)");
 }
 
 }  // namespace
@@ -344,6 +353,7 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   Impl& s = *impl_;
   const auto start = std::chrono::steady_clock::now();
   if (Status valid = checkCamera(camera); !valid.ok()) return valid;
+  if (Status valid = checkShadingView(view); !valid.ok()) return valid;
   RenderStats stats;
   const bool runtime_view = view != ShadingView::kBakedOnly;
 
@@ -497,11 +507,11 @@ Status SceneRenderer::setBakedEmitterScale(uint32_t bake_emitter, float scale) {
                                              std::to_string(bake_emitter) + " (the bake has " +
                                              std::to_string(s.emitter_scale.size()) + ")");
   }
-  if (!(scale >= 0) || !std::isfinite(scale)) {
-    return Status(
-        StatusCode::kInvalidInput,
-        "SceneRenderer: baked emitter scale " + std::to_string(scale) + " must be finite and >= 0");
-  }
+  // The runtime's bounds, so that both take or refuse the same scales.
+  if (Status valid = checkScale(
+          scale, "SceneRenderer: baked emitter " + std::to_string(bake_emitter) + ": scale");
+      !valid.ok())
+    return valid;
   s.emitter_scale[bake_emitter] = scale;
   return Status();
 }
@@ -538,15 +548,21 @@ Status SceneRenderer::writeExr(const std::string& path) const {
 int SceneRenderer::width() const { return impl_->settings.width; }
 int SceneRenderer::height() const { return impl_->settings.height; }
 
-void SceneRenderer::resize(int width, int height) {
+Status SceneRenderer::resize(int width, int height) {
   Impl& s = *impl_;
-  if (width == s.settings.width && height == s.settings.height) return;
+  if (width == s.settings.width && height == s.settings.height) return Status();
   Expected<gl::OffscreenTarget> target = gl::OffscreenTarget::create(width, height);
-  if (!target.ok()) return;  // out of range: keep the current size (width()/height() tell)
+  if (!target.ok()) {
+    return Status(target.status().code(), "SceneRenderer::resize: " + target.status().message() +
+                                              " (the size stays " +
+                                              std::to_string(s.settings.width) + "x" +
+                                              std::to_string(s.settings.height) + ")");
+  }
   s.target = std::move(target).value();
   s.settings.width = width;
   s.settings.height = height;
   s.has_offscreen_frame = false;
+  return Status();
 }
 
 std::vector<ResourceUse> SceneRenderer::resources() const {
