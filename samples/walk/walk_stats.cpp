@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 
 #include <nlohmann/json.hpp>
 
+#include "file_output.h"
 #include "walk_script.h"
 
 namespace svit::walk {
@@ -131,17 +130,8 @@ Status WalkStats::writeJson(const std::string& path, const std::string& level,
   root["resources"] = {{"runtime", resources(runtime_resources)},
                        {"renderer", resources(renderer_resources)}};
 
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream file(tmp);
-    file << root.dump(1) << "\n";
-    if (!file) return Status(StatusCode::kIoError, tmp + ": cannot write");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec)
-    return Status(StatusCode::kIoError, path + ": cannot rename from " + tmp + ": " + ec.message());
-  return Status();
+  const std::string text = root.dump(1) + "\n";
+  return writeFileReplacing(path, text.data(), text.size());
 }
 
 void WalkStats::printTable(FILE* out) const {

@@ -29,6 +29,7 @@
 #include "bake_file_decode.h"
 #include "bake_file_io.h"
 #include "bake_file_validate.h"
+#include "file_output.h"
 
 namespace svit {
 namespace {
@@ -517,43 +518,7 @@ Status writeBakeFile(const BakeData& data, const std::string& path) {
   if (Status s = validateBakeData(data, path); !s.ok()) return s;
   const std::vector<uint8_t> bytes = encode(data);
 
-  const std::string temporary = path + ".tmp";
-  auto removeTemporary = [&] {
-    std::error_code ignored;
-    fs::remove(temporary, ignored);
-  };
-  {
-    errno = 0;
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      // Not created by us (e.g. a directory of that name): nothing to remove.
-      return Status(StatusCode::kIoError, temporary + ": cannot create: " + osError(errno));
-    }
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    out.flush();
-    if (!out) {
-      const int error = errno;
-      out.close();
-      removeTemporary();
-      return Status(StatusCode::kIoError, temporary + ": cannot write " +
-                                              num(uint64_t(bytes.size())) +
-                                              " bytes: " + osError(error));
-    }
-    out.close();
-    if (!out) {
-      const int error = errno;
-      removeTemporary();
-      return Status(StatusCode::kIoError, temporary + ": cannot close: " + osError(error));
-    }
-  }
-  std::error_code ec;
-  fs::rename(temporary, path, ec);
-  if (ec) {
-    removeTemporary();
-    return Status(StatusCode::kIoError,
-                  path + ": cannot replace it with " + temporary + ": " + ec.message());
-  }
-  return Status();
+  return writeFileReplacing(path, bytes.data(), bytes.size());
 }
 
 std::vector<BakeSectionSize> bakeSectionSizes(const BakeData& data) {

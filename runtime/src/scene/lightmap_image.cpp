@@ -10,6 +10,8 @@
 
 #include <tinyexr.h>
 
+#include "file_output.h"
+
 namespace svit {
 
 Rgb LightmapImage::sampleBilinear(Vec2 uv) const {
@@ -68,23 +70,21 @@ Status writeLightmapExr(const LightmapImage& image, const std::string& path) {
   // fp32, not half: direct sunlight (1e5 lux) overflows half's 65504.
   header.requested_pixel_types = requested;
   header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
-  const std::string temporary = path + ".tmp";
+  // Encoded in memory and written by writeFileReplacing: SaveEXRImageToFile
+  // does not check fclose, so a write that fails at the last buffered block
+  // (a full disk, `ulimit -f`) would pass as a whole file.
+  unsigned char* encoded = nullptr;
   const char* error = nullptr;
-  const int result = SaveEXRImageToFile(&exr, &header, temporary.c_str(), &error);
-  if (result != TINYEXR_SUCCESS) {
+  const size_t encoded_size = SaveEXRImageToMemory(&exr, &header, &encoded, &error);
+  if (encoded_size == 0) {
     const std::string message = error ? error : "unknown error";
     FreeEXRErrorMessage(error);
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    return Status(StatusCode::kIoError, path + ": cannot write EXR: " + message);
+    std::free(encoded);
+    return Status(StatusCode::kIoError, path + ": cannot encode EXR: " + message);
   }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    std::filesystem::remove(temporary, ec);
-    return Status(StatusCode::kIoError, path + ": cannot rename " + temporary);
-  }
-  return Status();
+  const Status written = writeFileReplacing(path, encoded, encoded_size);
+  std::free(encoded);
+  return written;
 }
 
 namespace {
