@@ -2,12 +2,9 @@
 
 #include "svit/baker/bake.h"
 
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 
 #include <nlohmann/json.hpp>
@@ -21,8 +18,10 @@
 #include "svit/baker/texel_lighting.h"
 #include "svit/level.h"
 #include "svit/lightmap_image.h"
+#include "bake_output.h"
 #include "bake_plan.h"
 #include "double_math.h"
+#include "file_output.h"
 #include "random.h"
 
 namespace svit::baker {
@@ -476,26 +475,26 @@ nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
 Expected<BakeResult> writeBake(BakeRun& run, const LightmapPages& pages, const BakeData& data,
                                const std::vector<ErrorPoint>& series,
                                nlohmann::ordered_json& json) {
-  const fs::path out = fs::path(run.options.out_dir);
-  const fs::path temporary =
-      out.parent_path() / (out.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  const fs::path out = bakeOutputPath(run.options.out_dir);
+  const fs::path staging = stagingDirectory(out);
   std::error_code ec;
-  fs::remove_all(temporary, ec);
-  fs::create_directories(temporary, ec);
+  fs::remove_all(staging, ec);
+  fs::create_directories(staging, ec);
   if (ec)
-    return Status(StatusCode::kIoError, temporary.string() + ": cannot create: " + ec.message());
+    return Status(StatusCode::kIoError, staging.string() + ": cannot create: " + ec.message());
   auto fail = [&](const Status& s) {
     std::error_code ignored;
-    fs::remove_all(temporary, ignored);
-    return s;
+    fs::remove_all(staging, ignored);
+    if (s.code() == StatusCode::kCancelled) return s;
+    return Status(s.code(), s.message() + "; " + out.string() + " left as it was");
   };
   for (size_t p = 0; p < pages.images.size(); ++p) {
-    if (Status s = writeLightmapExr(pages.images[p], (temporary / data.pages[p].file).string());
+    if (Status s = writeLightmapExr(pages.images[p], (staging / data.pages[p].file).string());
         !s.ok())
       return fail(s);
     if (run.cancelRequested()) return fail(run.cancelled);
   }
-  if (Status s = writeBakeFile(data, (temporary / "bake.svit").string()); !s.ok()) return fail(s);
+  if (Status s = writeBakeFile(data, (staging / "bake.svit").string()); !s.ok()) return fail(s);
   BakeResult result;
   result.pages = pages.images.size();
   result.covered_texels = countTexels(pages).covered;
@@ -507,31 +506,12 @@ Expected<BakeResult> writeBake(BakeRun& run, const LightmapPages& pages, const B
   result.seconds = run.clock.elapsed();
   json["total_seconds"] = result.seconds;
   result.report_json = json.dump(2) + "\n";
-  {
-    std::ofstream file(temporary / "report.json");
-    file << result.report_json;
-    if (!file)
-      return fail(
-          Status(StatusCode::kIoError, (temporary / "report.json").string() + ": cannot write"));
-  }
+  if (Status s = writeFileReplacing((staging / "report.json").string(), result.report_json.data(),
+                                    result.report_json.size());
+      !s.ok())
+    return fail(s);
   if (run.cancelRequested()) return fail(run.cancelled);
-  const fs::path old =
-      out.parent_path() / (out.filename().string() + ".old-" + std::to_string(::getpid()));
-  const bool had_previous = fs::exists(out, ec);
-  if (had_previous) {
-    fs::rename(out, old, ec);
-    if (ec)
-      return fail(Status(StatusCode::kIoError,
-                         out.string() + ": cannot move the previous bake aside: " + ec.message()));
-  }
-  fs::rename(temporary, out, ec);
-  if (ec) {
-    std::error_code ignored;
-    if (had_previous) fs::rename(old, out, ignored);
-    return fail(Status(StatusCode::kIoError,
-                       out.string() + ": cannot move the new bake in place: " + ec.message()));
-  }
-  if (had_previous) fs::remove_all(old, ec);
+  if (Status s = swapIntoPlace(staging, out); !s.ok()) return fail(s);
   return result;
 }
 
@@ -558,6 +538,10 @@ Expected<BakeResult> bakeLevel(const BakeOptions& options,
   BakeRun run{
       options, planBake(options), BakeClock(progress, cancel, options.time_budget_s), cancel,
       Status(StatusCode::kCancelled, "bake cancelled; " + options.out_dir + " left as it was")};
+
+  // Before any work: OUT must be a previous bake (or nothing) and its
+  // directory writable, so a doomed bake fails in milliseconds.
+  if (Status s = checkBakeOutput(bakeOutputPath(options.out_dir)); !s.ok()) return s;
 
   // Load the level, the --reference bake, and the ray caster.
   if (!run.clock.report(0, run.clock.remaining())) return run.cancelled;

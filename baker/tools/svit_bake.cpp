@@ -1,7 +1,8 @@
 // svit-bake LEVEL -o OUT [--seed N] [--time SECONDS] [--quality Q]
 //   [--texels-per-m T] [--threads N] [--reference REF_OUT] [--quiet]
 // Exit codes (docs/architecture.md "Command-line contracts"): 0 ok, 1 bad
-// input, 2 bad usage, 3 cancelled.
+// input or an output that cannot be written (full disk, `ulimit -f`), 2 bad
+// usage, 3 cancelled.
 
 #include <unistd.h>
 
@@ -12,6 +13,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "svit/baker/bake.h"
 
@@ -36,7 +38,8 @@ void usage(FILE* out) {
       "  --threads N      worker threads (default: all cores); results do not depend on it\n"
       "  --reference DIR  a previous bake of the same level to measure the true error against\n"
       "  --quiet          print nothing but errors\n"
-      "Ctrl-C or SIGTERM cancels (exit 3) and leaves OUT as it was.\n");
+      "Ctrl-C or SIGTERM cancels (exit 3) and leaves OUT as it was; a kill or a full\n"
+      "disk leaves it the previous bake or the whole new one.\n");
 }
 
 bool parseNumber(const char* text, double& out) {
@@ -110,6 +113,20 @@ void installCancelHandlers() {
   sigaction(SIGTERM, &action, nullptr);
 }
 
+// What killed bakes left beside OUT (OUT.tmp-<pid>, OUT.old-<pid>) goes
+// first, said in one line; a failure to remove it is not this bake's error.
+void removeAbandoned(const std::string& out_dir, bool quiet) {
+  svit::Expected<std::vector<std::string>> removed =
+      svit::baker::removeAbandonedBakeDirectories(out_dir);
+  if (!removed.ok()) {
+    std::fprintf(stderr, "svit-bake: warning: %s\n", removed.status().message().c_str());
+  } else if (!removed->empty() && !quiet) {
+    std::string list;
+    for (const std::string& path : *removed) list += (list.empty() ? "" : ", ") + path;
+    std::fprintf(stderr, "svit-bake: removed what killed bakes left: %s\n", list.c_str());
+  }
+}
+
 // A bar redrawn in place on a terminal; plain lines (per stage and every
 // 10%) when stderr is a file or pipe; nothing with --quiet.
 class ProgressPrinter {
@@ -158,11 +175,15 @@ void printSummary(const svit::baker::BakeOptions& options, const svit::baker::Ba
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Past `ulimit -f` the kernel sends SIGXFSZ, which kills silently; ignored,
+  // the write fails with EFBIG and the bake says which file was too large.
+  std::signal(SIGXFSZ, SIG_IGN);
   svit::baker::BakeOptions options;
   bool quiet = false;
   if (const int exit_code = parseArguments(argc, argv, options, quiet); exit_code >= 0)
     return exit_code;
   installCancelHandlers();
+  removeAbandoned(options.out_dir, quiet);
   ProgressPrinter printer(quiet);
   svit::Expected<svit::baker::BakeResult> result = svit::baker::bakeLevel(
       options, [&](const svit::baker::BakeProgress& p) { return printer(p); }, &g_cancel);

@@ -52,10 +52,21 @@ struct BakeResult {
   double ref_rel_error = std::numeric_limits<double>::quiet_NaN();
 };
 
+/// Removes the OUT.tmp-<pid> and OUT.old-<pid> directories beside
+/// `out_dir` that bakes killed mid-write (SIGKILL, a crash) left behind:
+/// only those whose process is gone (kill(pid, 0) fails with ESRCH); a
+/// running bake's are kept. Returns the paths removed; kIoError naming the
+/// path when one cannot be removed. bakeLevel does not call it (it deletes
+/// nothing it did not make); svit-bake does before each bake.
+Expected<std::vector<std::string>> removeAbandonedBakeDirectories(const std::string& out_dir);
+
 /// Runs the bake. `progress` is called from the calling thread (returning
 /// false cancels); `cancel` may be set from any thread or a signal handler.
 /// Returns kCancelled when cancelled, kInvalidInput for bad levels or
-/// references, kIoError for output problems; OUT is untouched unless Ok.
+/// references or an OUT that is not a previous bake (checked before any
+/// work), kIoError for output problems (a full disk, `ulimit -f`: the
+/// message names the file and the reason); OUT is untouched unless Ok, and
+/// a kill at any moment leaves it the previous bake or the whole new one.
 Expected<BakeResult> bakeLevel(const BakeOptions& options,
                                const std::function<bool(const BakeProgress&)>& progress,
                                const std::atomic<bool>* cancel);
