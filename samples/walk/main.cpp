@@ -3,6 +3,7 @@
 // the sample walkthrough (docs/architecture.md "Command-line contracts",
 // samples/walk/README.md). Exit 0 ok, 1 bad input, 2 bad usage.
 
+#include <csignal>
 #include <cstdio>
 
 #include "walk_args.h"
@@ -22,6 +23,9 @@ int main(int argc, char** argv) {
     printUsage(stderr);
     return 2;
   }
+  // Past `ulimit -f` SIGXFSZ would kill silently; ignored, the frame or
+  // stats write fails with EFBIG and says which file.
+  std::signal(SIGXFSZ, SIG_IGN);
   svit::Expected<std::unique_ptr<WalkSession>> session = openSession(args.options);
   if (!session.ok()) {
     std::fprintf(stderr, "svit-walk: %s\n", session.status().message().c_str());

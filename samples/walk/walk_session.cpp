@@ -1,9 +1,11 @@
 #include "walk_session.h"
 
 #include <filesystem>
+#include <utility>
 
 #include "svit/gl_context.h"
 #include "svit/level.h"
+#include "file_output.h"
 #include "walk_camera.h"
 
 namespace svit::walk {
@@ -21,6 +23,32 @@ Status scaleBakedLight(WalkSession& session, int light) {
   return Status();
 }
 
+// --frames-out DIR, --stats FILE and --probe-out FILE are tried before the
+// level is loaded, so a typo fails at once rather than after the walk.
+Status checkOutputPaths(const WalkOptions& options) {
+  namespace fs = std::filesystem;
+  auto named = [](const char* option, const std::string& path, const Status& s) {
+    return Status(s.code(), std::string(option) + " " + path + ": " + s.message());
+  };
+  std::error_code ec;
+  if (!options.frames_out.empty()) {
+    // DIR is made later with its missing parents, in the nearest directory that exists.
+    fs::path existing = options.frames_out;
+    while (!existing.empty() && !fs::exists(existing, ec)) existing = existing.parent_path();
+    if (Status s = checkWritableDirectory(existing.string()); !s.ok())
+      return named("--frames-out", options.frames_out, s);
+  }
+  for (const auto& [option, path] :
+       {std::pair{"--stats", &options.stats}, std::pair{"--probe-out", &options.probe_out}}) {
+    if (path->empty()) continue;
+    if (fs::is_directory(*path, ec))
+      return Status(StatusCode::kIoError, std::string(option) + " " + *path + ": is a directory");
+    if (Status s = checkWritableDirectory(fs::path(*path).parent_path().string()); !s.ok())
+      return named(option, *path, s);
+  }
+  return Status();
+}
+
 }  // namespace
 
 Status scaleBakeEmitter(WalkSession& session, uint32_t emitter, float scale) {
@@ -32,6 +60,7 @@ Expected<std::unique_ptr<WalkSession>> openSession(const WalkOptions& options) {
   auto session = std::make_unique<WalkSession>();
   WalkSession& s = *session;
   s.options = options;
+  if (Status st = checkOutputPaths(options); !st.ok()) return st;
   Expected<Scene> scene = loadLevel(options.level);
   if (!scene.ok()) return scene.status();
   s.scene = std::move(scene).value();

@@ -176,6 +176,50 @@ expect_exit bad_points 1 -- "$walk" "$level" --bake "$work/cornell" --headless -
   --probe "$work/bad_points.txt" --probe-out "$work/p.txt"
 expect_err bad_points_message "bad_points.txt:2:"
 
+# Outputs that cannot be written: exit 1 naming the option, the path and
+# the reason, before the level is loaded (with a missing bake too, the
+# output is what is named) and before anything is rendered (no frame). A
+# path under a regular file is unwritable even for root.
+echo "not a directory" >"$work/file"
+unwritable() {  # NAME EXPECTED-MESSAGE -- output options...
+  local name="$1" message="$2"; shift 3
+  local started=$SECONDS
+  expect_exit "$name" 1 -- "$walk" "$level" --bake "$work/cornell" --headless --frames 2 --width 160 --height 90 "$@"
+  expect_err "${name}_message" "$message"
+  echo "     (failed after $((SECONDS - started)) s)"
+  expect_exit "${name}_before_loading" 1 -- "$walk" "$level" --bake "$work/nothing" --headless --frames 2 "$@"
+  expect_err "${name}_before_loading_message" "$message"
+}
+unwritable frames_out_under_file "--frames-out $work/file/frames: $work/file: cannot create a file there: Not a directory" \
+  -- --frames-out "$work/file/frames"
+[[ ! -e "$work/file/frames" ]] && ok "no frames written" || fail "frames written under a file"
+unwritable stats_under_file "--stats $work/file/stats.json: $work/file: cannot create a file there: Not a directory" \
+  -- --frames-out "$work/unwritten" --stats "$work/file/stats.json"
+[[ ! -e "$work/unwritten" ]] && ok "no frames directory made" || fail "frames written though --stats cannot be"
+unwritable stats_missing_dir "--stats $work/nodir/stats.json: $work/nodir: cannot create a file there: No such file or directory" \
+  -- --stats "$work/nodir/stats.json"
+unwritable stats_is_dir "--stats $work: is a directory" -- --stats "$work"
+unwritable probe_out_under_file "--probe-out $work/file/p.txt: $work/file: cannot create a file there: Not a directory" \
+  -- --probe "$work/points.txt" --probe-out "$work/file/p.txt"
+[[ -z $(ls -A "$work" | grep -F .svit-write-check) ]] && ok "no write-check file left" || fail "write-check file left"
+
+# A file-size limit (ulimit -f, KiB) while writing: exit 1, the message names
+# the file and the reason, no cut file is left.
+(ulimit -f 1; exec "$walk" "$level" --bake "$work/cornell" --headless --frames 2 --width 160 --height 90 \
+  --frames-out "$work/limited") >"$work/out.txt" 2>"$work/err.txt"
+rc=$?
+[[ $rc -eq 1 ]] && ok "frames_ulimit exit 1" || { fail "frames_ulimit: exit $rc"; cat "$work/err.txt"; }
+expect_err frames_ulimit_message "frame 0: $work/limited/frame-0000.png.tmp: cannot write"
+expect_err frames_ulimit_reason "File too large"
+[[ -z $(ls -A "$work/limited") ]] && ok "no cut frame left" || fail "left $(ls -A "$work/limited")"
+(ulimit -f 1; exec "$walk" "$level" --bake "$work/cornell" --headless --frames 2 --width 160 --height 90 \
+  --stats "$work/limited/stats.json") >"$work/out.txt" 2>"$work/err.txt"
+rc=$?
+[[ $rc -eq 1 ]] && ok "stats_ulimit exit 1" || { fail "stats_ulimit: exit $rc"; cat "$work/err.txt"; }
+expect_err stats_ulimit_message "$work/limited/stats.json.tmp: cannot write"
+expect_err stats_ulimit_reason "File too large"
+[[ -z $(ls -A "$work/limited") ]] && ok "no cut stats left" || fail "left $(ls -A "$work/limited")"
+
 if [[ $failures -ne 0 ]]; then
   echo "$failures failure(s)"
   exit 1
