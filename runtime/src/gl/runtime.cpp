@@ -129,13 +129,55 @@ Expected<std::unique_ptr<Runtime>> Runtime::create(const Scene& scene, const Bak
   return runtime;
 }
 
+void Runtime::Impl::releaseObject(uint32_t o) {
+  rt::DynamicObject& object = objects[o];
+  // Its receivers go back to the pool with no area, so nothing lights them
+  // until an object takes them; it keeps no triangle, so no loop over the
+  // objects' receivers reaches them through it.
+  const uint32_t count = uint32_t(object.albedo.size());
+  for (uint32_t t = 0; t < count; ++t) receivers[object.first_receiver + t] = {};
+  if (count > 0) free_receivers.push_back({object.first_receiver, count});
+  object = rt::DynamicObject{object.name, object.instance};
+  object.visible = false;
+  object.removed = true;
+  for (uint32_t bin = 0; bin < kObjectShooters; ++bin) {
+    const uint32_t g = level.static_groups + o * kObjectShooters + bin;
+    if (emitter_set.group_emitter[g] == kInvalidId) continue;
+    Emitter& e = emitter_set.emitters[emitter_set.group_emitter[g]];
+    accumulator.retractCurrent(e);
+    e.markAsBaked();  // a dynamic object's "as baked" adds nothing
+    e.baseline = {};
+    e.has_baseline = false;
+    e.samples = {};
+    e.bake_shares = {};
+    e.lit_triangles = {};
+    e.flux = glm::dvec3(0.0);
+  }
+}
+
+// The first range of `count` receivers a removed object gave back, or the
+// end of the receivers (grown by `count`).
+uint32_t Runtime::Impl::takeReceivers(uint32_t count) {
+  for (size_t i = 0; i < free_receivers.size(); ++i) {
+    auto& [first, free] = free_receivers[i];
+    if (free < count) continue;
+    const uint32_t taken = first;
+    first += count;
+    free -= count;
+    if (free == 0) free_receivers.erase(free_receivers.begin() + std::ptrdiff_t(i));
+    return taken;
+  }
+  const uint32_t end = uint32_t(receivers.size());
+  receivers.resize(receivers.size() + count);
+  return end;
+}
+
 uint32_t Runtime::Impl::addObjectInternal(rt::DynamicObject object) {
-  object.first_receiver = uint32_t(receivers.size());
+  object.first_receiver = takeReceivers(uint32_t(object.albedo.size()));
   object.lit = false;
   object.shown_revision = accumulator.revisions();
   rt::binObjectTriangles(object);
   rt::placeObject(object);
-  receivers.resize(receivers.size() + object.albedo.size());
   rt::updateObjectReceivers(object, receivers);
   emitter_set.group_emitter.resize(emitter_set.group_emitter.size() + kObjectShooters, kInvalidId);
   outputs.resize(receivers.size());
@@ -214,6 +256,7 @@ Status Runtime::setObjectVisible(ObjectId id, bool visible) {
 Status Runtime::removeObject(ObjectId id) {
   if (Status s = setObjectVisible(id, false); !s.ok()) return s;
   impl_->objects[id].removed = true;
+  impl_->releaseObject(id);
   return Status();
 }
 

@@ -74,6 +74,10 @@ struct Runtime::Impl {
   // (what shoots): bake patches, then kObjectShooters per object.
   std::vector<rt::Receiver> receivers;
   std::vector<rt::DynamicObject> objects;
+  /// Receiver ranges (first, count) removed objects gave back; a new object
+  /// takes the first that fits, so adding and removing props for hours
+  /// keeps the receiver count (and every per-receiver table) flat.
+  std::vector<std::pair<uint32_t, uint32_t>> free_receivers;
   std::vector<uint32_t> object_map_base;  ///< per object: its first triangle in the dynamic map set
   rt::MapTriangles dynamic_map;           ///< what the maps draw for the objects now
   std::vector<RuntimeLightState> lights;
@@ -106,6 +110,10 @@ struct Runtime::Impl {
   /// The level's own dynamic content: its dynamic instances and lights.
   Status addLevelContent(Runtime& runtime);
   uint32_t addObjectInternal(rt::DynamicObject object);
+  /// What a removed object no longer needs: its mesh data and its facing
+  /// emitters' samples and shares (their light retracted first).
+  void releaseObject(uint32_t object);
+  uint32_t takeReceivers(uint32_t count);
   /// Applies `change` to an object, places it again and records the boxes
   /// it left and entered: the one path every object change takes.
   template <typename Change>

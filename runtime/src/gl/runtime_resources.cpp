@@ -88,6 +88,8 @@ ResourceUse objectsUse(const std::vector<rt::DynamicObject>& objects,
                      vectorBytes(o.world_positions);
   }
   use.cpu_bytes += mapTriangleBytes(dynamic_map);
+  // The records themselves: one per object ever added (ids are never reused).
+  use.cpu_bytes += vectorBytes(objects);
   use.reason = use.allocated ? std::to_string(objects.size()) + " objects" : "no dynamic objects";
   return use;
 }
@@ -103,6 +105,7 @@ ResourceUse cachesUse(const std::vector<Emitter>& emitters, const rt::BounceSolv
         vectorBytes(e.samples) + e.current.bytes() + e.baseline.bytes() + e.bake_shares.bytes();
     cached += e.hasCurrent() ? 1u : 0u;
   }
+  caches.cpu_bytes += vectorBytes(emitters);  // the records, a removed object's facings' too
   // the last frame's bounce rounds and the shares they went through
   caches.cpu_bytes += bounce_solver.bytes();
   caches.reason = caches.allocated ? std::to_string(emitters.size()) + " emitters, " +
