@@ -87,9 +87,9 @@ Arg<Mat4> drawTransform(Draws& draws, const LevelBox& box) {
   switch (draws.below(12)) {
     case 0: return accept(translation(at));
     case 1: return accept(placed(at, angle, draws.between(0.2f, 2.0f)));
-    case 2: return accept(placed(at, angle, 0.0f));  // collapsed to a point
-    case 3: return accept(placed(at, angle, -1.0f));  // mirrored
-    case 4: return accept(placed(at, angle, 1e-30f));  // all but collapsed
+    case 2: return accept(placed(at, angle, 0.0f));          // collapsed to a point
+    case 3: return accept(placed(at, angle, -1.0f));         // mirrored
+    case 4: return accept(placed(at, angle, 1e-30f));        // all but collapsed
     case 5: return accept(translation({5e5f, at.y, at.z}));  // 500 km away, inside the world
     case 6: {
       Mat4 m = translation(at);
@@ -161,14 +161,16 @@ Arg<DynamicMesh> drawMesh(Draws& draws) {
 Arg<std::vector<Vec3>> drawPositions(Draws& draws, size_t count) {
   std::vector<Vec3> positions(count);
   const float size = draws.between(0.02f, 0.3f);
-  for (Vec3& p : positions) p = {draws.between(-size, size), draws.between(-size, size),
-                                 draws.between(-size, size)};
+  for (Vec3& p : positions)
+    p = {draws.between(-size, size), draws.between(-size, size), draws.between(-size, size)};
   switch (draws.below(5)) {
     case 0: positions.push_back({0, 0, 0}); return reject(positions, "positions");
     case 1:
       if (!positions.empty()) positions[draws.below(uint32_t(count))].z = kInf;
       return reject(positions, count == 0 ? "positions" : "position");
-    case 2: for (Vec3& p : positions) p = {1e30f, 0, 0}; return reject(positions, "beyond");
+    case 2:
+      for (Vec3& p : positions) p = {1e30f, 0, 0};
+      return reject(positions, "beyond");
     default: return accept(positions);
   }
 }

@@ -25,8 +25,9 @@ std::string mat(const Mat4& m) {
   return out + "]";
 }
 std::string light(const Light& l) {
-  return std::string(l.type == LightType::kSpot ? "spot" : l.type == LightType::kPoint ? "point"
-                                                                                        : "dir") +
+  return std::string(l.type == LightType::kSpot    ? "spot"
+                     : l.type == LightType::kPoint ? "point"
+                                                   : "dir") +
          " at " + vec(l.position) + " " + num(l.intensity) + " cd cone " + num(l.inner_cone_rad) +
          "/" + num(l.outer_cone_rad);
 }
@@ -92,15 +93,32 @@ void AbuseDriver::step() {
   // Weights: changes most, then the queries, an update every ~8 calls and
   // a compared frame every ~14.
   static constexpr void (AbuseDriver::*kCalls[])() = {
-      &AbuseDriver::addObject,     &AbuseDriver::addObject,          &AbuseDriver::setTransform,
-      &AbuseDriver::setTransform,  &AbuseDriver::setTransform,       &AbuseDriver::deform,
-      &AbuseDriver::setVisible,    &AbuseDriver::removeObject,       &AbuseDriver::queryObject,
-      &AbuseDriver::addLight,      &AbuseDriver::setLight,           &AbuseDriver::switchLight,
-      &AbuseDriver::dimLight,      &AbuseDriver::scaleBakedEmitter,  &AbuseDriver::setView,
-      &AbuseDriver::setSampleBudget, &AbuseDriver::update,           &AbuseDriver::update,
-      &AbuseDriver::update,        &AbuseDriver::queryStatic,        &AbuseDriver::render,
-      &AbuseDriver::render,        &AbuseDriver::scaleRenderedEmitter, &AbuseDriver::resize,
-      &AbuseDriver::writeFrames,   &AbuseDriver::queryResources,
+      &AbuseDriver::addObject,
+      &AbuseDriver::addObject,
+      &AbuseDriver::setTransform,
+      &AbuseDriver::setTransform,
+      &AbuseDriver::setTransform,
+      &AbuseDriver::deform,
+      &AbuseDriver::setVisible,
+      &AbuseDriver::removeObject,
+      &AbuseDriver::queryObject,
+      &AbuseDriver::addLight,
+      &AbuseDriver::setLight,
+      &AbuseDriver::switchLight,
+      &AbuseDriver::dimLight,
+      &AbuseDriver::scaleBakedEmitter,
+      &AbuseDriver::setView,
+      &AbuseDriver::setSampleBudget,
+      &AbuseDriver::update,
+      &AbuseDriver::update,
+      &AbuseDriver::update,
+      &AbuseDriver::queryStatic,
+      &AbuseDriver::render,
+      &AbuseDriver::render,
+      &AbuseDriver::scaleRenderedEmitter,
+      &AbuseDriver::resize,
+      &AbuseDriver::writeFrames,
+      &AbuseDriver::queryResources,
   };
   constexpr uint32_t kCount = sizeof(kCalls) / sizeof(kCalls[0]);
   (this->*kCalls[draws_.below(kCount)])();
@@ -125,15 +143,14 @@ void AbuseDriver::addObject() {
       : at.verdict != Verdict::kAccept ? std::pair{at.verdict, at.names}
                                        : std::pair{mesh.verdict, mesh.names};
   ObjectId ids[2] = {kInvalidId, kInvalidId};
-  const bool added = issue(
-      "addObject(" + std::to_string(mesh.value.indices.size() / 3) + " triangles, " +
-          mat(at.value) + ")",
-      verdict, names, [&](Twin& twin) {
-        Expected<ObjectId> id = twin.runtime->addObject(mesh.value, at.value);
-        if (!id.ok()) return id.status();
-        ids[&twin == &subject_ ? 0 : 1] = *id;
-        return Status();
-      });
+  const bool added = issue("addObject(" + std::to_string(mesh.value.indices.size() / 3) +
+                               " triangles, " + mat(at.value) + ")",
+                           verdict, names, [&](Twin& twin) {
+                             Expected<ObjectId> id = twin.runtime->addObject(mesh.value, at.value);
+                             if (!id.ok()) return id.status();
+                             ids[&twin == &subject_ ? 0 : 1] = *id;
+                             return Status();
+                           });
   if (!added) return;
   if (ids[0] != ids[1] || ids[0] != objects_.issued) {
     finding("addObject: ids " + std::to_string(ids[0]) + " and " + std::to_string(ids[1]) +
@@ -157,8 +174,8 @@ void AbuseDriver::deform() {
   const size_t count = info.ok() ? info->world_positions.size() : draws_.below(40);
   const Arg<std::vector<Vec3>> positions = drawPositions(draws_, count);
   const auto [verdict, names] = either(id, positions.verdict, positions.names);
-  issue("deformObject(" + std::to_string(id.value) + ", " +
-            std::to_string(positions.value.size()) + " positions)",
+  issue("deformObject(" + std::to_string(id.value) + ", " + std::to_string(positions.value.size()) +
+            " positions)",
         verdict, names,
         [&](Twin& twin) { return twin.runtime->deformObject(id.value, positions.value); });
 }
@@ -193,9 +210,9 @@ void AbuseDriver::queryObject() {
   Expected<Rgb> irradiance = subject_.runtime->objectPatchIrradiance(id.value, triangle);
   const auto [verdict, names] =
       either(id, in_range ? Verdict::kAccept : Verdict::kReject, std::to_string(triangle));
-  checkRejection("objectPatchIrradiance(" + std::to_string(id.value) + ", " +
-                     std::to_string(triangle) + ")",
-                 irradiance.status(), verdict, names);
+  checkRejection(
+      "objectPatchIrradiance(" + std::to_string(id.value) + ", " + std::to_string(triangle) + ")",
+      irradiance.status(), verdict, names);
   if (irradiance.ok() && !finiteRgb(*irradiance)) finding(call + ": irradiance is not finite");
   checkGl(call);
 }
@@ -252,8 +269,8 @@ void AbuseDriver::scaleBakedEmitter() {
           : Arg<uint32_t>{emitter, Verdict::kReject, "emitter " + std::to_string(emitter)};
   const Arg<float> scale = drawScale(draws_, "scale");
   const auto [verdict, names] = either(id, scale.verdict, scale.names);
-  issue("setBakedEmitterScale(" + std::to_string(emitter) + ", " + num(scale.value) + ")",
-        verdict, names,
+  issue("setBakedEmitterScale(" + std::to_string(emitter) + ", " + num(scale.value) + ")", verdict,
+        names,
         [&](Twin& twin) { return twin.runtime->setBakedEmitterScale(emitter, scale.value); });
 }
 
@@ -287,8 +304,7 @@ void AbuseDriver::update() {
   ++tally_.calls;
   const FrameStats a = subject_.runtime->update(budget.value);
   checkGl(call);
-  const Status status =
-      a.error.empty() ? Status() : Status(StatusCode::kInvalidInput, a.error);
+  const Status status = a.error.empty() ? Status() : Status(StatusCode::kInvalidInput, a.error);
   checkRejection(call, status, budget.verdict, budget.names);
   if (!status.ok()) return;
   compareUpdates(a, reference_.runtime->update(budget.value));
@@ -325,9 +341,9 @@ void AbuseDriver::render() {
                                     ? std::pair{camera.verdict, camera.names}
                                     : std::pair{view.verdict, view.names};
   const bool drawn =
-      issue("render(" + vec(camera.value.position) + " -> " + vec(camera.value.look_at) +
-                " fov " + num(camera.value.yfov_rad) + " near/far " + num(camera.value.near_m) +
-                "/" + num(camera.value.far_m) + ", view " + std::to_string(int(view.value)) + ")",
+      issue("render(" + vec(camera.value.position) + " -> " + vec(camera.value.look_at) + " fov " +
+                num(camera.value.yfov_rad) + " near/far " + num(camera.value.near_m) + "/" +
+                num(camera.value.far_m) + ", view " + std::to_string(int(view.value)) + ")",
             verdict, names, [&](Twin& twin) {
               Expected<RenderStats> stats = twin.renderer->render(camera.value, view.value);
               return stats.ok() ? Status() : stats.status();
@@ -341,14 +357,14 @@ void AbuseDriver::scaleRenderedEmitter() {
   const auto [verdict, names] =
       emitter < bake_emitters_ ? std::pair{scale.verdict, scale.names}
                                : std::pair{Verdict::kReject, "emitter " + std::to_string(emitter)};
-  issue("SceneRenderer::setBakedEmitterScale(" + std::to_string(emitter) + ", " +
-            num(scale.value) + ")",
+  issue("SceneRenderer::setBakedEmitterScale(" + std::to_string(emitter) + ", " + num(scale.value) +
+            ")",
         verdict, names,
         [&](Twin& twin) { return twin.renderer->setBakedEmitterScale(emitter, scale.value); });
 }
 
 void AbuseDriver::resize() {
-  static constexpr int kSizes[][2] = {{64, 36}, {48, 48}, {80, 45}, {0, 36},
+  static constexpr int kSizes[][2] = {{64, 36}, {48, 48},      {80, 45},     {0, 36},
                                       {64, -1}, {1 << 20, 36}, {64, 1 << 20}};
   const uint32_t choice = draws_.below(7);
   const int w = kSizes[choice][0], h = kSizes[choice][1];
@@ -359,7 +375,8 @@ void AbuseDriver::resize() {
 }
 
 void AbuseDriver::writeFrames() {
-  const std::string png = std::string(kUnwritable) + ".png", exr = std::string(kUnwritable) + ".exr";
+  const std::string png = std::string(kUnwritable) + ".png",
+                    exr = std::string(kUnwritable) + ".exr";
   log("writePng/writeExr(" + png + ")");
   tally_.calls += 2;
   checkRejection("writePng", subject_.renderer->writePng(png), Verdict::kReject, png);
@@ -370,7 +387,8 @@ void AbuseDriver::queryResources() {
   log("resources()");
   tally_.calls += 3;
   uint64_t bytes = 0;
-  for (const ResourceUse& use : subject_.runtime->resources()) bytes += use.gpu_bytes + use.cpu_bytes;
+  for (const ResourceUse& use : subject_.runtime->resources())
+    bytes += use.gpu_bytes + use.cpu_bytes;
   for (const ResourceUse& use : subject_.renderer->resources()) bytes += use.gpu_bytes;
   const ShadingResources shading = subject_.runtime->shadingResources();
   if (shading.patch_delta_buffer != 0 && shading.patch_count == 0)
@@ -391,7 +409,8 @@ bool AbuseDriver::issue(const std::string& call, Verdict verdict, const std::str
   checkRejection(call, got, verdict, names);
   if (!got.ok()) return false;
   const Status twin = make(reference_);
-  if (!twin.ok()) finding(call + ": the reference refused what the subject took: " + twin.message());
+  if (!twin.ok())
+    finding(call + ": the reference refused what the subject took: " + twin.message());
   return true;
 }
 

@@ -34,12 +34,12 @@ Expected<Twin> makeTwin(const Scene& scene, const BakeData& bake, const std::str
 
 /// What a run issued and found.
 struct AbuseTally {
-  uint64_t calls = 0;            ///< public calls issued to the subject
-  uint64_t rejected = 0;         ///< of them, invalid ones rejected as they must be
-  uint64_t extreme_accepted = 0; ///< legal extremes taken (kMayReject accepted)
-  uint64_t extreme_rejected = 0; ///< legal extremes refused with a clear error
-  uint64_t updates = 0;          ///< updates compared between the twins
-  uint64_t frames = 0;           ///< rendered frames compared between the twins
+  uint64_t calls = 0;                 ///< public calls issued to the subject
+  uint64_t rejected = 0;              ///< of them, invalid ones rejected as they must be
+  uint64_t extreme_accepted = 0;      ///< legal extremes taken (kMayReject accepted)
+  uint64_t extreme_rejected = 0;      ///< legal extremes refused with a clear error
+  uint64_t updates = 0;               ///< updates compared between the twins
+  uint64_t frames = 0;                ///< rendered frames compared between the twins
   std::vector<std::string> findings;  ///< broken promises, each with the calls before it
 };
 

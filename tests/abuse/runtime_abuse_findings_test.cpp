@@ -64,8 +64,7 @@ class RuntimeAbuseFindings : public ::testing::Test {
   // Updates until idle and returns the deltas: what "nothing changed" is
   // measured against (a refused call must leave the next update idle).
   std::vector<Rgb> settle() {
-    for (int i = 0; i < 16 && !runtime().update(0).idle; ++i) {
-    }
+    for (int i = 0; i < 16 && !runtime().update(0).idle; ++i) {}
     return runtime().patchDeltas();
   }
   void expectUnchanged() {

@@ -38,12 +38,13 @@ abuse::AbuseTally drive(const AbuseRun& run) {
 }
 
 void expectNoFindings(const AbuseRun& run, const abuse::AbuseTally& tally) {
-  std::printf("[measured] abuse seed %llu: %llu calls, %llu rejected as invalid, extremes %llu "
-              "taken / %llu refused, %llu updates and %llu frames compared, %zu findings\n",
-              (unsigned long long)run.seed, (unsigned long long)tally.calls,
-              (unsigned long long)tally.rejected, (unsigned long long)tally.extreme_accepted,
-              (unsigned long long)tally.extreme_rejected, (unsigned long long)tally.updates,
-              (unsigned long long)tally.frames, tally.findings.size());
+  std::printf(
+      "[measured] abuse seed %llu: %llu calls, %llu rejected as invalid, extremes %llu "
+      "taken / %llu refused, %llu updates and %llu frames compared, %zu findings\n",
+      (unsigned long long)run.seed, (unsigned long long)tally.calls,
+      (unsigned long long)tally.rejected, (unsigned long long)tally.extreme_accepted,
+      (unsigned long long)tally.extreme_rejected, (unsigned long long)tally.updates,
+      (unsigned long long)tally.frames, tally.findings.size());
   // Every finding's first line, then the first few with their calls.
   for (const std::string& f : tally.findings)
     std::printf("[finding] seed %llu: %s\n", (unsigned long long)run.seed,
