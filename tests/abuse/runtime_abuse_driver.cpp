@@ -32,6 +32,14 @@ std::string light(const Light& l) {
          "/" + num(l.outer_cone_rad);
 }
 
+// Bit-for-bit equality of two arrays (empty ones included: memcmp may not
+// be handed their null data pointers).
+template <typename T>
+bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
 bool finiteRgb(const Rgb& c) {
   return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b);
 }
@@ -446,7 +454,7 @@ void AbuseDriver::compareUpdates(const FrameStats& a, const FrameStats& b) {
     finding(update + ": a statistic is not finite");
   const std::vector<Rgb>& da = subject_.runtime->patchDeltas();
   const std::vector<Rgb>& db = reference_.runtime->patchDeltas();
-  if (da.size() != db.size() || std::memcmp(da.data(), db.data(), da.size() * sizeof(Rgb)) != 0)
+  if (!sameBits(da, db))
     finding(update + ": the twins' deltas differ (an earlier call changed the subject)");
   if (!std::all_of(da.begin(), da.end(), finiteRgb)) finding(update + ": a delta is not finite");
   if (subject_.runtime->objects() != reference_.runtime->objects() ||
@@ -459,8 +467,7 @@ void AbuseDriver::compareFrames() {
   const std::vector<float> a = subject_.renderer->readRadiance();
   const std::vector<float> b = reference_.renderer->readRadiance();
   const std::string frame = "frame " + std::to_string(tally_.frames);
-  if (a.size() != b.size() || std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) != 0)
-    finding(frame + ": the twins' frames differ");
+  if (!sameBits(a, b)) finding(frame + ": the twins' frames differ");
   if (!std::all_of(a.begin(), a.end(), [](float v) { return std::isfinite(v); }))
     finding(frame + ": a pixel's radiance is not finite");
 }

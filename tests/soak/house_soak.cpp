@@ -13,11 +13,11 @@ namespace {
 
 constexpr float kPitch = 4.2f;  // room + wall (make_house.py)
 constexpr float kRoom = 4.0f;
-constexpr size_t kMaxProps = 6;       // the oldest goes when a 7th arrives
-constexpr uint64_t kDoorEvery = 150;  // frames between door moves
-constexpr uint64_t kLampEvery = 40;   // between baked lamp switches or dims
-constexpr uint64_t kDimEvery = 13;    // between the runtime lamp's dims
-constexpr uint64_t kSwitchEvery = 97; // between its switches
+constexpr size_t kMaxProps = 6;        // the oldest goes when a 7th arrives
+constexpr uint64_t kDoorEvery = 150;   // frames between door moves
+constexpr uint64_t kLampEvery = 40;    // between baked lamp switches or dims
+constexpr uint64_t kDimEvery = 13;     // between the runtime lamp's dims
+constexpr uint64_t kSwitchEvery = 97;  // between its switches
 constexpr size_t kFailuresKept = 8;
 
 Mat4 yRotated(const Mat4& placed, float angle) {
@@ -41,7 +41,9 @@ DynamicMesh prop(abuse::Draws& draws) {
   return mesh;
 }
 
-bool finiteRgb(const Rgb& c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
+bool finiteRgb(const Rgb& c) {
+  return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b);
+}
 
 // The house's moving parts, found by node name.
 struct HouseParts {
@@ -74,7 +76,8 @@ HouseParts findParts(const Runtime& runtime) {
 
 class Soak {
  public:
-  Soak(Runtime& runtime, uint64_t seed) : runtime_(runtime), draws_(seed), parts_(findParts(runtime)) {
+  Soak(Runtime& runtime, uint64_t seed)
+      : runtime_(runtime), draws_(seed), parts_(findParts(runtime)) {
     Light lamp;
     lamp.name = "soak lamp";
     lamp.position = {kRoom / 2, 2.5f, kRoom / 2};
@@ -96,8 +99,8 @@ class Soak {
     walkView();
     const auto start = std::chrono::steady_clock::now();
     const FrameStats stats = runtime_.update(0);
-    frame_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                     .count();
+    frame_ms_ +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     ++timed_frames_;
     checkFrame(stats);
   }
@@ -160,7 +163,8 @@ class Soak {
     Mat4 at;
     at.m[12] = float(room_x) * kPitch + draws_.between(0.4f, kRoom - 0.4f);
     at.m[14] = float(room_z) * kPitch + draws_.between(0.4f, kRoom - 0.4f);
-    Expected<ObjectId> id = runtime_.addObject(prop(draws_), yRotated(at, draws_.between(0, 6.28f)));
+    Expected<ObjectId> id =
+        runtime_.addObject(prop(draws_), yRotated(at, draws_.between(0, 6.28f)));
     check(id.ok(), "addObject: " + id.status().message());
     if (id.ok()) props_.push_back(*id);
     ++report.objects_added;

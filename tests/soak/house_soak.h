@@ -29,9 +29,9 @@ struct SoakSample {
   uint64_t host_bytes = 0;  ///< resources(): cpu_bytes summed
   uint64_t gpu_bytes = 0;   ///< resources(): gpu_bytes summed
   uint32_t gl_objects = 0;
-  uint32_t objects = 0;        ///< live dynamic objects
-  uint32_t patches = 0;        ///< patchDeltas().size()
-  double mean_frame_ms = 0;    ///< update() wall time, mean since the previous sample
+  uint32_t objects = 0;      ///< live dynamic objects
+  uint32_t patches = 0;      ///< patchDeltas().size()
+  double mean_frame_ms = 0;  ///< update() wall time, mean since the previous sample
   /// Host + GPU bytes of each resources() line, by name: what grew.
   std::vector<std::pair<std::string, uint64_t>> lines;
 };
@@ -47,7 +47,7 @@ struct SoakReport {
   std::vector<SoakSample> samples;
   std::vector<std::string> failures;  ///< the first few broken promises, with their frame
   uint64_t failure_count = 0;
-  std::vector<Rgb> final_deltas;      ///< patchDeltas() after the last frame
+  std::vector<Rgb> final_deltas;  ///< patchDeltas() after the last frame
 };
 
 /// Runs `frames` frames on `runtime` (created over the house with

@@ -41,12 +41,13 @@ TEST(RuntimeSoak, HouseHoldsForSixHundredFramesAndReplays) {
   ASSERT_EQ(first.samples.size(), kFrames / kSampleEvery);
   const soak::SoakSample& warm = first.samples[kWarmUpSamples - 1];
   const soak::SoakSample& last = first.samples.back();
-  std::printf("[measured] soak %llu frames: %llu props added, %llu removed, host %llu -> %llu B, "
-              "GPU %llu -> %llu B after warm-up, %.2f -> %.2f ms per frame\n",
-              (unsigned long long)first.frames, (unsigned long long)first.objects_added,
-              (unsigned long long)first.objects_removed, (unsigned long long)warm.host_bytes,
-              (unsigned long long)last.host_bytes, (unsigned long long)warm.gpu_bytes,
-              (unsigned long long)last.gpu_bytes, warm.mean_frame_ms, last.mean_frame_ms);
+  std::printf(
+      "[measured] soak %llu frames: %llu props added, %llu removed, host %llu -> %llu B, "
+      "GPU %llu -> %llu B after warm-up, %.2f -> %.2f ms per frame\n",
+      (unsigned long long)first.frames, (unsigned long long)first.objects_added,
+      (unsigned long long)first.objects_removed, (unsigned long long)warm.host_bytes,
+      (unsigned long long)last.host_bytes, (unsigned long long)warm.gpu_bytes,
+      (unsigned long long)last.gpu_bytes, warm.mean_frame_ms, last.mean_frame_ms);
   std::printf("%s", soak::grownLines(warm, last).c_str());
   for (const soak::SoakSample& s : first.samples)
     std::printf("  frame %llu: host %llu B, GPU %llu B, %u patches\n", (unsigned long long)s.frame,
