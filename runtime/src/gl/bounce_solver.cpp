@@ -341,14 +341,17 @@ void BounceSolver::finish(const std::vector<Receiver>& receivers,
     // uniformly with the geometric series of the mean albedo.
     double area = 0, albedo_area = 0;
     for (const Receiver& r : receivers) {
+      if (!r.shares_ambient) continue;
       area += r.area_m2;
       albedo_area += r.area_m2 * luminanceOf(glm::dvec3(r.albedo.r, r.albedo.g, r.albedo.b));
     }
     if (area > 0) {
       const double mean_albedo = std::min(albedo_area / area, 0.999);
       const glm::dvec3 irradiance = unshot_ / area / (1 - mean_albedo);
-      for (size_t r = 0; r < n; ++r)
-        result_.received[r] += irradiance * double(receivers[r].area_m2);
+      for (size_t r = 0; r < n; ++r) {
+        if (receivers[r].shares_ambient)
+          result_.received[r] += irradiance * double(receivers[r].area_m2);
+      }
     }
   }
 }

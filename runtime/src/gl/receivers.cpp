@@ -106,8 +106,13 @@ MapTriangles dynamicMapTriangles(const std::vector<DynamicObject>& objects) {
   return out;
 }
 
-void updateObjectReceivers(const DynamicObject& object, std::vector<Receiver>& receivers) {
+void updateObjectReceivers(const DynamicObject& object, const Aabb& level_box,
+                           std::vector<Receiver>& receivers) {
   const size_t triangles = object.albedo.size();
+  const Aabb& b = object.bounds;
+  const bool inside = !b.empty() && b.min.x <= level_box.max.x && b.max.x >= level_box.min.x &&
+                      b.min.y <= level_box.max.y && b.max.y >= level_box.min.y &&
+                      b.min.z <= level_box.max.z && b.max.z >= level_box.min.z;
   for (size_t t = 0; t < triangles; ++t) {
     const glm::vec3 a = toGlm(object.world_positions[t * 3]);
     const glm::vec3 b = toGlm(object.world_positions[t * 3 + 1]);
@@ -122,6 +127,7 @@ void updateObjectReceivers(const DynamicObject& object, std::vector<Receiver>& r
     r.albedo = object.albedo[t];
     r.centroid = fromGlm((a + b + c) / 3.0f);
     r.normal = length > 0 ? fromGlm(cross / length) : Vec3{0, 1, 0};
+    r.shares_ambient = inside;
   }
 }
 

@@ -18,6 +18,11 @@ struct Receiver {
   Rgb albedo;
   Vec3 centroid;
   Vec3 normal;
+  /// Takes its share of the ambient (unshot flux, thesis 5.5): the level's
+  /// patches and objects that overlap the level's box. An object far
+  /// outside receives no light at all, so it takes none of the ambient
+  /// either, and adding it changes nothing in the level.
+  bool shares_ambient = true;
 };
 
 /// A dynamic object as the runtime tracks it.
@@ -65,8 +70,10 @@ void placeObject(DynamicObject& object);
 /// Appends the map triangles of every visible, not removed object.
 MapTriangles dynamicMapTriangles(const std::vector<DynamicObject>& objects);
 
-/// The receiver entries (area, albedo, centroid, normal) of an object's
-/// triangles, written at object.first_receiver.
-void updateObjectReceivers(const DynamicObject& object, std::vector<Receiver>& receivers);
+/// The receiver entries (area, albedo, centroid, normal, shares_ambient
+/// against `level_box`) of an object's triangles, written at
+/// object.first_receiver.
+void updateObjectReceivers(const DynamicObject& object, const Aabb& level_box,
+                           std::vector<Receiver>& receivers);
 
 }  // namespace svit::gl

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "aabb_ops.h"
 #include "numeric.h"
 #include "runtime_checks.h"
 #include "runtime_impl.h"
@@ -86,6 +87,7 @@ Runtime::~Runtime() = default;
 
 void Runtime::Impl::initStaticReceivers() {
   receivers = level.patches.receivers;
+  for (const Aabb& block : level.static_block_bounds) rt::grow(level_box, block);
   emitter_set.group_emitter.assign(level.static_groups, kInvalidId);
   outputs.resize(receivers.size());
   light_scale.reset(level.bake.emitters.size());
@@ -178,7 +180,7 @@ uint32_t Runtime::Impl::addObjectInternal(rt::DynamicObject object) {
   object.shown_revision = accumulator.revisions();
   rt::binObjectTriangles(object);
   rt::placeObject(object);
-  rt::updateObjectReceivers(object, receivers);
+  rt::updateObjectReceivers(object, level_box, receivers);
   emitter_set.group_emitter.resize(emitter_set.group_emitter.size() + kObjectShooters, kInvalidId);
   outputs.resize(receivers.size());
   changes.noteBox(object.bounds);

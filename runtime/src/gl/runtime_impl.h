@@ -73,6 +73,7 @@ struct Runtime::Impl {
   // Receivers: runtime patches, then per object one per triangle. Groups
   // (what shoots): bake patches, then kObjectShooters per object.
   std::vector<rt::Receiver> receivers;
+  Aabb level_box;  ///< of the static patches: where the ambient bounces (Receiver::shares_ambient)
   std::vector<rt::DynamicObject> objects;
   /// Receiver ranges (first, count) removed objects gave back; a new object
   /// takes the first that fits, so adding and removing props for hours
@@ -178,7 +179,7 @@ void Runtime::Impl::changeObject(rt::DynamicObject& object, Change&& change) {
   changes.noteBox(object.bounds);
   change(object);
   rt::placeObject(object);
-  rt::updateObjectReceivers(object, receivers);
+  rt::updateObjectReceivers(object, level_box, receivers);
   changes.noteBox(object.bounds);
   changes.dynamic_geometry_changed = true;
 }
