@@ -539,11 +539,8 @@ Expected<BakeResult> bakeLevel(const BakeOptions& options,
       options, planBake(options), BakeClock(progress, cancel, options.time_budget_s), cancel,
       Status(StatusCode::kCancelled, "bake cancelled; " + options.out_dir + " left as it was")};
 
-  // Before any work: OUT must be a previous bake (or nothing) and its
-  // directory writable, so a doomed bake fails in milliseconds.
-  if (Status s = checkBakeOutput(bakeOutputPath(options.out_dir)); !s.ok()) return s;
-
-  // Load the level, the --reference bake, and the ray caster.
+  // Load the level, the --reference bake, and the ray caster. A bad level
+  // is reported first: it is the error a user fixes first.
   if (!run.clock.report(0, run.clock.remaining())) return run.cancelled;
   Expected<Scene> scene = loadLevel(options.level_path);
   if (!scene.ok()) return scene.status();
@@ -558,6 +555,9 @@ Expected<BakeResult> bakeLevel(const BakeOptions& options,
   if (!caster.ok()) return caster.status();
   run.clock.endStage("radiosity");
 
+  // Then, before the radiosity: OUT must be a previous bake (or nothing)
+  // and its directory writable, so a doomed bake fails in seconds.
+  if (Status s = checkBakeOutput(bakeOutputPath(options.out_dir)); !s.ok()) return s;
   Expected<std::unique_ptr<RadiositySolver>> solver =
       solveRadiosity(run, *scene, *geometry, **caster);
   if (!solver.ok()) return solver.status();

@@ -51,13 +51,20 @@ Options parse(int argc, char** argv) {
       if (i + 1 >= argc) die(a + " needs a value");
       return argv[++i];
     };
-    if (a == "--frames") o.frames = std::stoull(value());
-    else if (a == "--sample-every") o.sample_every = std::stoull(value());
-    else if (a == "--seed") o.seed = std::stoull(value());
-    else if (a == "--budget") o.budget = std::stoi(value());
-    else if (a == "--json") o.json = value();
-    else if (a == "--no-replay") o.replay = false;
-    else die("unknown option '" + a + "'");
+    if (a == "--frames")
+      o.frames = std::stoull(value());
+    else if (a == "--sample-every")
+      o.sample_every = std::stoull(value());
+    else if (a == "--seed")
+      o.seed = std::stoull(value());
+    else if (a == "--budget")
+      o.budget = std::stoi(value());
+    else if (a == "--json")
+      o.json = value();
+    else if (a == "--no-replay")
+      o.replay = false;
+    else
+      die("unknown option '" + a + "'");
   }
   if (o.sample_every == 0 || o.sample_every % soak::kPropEvery != 0)
     die("--sample-every must be a multiple of " + std::to_string(soak::kPropEvery));
@@ -109,8 +116,8 @@ int main(int argc, char** argv) {
   if (!scene.ok()) die(scene.status().message());
   Expected<BakeData> bake = readBakeFile(o.bake_dir + "/bake.svit");
   if (!bake.ok()) die(bake.status().message());
-  std::printf("bench_soak: %llu frames, budget %d samples, GL: %s\n",
-              (unsigned long long)o.frames, o.budget, (const char*)glGetString(GL_RENDERER));
+  std::printf("bench_soak: %llu frames, budget %d samples, GL: %s\n", (unsigned long long)o.frames,
+              o.budget, (const char*)glGetString(GL_RENDERER));
 
   const soak::SoakReport first = soakOnce(o, *scene, *bake);
   nlohmann::ordered_json json = reportJson(first);
