@@ -1,7 +1,8 @@
 #pragma once
 // The runtime's receivers: the runtime patches (ids 0..P-1, runtime_patches.h)
-// and one receiver per triangle of each dynamic object (appended per object,
-// never reused), with the triangles index maps draw for them.
+// and one receiver per triangle of each dynamic object (a range per object:
+// appended, or one a removed object gave back, Runtime::Impl::takeReceivers),
+// with the triangles index maps draw for them.
 
 #include <cstdint>
 #include <vector>
