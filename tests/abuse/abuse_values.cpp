@@ -1,5 +1,7 @@
 #include "abuse_values.h"
 
+#include "box_mesh.h"
+
 #include <cmath>
 #include <limits>
 
@@ -45,18 +47,6 @@ Mat4 placed(const Vec3& at, float angle, float scale) {
   m.m[8] = scale * std::sin(angle);
   m.m[10] = scale * std::cos(angle);
   return m;
-}
-
-DynamicMesh box(const std::string& name, float half) {
-  DynamicMesh mesh;
-  mesh.name = name;
-  for (int i = 0; i < 8; ++i) {
-    mesh.positions.push_back(
-        {(i & 1) ? half : -half, (i & 2) ? half : -half, (i & 4) ? half : -half});
-  }
-  mesh.indices = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
-                  2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
-  return mesh;
 }
 
 // A flat grid of `n` x `n` quads, 2 n^2 triangles: a detailed prop.
@@ -117,7 +107,7 @@ Arg<Mat4> drawTransform(Draws& draws, const LevelBox& box) {
 }
 
 Arg<DynamicMesh> drawMesh(Draws& draws) {
-  DynamicMesh mesh = box("prop", draws.between(0.02f, 0.3f));
+  DynamicMesh mesh = test::boxMesh("prop", draws.between(0.02f, 0.3f));
   mesh.albedo = colour(draws);
   mesh.double_sided = draws.chance(4);
   switch (draws.below(14)) {

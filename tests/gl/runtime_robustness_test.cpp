@@ -14,6 +14,7 @@
 #include <memory>
 #include <vector>
 
+#include "../abuse/box_mesh.h"
 #include "gl_test_context.h"
 #include "numeric.h"
 #include "runtime_test_util.h"
@@ -23,15 +24,7 @@ namespace svit {
 namespace {
 
 DynamicMesh cube(const std::string& name, float half) {
-  DynamicMesh mesh;
-  mesh.name = name;
-  for (int i = 0; i < 8; ++i) {
-    mesh.positions.push_back(
-        {(i & 1) ? half : -half, (i & 2) ? half : -half, (i & 4) ? half : -half});
-  }
-  // Outward, counter-clockwise faces.
-  mesh.indices = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
-                  2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+  DynamicMesh mesh = test::boxMesh(name, half);
   mesh.albedo = {0.6f, 0.5f, 0.4f};
   return mesh;
 }

@@ -7,6 +7,7 @@
 #include <deque>
 
 #include "abuse_draws.h"
+#include "box_mesh.h"
 
 namespace svit::soak {
 namespace {
@@ -28,15 +29,9 @@ Mat4 yRotated(const Mat4& placed, float angle) {
 }
 
 DynamicMesh prop(abuse::Draws& draws) {
-  DynamicMesh mesh;
-  mesh.name = "soak prop";
   const float half = draws.between(0.08f, 0.25f);
-  for (int i = 0; i < 8; ++i) {
-    mesh.positions.push_back(
-        {(i & 1) ? half : -half, (i & 2) ? 2 * half : 0, (i & 4) ? half : -half});
-  }
-  mesh.indices = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
-                  2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+  DynamicMesh mesh = test::boxMesh("soak prop", half);
+  for (Vec3& p : mesh.positions) p.y += half;  // standing on the floor
   mesh.albedo = {draws.between(0.1f, 0.9f), draws.between(0.1f, 0.9f), draws.between(0.1f, 0.9f)};
   return mesh;
 }
