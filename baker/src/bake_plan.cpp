@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace svit::baker {
 namespace {
@@ -22,9 +23,6 @@ constexpr double kSolverBaseSeconds = 30.0;
 constexpr double kSolverSecondsPerQuality = 600.0;
 // Lighting passes without a budget: 8 at quality 1, never fewer than one.
 constexpr double kPassesPerQuality = 8.0;
-// A bound on the passes of a large budget: the mean's error falls only as
-// 1/sqrt(passes), so later passes buy little.
-constexpr uint32_t kMaxLightingPasses = 256;
 // With a budget, a pass starts only if one 20% slower than the last still
 // ends 1 s before the budget, the time left for pages and writing.
 constexpr double kPassTimeSafety = 1.2;
@@ -57,9 +55,15 @@ BakePlan planBake(const BakeOptions& options) {
                                 : kSolverSecondsPerQuality * options.quality + kSolverBaseSeconds;
   plan.texels_per_m = options.texels_per_m;
   plan.quality_passes = std::max(1u, uint32_t(std::lround(kPassesPerQuality * options.quality)));
-  plan.max_lighting_passes = kMaxLightingPasses;
+  plan.max_lighting_passes = kMaxBakePasses;
   plan.pass_time_safety = kPassTimeSafety;
   plan.pass_time_margin_s = kPassTimeMarginS;
+  if (options.passes > 0) {
+    // Defined by passes, not wall time: the same result on any machine.
+    plan.quality_passes = options.passes;
+    plan.solver_max_seconds = std::numeric_limits<double>::infinity();
+    plan.solver_targets_at_pass_ends = true;
+  }
   plan.gather_rays = kGatherRays;
   plan.area_light_samples = kAreaLightSamples;
   plan.sun_samples = kSunSamples;

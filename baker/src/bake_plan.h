@@ -16,6 +16,8 @@ struct BakePlan {
   // Radiosity.
   double solver_target_est_rel_error = 0;  ///< stop rule's error target
   double solver_max_seconds = 0;           ///< stop rule's wall-time cap
+  /// targets checked at pass ends only (with a pass count: no clock in the result)
+  bool solver_targets_at_pass_ends = false;
 
   // Atlas.
   double texels_per_m = 0;  ///< the option; 0: chosen from the level's area by atlasTexelsPerM

@@ -356,7 +356,10 @@ void RadiositySolver::State::subdivideDenseLeaves(BinnedHits& binned) {
     const double spread = glm::length(node.centroid - mean) * double(list.size()) * settings.subdiv;
     if (spread > node.perimeter_m && node.perimeter_m > settings.min_perimeter_m) {
       // on_split moves the hits and queues the children that got some.
-      if (tree->subdivide(leaf, on_split)) growNodeArrays();
+      if (tree->subdivide(leaf, on_split)) {
+        subdivided.push_back(leaf);
+        growNodeArrays();
+      }
     }
   }
 }

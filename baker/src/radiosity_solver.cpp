@@ -231,6 +231,9 @@ Status RadiositySolver::improve(const StopRule& stop) {
     s.startPass();
     s.recordPoint(0.0);
   }
+  // Where the last estimate was taken at a pass end (or nothing has been shot
+  // yet): the only points targets_at_pass_ends looks at.
+  bool pass_just_ended = s.stats.rays == 0;
   while (true) {
     const double call_s = std::chrono::duration<double>(Clock::now() - call_start).count();
     s.stats.seconds = elapsed_before + call_s;
@@ -250,11 +253,14 @@ Status RadiositySolver::improve(const StopRule& stop) {
     if (call_s >= stop.max_seconds || s.stats.passes_completed >= stop.max_passes ||
         s.stats.rays >= stop.max_rays)
       break;
-    if (s.stats.passes_completed >= 2 && s.last_estimate <= stop.target_est_rel_error) break;
-    if (progress.shot_fraction >= stop.target_shot_fraction) break;
+    if (!stop.targets_at_pass_ends || pass_just_ended) {
+      if (s.stats.passes_completed >= 2 && s.last_estimate <= stop.target_est_rel_error) break;
+      if (progress.shot_fraction >= stop.target_shot_fraction) break;
+    }
     const uint32_t passes = s.stats.passes_completed;
     s.runBatch();
-    if (s.stats.passes_completed != passes)
+    pass_just_ended = s.stats.passes_completed != passes;
+    if (pass_just_ended)
       s.recordPoint(elapsed_before +
                     std::chrono::duration<double>(Clock::now() - call_start).count());
   }

@@ -20,6 +20,8 @@ namespace svit::baker {
 struct BatchRays;
 struct BinnedHits;
 struct SubtreeHits;
+class ByteReader;
+class ByteWriter;
 
 struct RadiositySolver::State {
   const Scene* scene = nullptr;
@@ -37,6 +39,9 @@ struct RadiositySolver::State {
   std::vector<glm::dvec3> e_unshot;  ///< part of e_pass not reflected onwards yet
   std::vector<glm::dvec3> e_sum;     ///< sum over completed passes of weight * e_pass
   std::set<int> pending;             ///< nodes with unshot energy (ordered: deterministic)
+  /// Leaves split by the subdivision criterion, in order: replayed on a
+  /// fresh tree they rebuild this one node for node (radiosity_snapshot.cpp).
+  std::vector<int> subdivided;
 
   // The current pass.
   bool started = false;
@@ -108,6 +113,14 @@ struct RadiositySolver::State {
   double referenceError(const std::vector<glm::dvec3>& means,
                         const std::vector<Rgb>& against) const;
   void recordPoint(double t_s);
+  // What snapshot() writes and restore() reads beyond the tree
+  // (radiosity_snapshot.cpp).
+  void putShooting(ByteWriter& w) const;
+  void getShooting(ByteReader& r);
+  /// The arrays read back have the sizes the rebuilt tree and geometry give them.
+  bool shootingFits() const;
+  /// Splits the leaves `splits` lists, in order, as the shooting did.
+  Status replaySubdivisions(const std::vector<int>& splits);
   double unshotY() const;
 };
 

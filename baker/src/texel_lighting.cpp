@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <string>
 
 #include "parallel_for.h"
 #include "random.h"
@@ -308,9 +310,8 @@ TexelIrradiance sumContributions(const LightingContext& c, TexelRays& t) {
   return out;
 }
 
-// Texel j, from its own random stream: direct light, then the gather.
-TexelIrradiance lightTexel(const LightingContext& c, const TexelSample& sample, size_t j,
-                           TexelRays& t) {
+// Texel j's rays, from its own random stream: direct light, then the gather.
+void buildTexelRays(const LightingContext& c, const TexelSample& sample, size_t j, TexelRays& t) {
   Rng rng(hashIds(c.settings.seed, 0x7e3e1, j));
   t.p = dvec(sample.position);
   t.n = dvec(sample.normal);
@@ -323,15 +324,35 @@ TexelIrradiance lightTexel(const LightingContext& c, const TexelSample& sample, 
   addDirectionalRays(c, rng, t);
   addEmitterRays(c, sample.triangle, rng, t);
   addGatherRays(c, rng, t);
+}
+
+TexelIrradiance lightTexel(const LightingContext& c, const TexelSample& sample, size_t j,
+                           TexelRays& t) {
+  buildTexelRays(c, sample, j, t);
   return sumContributions(c, t);
+}
+
+TexelRays makeScratch(const TexelLights& lights) {
+  TexelRays scratch;
+  scratch.light_cdf.resize(lights.points.size());
+  scratch.light_e.resize(lights.points.size());
+  return scratch;
 }
 
 }  // namespace
 
-Expected<std::vector<TexelIrradiance>> lightTexels(
+Expected<std::vector<TexelIrradiance>> lightTexelList(
     const Scene& scene, const BakeGeometry& geometry, const RayCaster& caster,
-    const RadiositySolver& solver, const TexelSet& texels, const TexelLightingSettings& settings,
-    const std::atomic<bool>* cancel, const std::function<bool(size_t, size_t)>& progress) {
+    const RadiositySolver& solver, const TexelSet& texels, const std::vector<uint32_t>& samples,
+    const TexelLightingSettings& settings, const std::atomic<bool>* cancel,
+    const std::function<bool(size_t, size_t)>& progress) {
+  for (uint32_t j : samples) {
+    if (j >= texels.samples.size()) {
+      return Status(StatusCode::kInvalidInput, "lightmap: texel " + std::to_string(j) +
+                                                   " out of range (" +
+                                                   std::to_string(texels.samples.size()) + ")");
+    }
+  }
   TexelLights lights;
   collectAnalyticLights(scene, lights);
   collectEmitters(geometry, lights);
@@ -339,13 +360,11 @@ Expected<std::vector<TexelIrradiance>> lightTexels(
   const int threads = resolveThreads(settings.threads);
   const LightingContext context{scene, geometry, caster, solver, settings, lights};
 
-  std::vector<TexelIrradiance> out(texels.samples.size());
+  std::vector<TexelIrradiance> out(samples.size());
   const auto lightRange = [&](size_t begin, size_t end) {
-    TexelRays scratch;
-    scratch.light_cdf.resize(lights.points.size());
-    scratch.light_e.resize(lights.points.size());
-    for (size_t j = begin; j < end; ++j)
-      out[j] = lightTexel(context, texels.samples[j], j, scratch);
+    TexelRays scratch = makeScratch(lights);
+    for (size_t k = begin; k < end; ++k)
+      out[k] = lightTexel(context, texels.samples[samples[k]], samples[k], scratch);
   };
   // Blocks between which progress and cancellation are checked; the chunking
   // inside is fixed, so results do not depend on `threads`.
@@ -359,6 +378,34 @@ Expected<std::vector<TexelIrradiance>> lightTexels(
     }
   }
   return out;
+}
+
+std::vector<uint32_t> texelRayCounts(const Scene& scene, const BakeGeometry& geometry,
+                                     const RayCaster& caster, const RadiositySolver& solver,
+                                     const TexelSet& texels,
+                                     const TexelLightingSettings& settings) {
+  TexelLights lights;
+  collectAnalyticLights(scene, lights);
+  collectEmitters(geometry, lights);
+  const LightingContext context{scene, geometry, caster, solver, settings, lights};
+  std::vector<uint32_t> counts(texels.samples.size());
+  parallelFor(counts.size(), 256, resolveThreads(settings.threads), [&](size_t begin, size_t end) {
+    TexelRays scratch = makeScratch(lights);
+    for (size_t j = begin; j < end; ++j) {
+      buildTexelRays(context, texels.samples[j], j, scratch);
+      counts[j] = uint32_t(scratch.rays.size());
+    }
+  });
+  return counts;
+}
+
+Expected<std::vector<TexelIrradiance>> lightTexels(
+    const Scene& scene, const BakeGeometry& geometry, const RayCaster& caster,
+    const RadiositySolver& solver, const TexelSet& texels, const TexelLightingSettings& settings,
+    const std::atomic<bool>* cancel, const std::function<bool(size_t, size_t)>& progress) {
+  std::vector<uint32_t> all(texels.samples.size());
+  std::iota(all.begin(), all.end(), 0u);
+  return lightTexelList(scene, geometry, caster, solver, texels, all, settings, cancel, progress);
 }
 
 }  // namespace svit::baker

@@ -1,5 +1,8 @@
-// svit-bake LEVEL -o OUT [--seed N] [--time SECONDS] [--quality Q]
+// svit-bake LEVEL -o OUT [--seed N] [--time SECONDS | --passes P] [--quality Q]
 //   [--texels-per-m T] [--threads N] [--reference REF_OUT] [--quiet]
+// svit-bake plan LEVEL -o WORK --shards N [the same options but --time]
+// svit-bake shard WORK I [--threads N] [--quiet]
+// svit-bake merge WORK -o OUT [--threads N] [--quiet]
 // Exit codes (docs/architecture.md "Command-line contracts"): 0 ok, 1 bad
 // input or an output that cannot be written (full disk, `ulimit -f`), 2 bad
 // usage, 3 cancelled.
@@ -16,6 +19,7 @@
 #include <vector>
 
 #include "svit/baker/bake.h"
+#include "svit/baker/sharded_bake.h"
 
 namespace {
 
@@ -27,19 +31,28 @@ void onSignal(int) { g_cancel.store(true); }
 void usage(FILE* out) {
   std::fprintf(
       out,
-      "usage: svit-bake LEVEL -o OUT [--seed N] [--time SECONDS] [--quality Q]\n"
+      "usage: svit-bake LEVEL -o OUT [--seed N] [--time SECONDS | --passes P] [--quality Q]\n"
       "                 [--texels-per-m T] [--threads N] [--reference REF_OUT] [--quiet]\n"
+      "       svit-bake plan LEVEL -o WORK --shards N [--passes P] [the options above]\n"
+      "       svit-bake shard WORK I [--threads N] [--quiet]\n"
+      "       svit-bake merge WORK -o OUT [--threads N] [--quiet]\n"
       "  LEVEL            a .gltf, .glb or level .json\n"
       "  -o OUT           output directory: bake.svit, lightmap-*.exr, report.json\n"
       "  --seed N         random seed (default 1); same seed, same bytes\n"
       "  --time SECONDS   wall-time budget for the whole bake\n"
       "  --quality Q      in (0, 1], default 0.5: error target and lighting passes\n"
+      "  --passes P       lighting passes in [1, 256] instead of the quality's or the\n"
+      "                   budget's: the same bytes on any machine (excludes --time)\n"
       "  --texels-per-m T lightmap density (default: about 256k texels for the level)\n"
       "  --threads N      worker threads (default: all cores); results do not depend on it\n"
       "  --reference DIR  a previous bake of the same level to measure the true error against\n"
       "  --quiet          print nothing but errors\n"
       "Ctrl-C or SIGTERM cancels (exit 3) and leaves OUT as it was; a kill or a full\n"
-      "disk leaves it the previous bake or the whole new one.\n");
+      "disk leaves it the previous bake or the whole new one.\n"
+      "A sharded bake (docs/sharded-bakes.md): plan solves the radiosity once into WORK\n"
+      "and cuts the lighting into N shards; shard I lights one (any order, any host,\n"
+      "rerun at will); merge checks them all and writes OUT, bit-identical to\n"
+      "svit-bake LEVEL -o OUT with the same --seed and --passes.\n");
 }
 
 bool parseNumber(const char* text, double& out) {
@@ -54,16 +67,34 @@ int badUsage(const std::string& message) {
   return 2;
 }
 
-// Fills `options` and `quiet` from the command line; returns the exit code
-// when the tool should stop now (help, bad usage), -1 to go on.
-int parseArguments(int argc, char** argv, svit::baker::BakeOptions& options, bool& quiet) {
-  for (int i = 1; i < argc; ++i) {
+// What the command line asks for beyond the bake's options.
+struct Command {
+  std::string verb;        ///< "", "plan", "shard" or "merge"
+  uint32_t shards = 0;     ///< plan: --shards
+  std::string work_dir;    ///< shard, merge: WORK
+  std::string shard_text;  ///< shard: I as given
+  bool quiet = false;
+  std::vector<std::string> given;  ///< the options given, as spelled
+};
+
+bool parseWhole(const char* text, double low, double high, double& out) {
+  return parseNumber(text, out) && out == std::floor(out) && out >= low && out <= high;
+}
+
+// Fills `options` and `command` from the bake's options in argv[first..];
+// returns the exit code when the tool should stop now (help, bad usage), -1
+// to go on. Positional arguments go to `positional`.
+int parseOptions(int argc, char** argv, int first, svit::baker::BakeOptions& options,
+                 Command& command, std::vector<std::string>& positional) {
+  bool& quiet = command.quiet;
+  for (int i = first; i < argc; ++i) {
     const std::string arg = argv[i];
     auto value = [&](double& out) {
       if (i + 1 >= argc) return false;
       return parseNumber(argv[++i], out);
     };
     double number = 0;
+    if (!arg.empty() && arg[0] == '-') command.given.push_back(arg);
     if (arg == "-h" || arg == "--help") {
       usage(stdout);
       return 0;
@@ -77,6 +108,16 @@ int parseArguments(int argc, char** argv, svit::baker::BakeOptions& options, boo
     } else if (arg == "--time") {
       if (!value(number)) return badUsage("--time needs a number of seconds");
       options.time_budget_s = number;
+    } else if (arg == "--passes") {
+      if (!value(number) || !(number >= 1 && number <= svit::baker::kMaxBakePasses) ||
+          number != std::floor(number))
+        return badUsage("--passes needs a whole number in [1, 256]");
+      options.passes = uint32_t(number);
+    } else if (arg == "--shards" && command.verb == "plan") {
+      if (!value(number) || !(number >= 1 && number <= svit::baker::kMaxShards) ||
+          number != std::floor(number))
+        return badUsage("--shards needs a whole number in [1, 4096]");
+      command.shards = uint32_t(number);
     } else if (arg == "--quality") {
       if (!value(number)) return badUsage("--quality needs a number in (0, 1]");
       options.quality = number;
@@ -94,15 +135,63 @@ int parseArguments(int argc, char** argv, svit::baker::BakeOptions& options, boo
       quiet = true;
     } else if (!arg.empty() && arg[0] == '-') {
       return badUsage("unknown option '" + arg + "'");
-    } else if (options.level_path.empty()) {
-      options.level_path = arg;
     } else {
-      return badUsage("unexpected argument '" + arg + "'");
+      positional.push_back(arg);
     }
   }
-  if (svit::Status s = svit::baker::validateBakeOptions(options); !s.ok())
-    return badUsage(s.message());
   return -1;
+}
+
+// The verb's positional arguments and required options, then the bake's
+// option ranges; -1 to go on, else the exit code.
+int checkCommand(const std::vector<std::string>& positional, svit::baker::BakeOptions& options,
+                 Command& command) {
+  const size_t wanted = command.verb == "shard" ? 2 : 1;
+  if (positional.size() < wanted)
+    return badUsage(command.verb.empty() || command.verb == "plan" ? "no level given"
+                                                                   : "no WORK directory given");
+  if (positional.size() > wanted)
+    return badUsage("unexpected argument '" + positional[wanted] + "'");
+  if (command.verb.empty() || command.verb == "plan") {
+    options.level_path = positional[0];
+    if (command.verb == "plan" && command.shards == 0) return badUsage("plan needs --shards N");
+    const svit::Status s = command.verb == "plan"
+                               ? svit::baker::validatePlanOptions(options, command.shards)
+                               : svit::baker::validateBakeOptions(options);
+    if (!s.ok()) return badUsage(s.message());
+    return -1;
+  }
+  for (const std::string& option : command.given) {
+    const bool allowed =
+        option == "--threads" || option == "--quiet" || (option == "-o" && command.verb == "merge");
+    if (!allowed) {
+      return badUsage(command.verb + " takes " + (command.verb == "merge" ? "-o, " : "") +
+                      "--threads and --quiet only (the plan holds the bake's options), not " +
+                      option);
+    }
+  }
+  command.work_dir = positional[0];
+  if (command.verb == "shard") command.shard_text = positional[1];
+  if (command.verb == "merge" && options.out_dir.empty()) return badUsage("merge needs -o OUT");
+  if (options.threads < 0 || options.threads > 1024)
+    return badUsage("--threads must be in [0, 1024]");
+  return -1;
+}
+
+int parseArguments(int argc, char** argv, svit::baker::BakeOptions& options, Command& command) {
+  int first = 1;
+  if (argc > 1) {
+    const std::string verb = argv[1];
+    if (verb == "plan" || verb == "shard" || verb == "merge") {
+      command.verb = verb;
+      first = 2;
+    }
+  }
+  std::vector<std::string> positional;
+  if (const int exit_code = parseOptions(argc, argv, first, options, command, positional);
+      exit_code >= 0)
+    return exit_code;
+  return checkCommand(positional, options, command);
 }
 
 void installCancelHandlers() {
@@ -172,6 +261,72 @@ void printSummary(const svit::baker::BakeOptions& options, const svit::baker::Ba
   std::printf("\n");
 }
 
+int reportFailure(const svit::Status& status) {
+  std::fprintf(stderr, "svit-bake: %s\n", status.message().c_str());
+  return status.code() == svit::StatusCode::kCancelled ? 3 : 1;
+}
+
+int runBake(const svit::baker::BakeOptions& options, bool quiet) {
+  removeAbandoned(options.out_dir, quiet);
+  ProgressPrinter printer(quiet);
+  svit::Expected<svit::baker::BakeResult> result = svit::baker::bakeLevel(
+      options, [&](const svit::baker::BakeProgress& p) { return printer(p); }, &g_cancel);
+  printer.finish();
+  if (!result.ok()) return reportFailure(result.status());
+  if (!quiet) printSummary(options, *result);
+  return 0;
+}
+
+int runPlan(const svit::baker::BakeOptions& options, const Command& command) {
+  removeAbandoned(options.out_dir, command.quiet);
+  ProgressPrinter printer(command.quiet);
+  svit::Expected<svit::baker::ShardPlanResult> result = svit::baker::planShardedBake(
+      options, command.shards, [&](const svit::baker::BakeProgress& p) { return printer(p); },
+      &g_cancel);
+  printer.finish();
+  if (!result.ok()) return reportFailure(result.status());
+  if (!command.quiet) {
+    std::printf("planned %s into %s in %.2f s: %zu texels in %u shards, %u passes\n",
+                options.level_path.c_str(), options.out_dir.c_str(), result->seconds,
+                result->texels, result->shards, result->passes);
+  }
+  return 0;
+}
+
+int runShard(const svit::baker::BakeOptions& options, const Command& command) {
+  double index = 0;
+  if (!parseWhole(command.shard_text.c_str(), 0, svit::baker::kMaxShards - 1, index))
+    return badUsage("shard index '" + command.shard_text + "' is not a whole number in [0, 4095]");
+  ProgressPrinter printer(command.quiet);
+  svit::Expected<svit::baker::ShardRunResult> result = svit::baker::runBakeShard(
+      command.work_dir, uint32_t(index), options.threads,
+      [&](const svit::baker::BakeProgress& p) { return printer(p); }, &g_cancel);
+  printer.finish();
+  if (!result.ok()) return reportFailure(result.status());
+  if (!command.quiet) {
+    std::printf("lit shard %u of %u (%zu texels) into %s in %.2f s, peak %.1f MB\n", result->shard,
+                result->shards, result->texels, result->path.c_str(), result->seconds,
+                double(result->peak_rss_bytes) / 1e6);
+  }
+  return 0;
+}
+
+int runMerge(const svit::baker::BakeOptions& options, const Command& command) {
+  removeAbandoned(options.out_dir, command.quiet);
+  ProgressPrinter printer(command.quiet);
+  svit::Expected<svit::baker::BakeResult> result = svit::baker::mergeShardedBake(
+      command.work_dir, options.out_dir, options.threads,
+      [&](const svit::baker::BakeProgress& p) { return printer(p); }, &g_cancel);
+  printer.finish();
+  if (!result.ok()) return reportFailure(result.status());
+  if (!command.quiet) {
+    std::printf("merged %s into %s in %.2f s: %zu page(s), %zu texels, estimated error %.2f%%\n",
+                command.work_dir.c_str(), options.out_dir.c_str(), result->seconds, result->pages,
+                result->covered_texels, 100.0 * result->est_rel_error);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -179,19 +334,12 @@ int main(int argc, char** argv) {
   // the write fails with EFBIG and the bake says which file was too large.
   std::signal(SIGXFSZ, SIG_IGN);
   svit::baker::BakeOptions options;
-  bool quiet = false;
-  if (const int exit_code = parseArguments(argc, argv, options, quiet); exit_code >= 0)
+  Command command;
+  if (const int exit_code = parseArguments(argc, argv, options, command); exit_code >= 0)
     return exit_code;
   installCancelHandlers();
-  removeAbandoned(options.out_dir, quiet);
-  ProgressPrinter printer(quiet);
-  svit::Expected<svit::baker::BakeResult> result = svit::baker::bakeLevel(
-      options, [&](const svit::baker::BakeProgress& p) { return printer(p); }, &g_cancel);
-  printer.finish();
-  if (!result.ok()) {
-    std::fprintf(stderr, "svit-bake: %s\n", result.status().message().c_str());
-    return result.status().code() == svit::StatusCode::kCancelled ? 3 : 1;
-  }
-  if (!quiet) printSummary(options, *result);
-  return 0;
+  if (command.verb == "plan") return runPlan(options, command);
+  if (command.verb == "shard") return runShard(options, command);
+  if (command.verb == "merge") return runMerge(options, command);
+  return runBake(options, command.quiet);
 }

@@ -16,6 +16,10 @@
 
 namespace svit::baker {
 
+/// Most lighting passes a bake runs: the mean's error falls only as
+/// 1/sqrt(passes), so later passes buy little.
+constexpr uint32_t kMaxBakePasses = 256;
+
 struct BakeOptions {
   std::string level_path;
   std::string out_dir;
@@ -24,6 +28,12 @@ struct BakeOptions {
   double time_budget_s = std::numeric_limits<double>::infinity();
   /// Quality in (0, 1]: sets the radiosity error target and lighting passes.
   double quality = 0.5;
+  /// Lighting passes, in [1, kMaxBakePasses]; 0: from the quality or the
+  /// budget. With a pass count the bake depends on nothing but its inputs
+  /// (the radiosity stops on its error target at a pass end, never on the
+  /// clock): the same bytes on any machine, and what a sharded bake needs
+  /// (sharded_bake.h). Excludes a time budget.
+  uint32_t passes = 0;
   double texels_per_m = 0;  ///< 0: chosen from the level's size (about 256k texels)
   int threads = 0;          ///< 0: all cores
   /// a previous bake of the same level and settings, for the true error

@@ -67,6 +67,10 @@ struct StopRule {
   double target_shot_fraction = 2.0;  ///< stop once the current pass has shot this share (<= 1)
   /// stop once this many passes completed
   uint32_t max_passes = std::numeric_limits<uint32_t>::max();
+  /// Check the error and shot-fraction targets only when a pass has just
+  /// ended, so where the solver stops depends on the seed alone, never on
+  /// the clock (error points between pass ends are taken by wall time).
+  bool targets_at_pass_ends = false;
   uint64_t max_rays = std::numeric_limits<uint64_t>::max();  ///< over the solver's life
   const std::atomic<bool>* cancel = nullptr;                 ///< set from any thread to cancel
   /// Called between batches; returning false cancels.
@@ -120,6 +124,21 @@ class RadiositySolver {
                                                            const RayCaster& caster,
                                                            const RadiositySettings& settings);
   ~RadiositySolver();
+
+  /// Everything the solver holds beyond what create() derives from the
+  /// scene, as bytes: its settings, the tree's subdivisions, the irradiance
+  /// per node, the pass sums, the statistics and the error series. What a
+  /// sharded bake hands from its plan to its shards (sharded_bake.h).
+  std::vector<uint8_t> snapshot() const;
+  /// The solver `snapshot` was taken of, equal to it bit for bit (it answers
+  /// the same queries and improve() continues the same way), over the same
+  /// `scene`, `geometry` and `caster` (which must outlive it), with
+  /// `threads` workers. kInvalidInput when the bytes are short, long, or
+  /// were taken over other geometry (the rebuilt tree must match).
+  static Expected<std::unique_ptr<RadiositySolver>> restore(const Scene& scene,
+                                                            const BakeGeometry& geometry,
+                                                            const RayCaster& caster, int threads,
+                                                            const std::vector<uint8_t>& snapshot);
 
   /// Shoots until `stop` says so. Resumable: a later call continues. Returns
   /// kCancelled when cancelled (the solution so far stays usable).

@@ -43,4 +43,21 @@ Expected<std::vector<TexelIrradiance>> lightTexels(
     const std::atomic<bool>* cancel = nullptr,
     const std::function<bool(size_t, size_t)>& progress = {});
 
+/// The shadow and gather rays each texel of `texels` casts in a pass of
+/// `settings` (built, not cast: fast), what a sharded bake balances its
+/// shards by. Deterministic.
+std::vector<uint32_t> texelRayCounts(const Scene& scene, const BakeGeometry& geometry,
+                                     const RayCaster& caster, const RadiositySolver& solver,
+                                     const TexelSet& texels, const TexelLightingSettings& settings);
+
+/// Lights the texels whose indices into `texels.samples` `samples` lists, in
+/// that order, each exactly as lightTexels lights it (a texel's random
+/// stream is its index), so shards of a bake light their texels bit for bit
+/// as the whole bake does. kInvalidInput for an index out of range.
+Expected<std::vector<TexelIrradiance>> lightTexelList(
+    const Scene& scene, const BakeGeometry& geometry, const RayCaster& caster,
+    const RadiositySolver& solver, const TexelSet& texels, const std::vector<uint32_t>& samples,
+    const TexelLightingSettings& settings, const std::atomic<bool>* cancel = nullptr,
+    const std::function<bool(size_t, size_t)>& progress = {});
+
 }  // namespace svit::baker

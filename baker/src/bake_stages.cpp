@@ -1,0 +1,382 @@
+// The stages a whole bake and a sharded one share (bake_stages.h;
+// docs/architecture.md "Command-line contracts").
+
+#include "bake_stages.h"
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include "svit/bake_file.h"
+#include "svit/baker/lightmap_pages.h"
+#include "svit/baker/runtime_sections.h"
+#include "svit/level.h"
+#include "svit/lightmap_image.h"
+#include "bake_output.h"
+#include "double_math.h"
+#include "file_output.h"
+#include "random.h"
+
+namespace svit::baker {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The bake file's sections with their sizes and what each holds, for the
+// "pay for what is used" audit in report.json.
+nlohmann::ordered_json sectionsJson(const BakeData& data) {
+  const size_t probes = size_t(data.probes.dims[0]) * data.probes.dims[1] * data.probes.dims[2];
+  const std::map<std::string, std::pair<std::string, std::string>> what = {
+      {"HEAD", {"header", "level hash, seed"}},
+      {"PAGE",
+       {"pages", std::to_string(data.pages.size()) + " lightmap pages (names, sizes, hashes)"}},
+      {"TUVS",
+       {"triangle_uvs",
+        std::to_string(data.triangle_uvs.size()) + " static triangles' lightmap coordinates"}},
+      {"PTCH",
+       {"patches", std::to_string(data.patches.size()) + " patches the runtime's deltas live on"}},
+      {"PELM",
+       {"patch_elements",
+        std::to_string(data.patch_elements.size()) + " elements of those patches"}},
+      {"CLST",
+       {"clusters", std::to_string(data.clusters.size()) + " cluster-tree nodes over the patches"}},
+      {"EMIT",
+       {"emitters",
+        std::to_string(data.emitters.size()) + " baked emitters with their form factors"}},
+      {"PRXY",
+       {"proxy", std::to_string(data.proxy.indices.size() / 3) +
+                     " LOD-proxy triangles the index maps draw"}},
+      {"PROB", {"probes", std::to_string(probes) + " irradiance probes for dynamic objects"}},
+  };
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const BakeSectionSize& section : bakeSectionSizes(data)) {
+    const auto it = what.find(section.tag);
+    out.push_back({{"section", it != what.end() ? it->second.first : section.tag},
+                   {"tag", section.tag},
+                   {"bytes", section.bytes},
+                   {"holds", it != what.end() ? it->second.second : std::string()}});
+  }
+  return out;
+}
+
+nlohmann::ordered_json seriesJson(const std::vector<ErrorPoint>& series, bool with_reference) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const ErrorPoint& p : series) {
+    nlohmann::ordered_json point;
+    point["t_s"] = p.t_s;
+    point["est_rel_error"] = p.est_rel_error;
+    if (with_reference)
+      point["ref_rel_error"] =
+          std::isfinite(p.ref_rel_error) ? nlohmann::ordered_json(p.ref_rel_error) : nullptr;
+    out.push_back(point);
+  }
+  return out;
+}
+
+// The bake file's lightmap part: the pages' names and hashes, and every
+// static triangle's lightmap coordinates.
+BakeData lightmapBakeData(const BakeOptions& options, uint64_t level_hash,
+                          const BakeGeometry& geometry, const LightmapAtlas& atlas,
+                          const LightmapPages& pages) {
+  BakeData data;
+  data.level_hash = level_hash;
+  data.seed = options.seed;
+  for (size_t p = 0; p < pages.images.size(); ++p) {
+    BakeLightmapPage page;
+    page.width = uint32_t(pages.images[p].width);
+    page.height = uint32_t(pages.images[p].height);
+    page.file = "lightmap-" + std::to_string(p) + ".exr";
+    page.texel_hash =
+        fnv1a64(pages.images[p].rgb.data(), pages.images[p].rgb.size() * sizeof(float));
+    data.pages.push_back(page);
+  }
+  for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+    BakeTriangleUv uv;
+    uv.instance = geometry.instance[t];
+    uv.mesh_triangle = geometry.mesh_triangle[t];
+    uv.page = atlas.triangle_page[t];
+    for (int k = 0; k < 3; ++k) uv.uv[k] = atlas.triangle_uv[t * 3 + size_t(k)];
+    data.triangle_uvs.push_back(uv);
+  }
+  return data;
+}
+
+// Adds the runtime's sections to `data` when the level needs them; returns
+// the report's list of sections left out.
+Expected<nlohmann::ordered_json> addRuntimeSections(BakeRun& run, const Scene& scene,
+                                                    const BakeGeometry& geometry,
+                                                    const RayCaster& caster,
+                                                    const RadiositySolver& solver, BakeData& data) {
+  nlohmann::ordered_json left_out = nlohmann::ordered_json::array();
+  if (levelNeedsRuntimeSections(scene)) {
+    RuntimeSectionSettings runtime_settings;
+    runtime_settings.seed = run.options.seed;
+    runtime_settings.threads = run.options.threads;
+    if (Status s = buildRuntimeSections(scene, geometry, caster, solver, runtime_settings, data,
+                                        run.cancel);
+        !s.ok()) {
+      return run.orCancelled(s);
+    }
+  } else {
+    for (const char* section : {"patches", "clusters", "emitters", "proxy", "probes"}) {
+      left_out.push_back({{"section", section},
+                          {"reason", "the level has no dynamic objects and no runtime lights"}});
+    }
+  }
+  return left_out;
+}
+
+// Lightmap texels written by the pass (valid 1) and by dilation (valid 2).
+struct TexelCounts {
+  size_t covered = 0, dilated = 0;
+};
+
+TexelCounts countTexels(const LightmapPages& pages) {
+  TexelCounts counts;
+  for (const auto& valid : pages.valid) {
+    for (uint8_t v : valid) {
+      counts.covered += v == 1;
+      counts.dilated += v == 2;
+    }
+  }
+  return counts;
+}
+
+// Everything report.json says, but the final stage timings and total.
+struct ReportInputs {
+  const Scene& scene;
+  uint64_t level_hash;
+  size_t degenerate;
+  const RadiositySolver& solver;
+  const AtlasSettings& atlas_settings;
+  const LightmapAtlas& atlas;
+  const TexelSet& texels;
+  const LightmapPages& pages;
+  const LightingPasses& lighting;
+  const BakeData& data;
+  const nlohmann::ordered_json& left_out;
+  bool with_reference;
+};
+
+nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
+  const BakeOptions& options = run.options;
+  const SolverStats stats = in.solver.stats();
+  const TexelCounts counts = countTexels(in.pages);
+  nlohmann::ordered_json json;
+  json["level"] = fs::absolute(options.level_path).lexically_normal().string();
+  json["level_hash"] = in.level_hash;
+  json["seed"] = options.seed;
+  json["quality"] = options.quality;
+  json["time_budget_s"] = run.plan.has_budget ? nlohmann::ordered_json(run.plan.budget_s) : nullptr;
+  json["texels_per_m"] = in.atlas_settings.texels_per_m;
+  json["threads"] = options.threads;
+  json["machine"] = "CPU ray casting (Embree 3); no GPU used by the baker";
+  nlohmann::ordered_json timings = nlohmann::ordered_json::object();
+  for (const auto& [name, seconds] : run.clock.stageSeconds()) timings[name] = seconds;
+  json["stage_seconds"] = timings;
+  json["radiosity"] = {{"rays", stats.rays},
+                       {"rays_per_s", stats.seconds > 0 ? double(stats.rays) / stats.seconds : 0.0},
+                       {"passes", stats.passes_completed},
+                       {"elements", stats.elements},
+                       {"leaves", stats.leaves},
+                       {"subdivisions", stats.subdivisions},
+                       {"est_rel_error", in.lighting.solver_error},
+                       {"compensation", stats.compensation},
+                       {"captured_fraction", stats.captured_fraction},
+                       {"back_absorbed_rays", stats.back_absorbed},
+                       {"inside_origin_rays", stats.inside_origin_rays}};
+  json["lightmap"] = {
+      {"pages", in.pages.images.size()},
+      {"page_width", in.texels.page_width},
+      {"page_height", in.texels.page_height},
+      {"atlas", in.atlas.authored ? "TEXCOORD_1" : "xatlas"},
+      {"covered_texels", counts.covered},
+      {"dilated_texels", counts.dilated},
+      {"lighting_passes", in.lighting.accumulator.passes()},
+      {"gather_rays_per_texel", in.lighting.accumulator.passes() * in.lighting.gather_rays}};
+  nlohmann::ordered_json warnings = in.scene.warnings;
+  if (in.degenerate > 0) {
+    warnings.push_back(
+        std::to_string(in.degenerate) +
+        " static triangles flattened to zero area by their instance transform; skipped");
+  }
+  json["warnings"] = warnings;
+  json["sections_written"] = sectionsJson(in.data);
+  json["sections_left_out"] = in.left_out;
+  json["error_vs_time"] = seriesJson(in.lighting.series, in.with_reference);
+  return json;
+}
+
+// Writes the pages, the bake file and report.json into a fresh directory
+// beside OUT, then swaps it in; OUT is left as it was on any failure.
+Expected<BakeResult> writeBake(BakeRun& run, const LightmapPages& pages, const BakeData& data,
+                               const std::vector<ErrorPoint>& series,
+                               nlohmann::ordered_json& json) {
+  const fs::path out = bakeOutputPath(run.options.out_dir);
+  const fs::path staging = stagingDirectory(out);
+  std::error_code ec;
+  fs::remove_all(staging, ec);
+  fs::create_directories(staging, ec);
+  if (ec)
+    return Status(StatusCode::kIoError, staging.string() + ": cannot create: " + ec.message());
+  auto fail = [&](const Status& s) {
+    std::error_code ignored;
+    fs::remove_all(staging, ignored);
+    if (s.code() == StatusCode::kCancelled) return s;
+    return Status(s.code(), s.message() + "; " + out.string() + " left as it was");
+  };
+  for (size_t p = 0; p < pages.images.size(); ++p) {
+    if (Status s = writeLightmapExr(pages.images[p], (staging / data.pages[p].file).string());
+        !s.ok())
+      return fail(s);
+    if (run.cancelRequested()) return fail(run.cancelled);
+  }
+  if (Status s = writeBakeFile(data, (staging / "bake.svit").string()); !s.ok()) return fail(s);
+  BakeResult result;
+  result.pages = pages.images.size();
+  result.covered_texels = countTexels(pages).covered;
+  result.est_rel_error = series.empty() ? 1.0 : series.back().est_rel_error;
+  result.ref_rel_error =
+      series.empty() ? std::numeric_limits<double>::quiet_NaN() : series.back().ref_rel_error;
+  run.clock.endStage("done");
+  json["stage_seconds"]["write"] = run.clock.stageSeconds().back().second;
+  result.seconds = run.clock.elapsed();
+  json["total_seconds"] = result.seconds;
+  result.report_json = json.dump(2) + "\n";
+  if (Status s = writeFileReplacing((staging / "report.json").string(), result.report_json.data(),
+                                    result.report_json.size());
+      !s.ok())
+    return fail(s);
+  if (run.cancelRequested()) return fail(run.cancelled);
+  if (Status s = swapIntoPlace(staging, out); !s.ok()) return fail(s);
+  return result;
+}
+
+}  // namespace
+
+double BakeClock::elapsed() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+double BakeClock::remaining() const {
+  return std::isfinite(budget_s_) ? std::max(0.0, budget_s_ - elapsed()) : -1.0;
+}
+
+void BakeClock::endStage(const std::string& next) {
+  stage_seconds_.push_back({stage_, elapsed() - stage_start_});
+  stage_ = next;
+  stage_start_ = elapsed();
+}
+
+bool BakeClock::report(double fraction, double eta) const {
+  if (cancel_ && cancel_->load()) return false;
+  if (!progress_) return true;
+  return progress_(BakeProgress{stage_, fraction, elapsed(), eta});
+}
+
+BakeRun makeBakeRun(const BakeOptions& options,
+                    const std::function<bool(const BakeProgress&)>& progress,
+                    const std::atomic<bool>* cancel, const std::string& first_stage) {
+  return BakeRun{
+      options, planBake(options),
+      BakeClock(progress, cancel, options.time_budget_s, first_stage), cancel,
+      Status(StatusCode::kCancelled, "bake cancelled; " + options.out_dir + " left as it was")};
+}
+
+Expected<std::unique_ptr<LoadedLevel>> loadBakeLevel(const std::string& level_path) {
+  auto level = std::make_unique<LoadedLevel>();
+  Expected<Scene> scene = loadLevel(level_path);
+  if (!scene.ok()) return scene.status();
+  level->scene = std::move(scene).value();
+  level->level_hash = hashLevel(level->scene);
+  Expected<BakeGeometry> geometry = flattenStaticGeometry(level->scene, &level->degenerate);
+  if (!geometry.ok()) return geometry.status();
+  level->geometry = std::move(geometry).value();
+  Expected<std::unique_ptr<RayCaster>> caster = makeEmbreeCaster(level->geometry);
+  if (!caster.ok()) return caster.status();
+  level->caster = std::move(caster).value();
+  return level;
+}
+
+Expected<std::unique_ptr<RadiositySolver>> solveRadiosity(BakeRun& run, const LoadedLevel& level) {
+  RadiositySettings solver_settings;
+  solver_settings.seed = run.options.seed;
+  solver_settings.threads = run.options.threads;
+  Expected<std::unique_ptr<RadiositySolver>> solver =
+      RadiositySolver::create(level.scene, level.geometry, *level.caster, solver_settings);
+  if (!solver.ok()) return solver.status();
+  StopRule stop;
+  stop.target_est_rel_error = run.plan.solver_target_est_rel_error;
+  stop.max_seconds = run.plan.solver_max_seconds;
+  stop.targets_at_pass_ends = run.plan.solver_targets_at_pass_ends;
+  stop.cancel = run.cancel;
+  stop.progress = [&](const SolverProgress& p) {
+    const double fraction =
+        std::min(1.0, std::max(p.elapsed_s / stop.max_seconds,
+                               std::log(p.est_rel_error) / std::log(stop.target_est_rel_error)));
+    return run.clock.report(std::max(0.0, fraction), run.clock.remaining());
+  };
+  if (Status s = (*solver)->improve(stop); !s.ok()) return run.orCancelled(s);
+  return solver;
+}
+
+Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level) {
+  AtlasTexels out;
+  double total_area = 0;
+  for (float a : level.geometry.areas_m2) total_area += a;
+  out.settings.texels_per_m = atlasTexelsPerM(run.plan, total_area);
+  out.settings.max_page_size = run.options.max_page_size;
+  out.settings.threads = run.options.threads;
+  if (!run.clock.report(0, run.clock.remaining())) return run.cancelled;
+  Expected<LightmapAtlas> atlas = buildLightmapAtlas(level.scene, level.geometry, out.settings);
+  if (!atlas.ok()) return atlas.status();
+  out.atlas = std::move(atlas).value();
+  run.clock.endStage("texels");
+  RasterSettings raster_settings;
+  raster_settings.threads = run.options.threads;
+  Expected<TexelSet> texels =
+      rasterizeTexels(level.geometry, out.atlas, *level.caster, raster_settings);
+  if (!texels.ok()) return texels.status();
+  out.texels = std::move(texels).value();
+  return out;
+}
+
+TexelLightingSettings passLightingSettings(const BakeRun& run, uint32_t pass) {
+  TexelLightingSettings settings;
+  settings.threads = run.options.threads;
+  settings.gather_rays = run.plan.gather_rays;
+  settings.area_light_samples = run.plan.area_light_samples;
+  settings.sun_samples = run.plan.sun_samples;
+  settings.seed = hashIds(run.options.seed, 0x1a7, pass);
+  return settings;
+}
+
+Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
+                                const RadiositySolver& solver, const AtlasTexels& atlas,
+                                const LightingPasses& lighting, bool with_reference,
+                                const nlohmann::ordered_json& extra_report) {
+  run.clock.endStage("pages");
+  PageSettings page_settings;
+  page_settings.dilation_texels = atlas.settings.padding_texels;
+  page_settings.edge_aware_filter = true;  // gather noise; never crosses charts or creases
+  const LightmapPages pages = buildLightmapPages(level.geometry, atlas.atlas, atlas.texels,
+                                                 lighting.accumulator.mean(), page_settings);
+  BakeData data =
+      lightmapBakeData(run.options, level.level_hash, level.geometry, atlas.atlas, pages);
+  run.clock.endStage("runtime");
+
+  Expected<nlohmann::ordered_json> left_out =
+      addRuntimeSections(run, level.scene, level.geometry, *level.caster, solver, data);
+  if (!left_out.ok()) return left_out.status();
+  if (!run.clock.report(1, run.clock.remaining())) return run.cancelled;
+  run.clock.endStage("write");
+
+  nlohmann::ordered_json json = reportJson(
+      run, ReportInputs{level.scene, level.level_hash, level.degenerate, solver, atlas.settings,
+                        atlas.atlas, atlas.texels, pages, lighting, data, *left_out,
+                        with_reference});
+  for (const auto& [key, value] : extra_report.items()) json[key] = value;
+  return writeBake(run, pages, data, lighting.series, json);
+}
+
+}  // namespace svit::baker

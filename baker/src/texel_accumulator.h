@@ -1,0 +1,46 @@
+#pragma once
+// Running per-texel sums of a bake's lighting passes: their mean is the
+// lightmap, their spread its error estimate. A sharded bake's shards each
+// keep one over their texels; the merge puts the sums side by side and gets
+// the same mean, bit for bit, as one bake (sharded_bake.h). Internal.
+
+#include <cstdint>
+#include <vector>
+
+#include "svit/baker/texel_lighting.h"
+
+namespace svit::baker {
+
+/// Sums over texels of the passes' spread, what the relative error needs;
+/// adding those of disjoint texel sets gives that of their union.
+struct PassSpread {
+  double variance_sum = 0;  ///< sum over texels of the variance of their mean, lux^2
+  double mean_sum = 0;      ///< sum over texels of their mean luminance, lux
+  uint64_t texels = 0;
+
+  /// RMS standard error of the texel means over the mean texel value; 1
+  /// with fewer than two passes (no spread to measure yet).
+  double relativeError(uint32_t passes) const;
+};
+
+class TexelAccumulator {
+ public:
+  TexelAccumulator() = default;
+  /// The accumulator whose sums over `passes` passes are `sums` (its spread
+  /// unknown: spread() of it is meaningless).
+  TexelAccumulator(std::vector<TexelIrradiance> sums, uint32_t passes);
+
+  void add(const std::vector<TexelIrradiance>& pass);
+  std::vector<TexelIrradiance> mean() const;
+  PassSpread spread() const;
+  double relativeError() const { return spread().relativeError(passes_); }
+  const std::vector<TexelIrradiance>& sums() const { return sum_; }
+  uint32_t passes() const { return passes_; }
+
+ private:
+  std::vector<TexelIrradiance> sum_;
+  std::vector<double> sum_y_, sum_y2_;
+  uint32_t passes_ = 0;
+};
+
+}  // namespace svit::baker
