@@ -19,7 +19,7 @@ python3 "$root/tests/bench/sharded_bench.py" "$bake" "$out" house16x16 "$out/hou
 sponza="$root/samples/levels/sponza/level.json"
 if [[ -f "$root/../shared/scenes/sponza/Sponza.gltf" ]]; then
   python3 "$root/tests/bench/sharded_bench.py" "$bake" "$out" sponza "$sponza" "$shards" \
-    --seed 1 --passes 32 --quality 0.3 >>"$results"
+    --seed 1 --passes 8 --quality 0.3 >>"$results"
 else
   echo "sharded_bench.sh: ../shared/scenes/sponza is absent; Sponza skipped" >&2
 fi
