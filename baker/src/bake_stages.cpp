@@ -278,8 +278,8 @@ BakeRun makeBakeRun(const BakeOptions& options,
                     const std::function<bool(const BakeProgress&)>& progress,
                     const std::atomic<bool>* cancel, const std::string& first_stage) {
   return BakeRun{
-      options, planBake(options),
-      BakeClock(progress, cancel, options.time_budget_s, first_stage), cancel,
+      options, planBake(options), BakeClock(progress, cancel, options.time_budget_s, first_stage),
+      cancel,
       Status(StatusCode::kCancelled, "bake cancelled; " + options.out_dir + " left as it was")};
 }
 
@@ -371,10 +371,10 @@ Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
   if (!run.clock.report(1, run.clock.remaining())) return run.cancelled;
   run.clock.endStage("write");
 
-  nlohmann::ordered_json json = reportJson(
-      run, ReportInputs{level.scene, level.level_hash, level.degenerate, solver, atlas.settings,
-                        atlas.atlas, atlas.texels, pages, lighting, data, *left_out,
-                        with_reference});
+  nlohmann::ordered_json json =
+      reportJson(run, ReportInputs{level.scene, level.level_hash, level.degenerate, solver,
+                                   atlas.settings, atlas.atlas, atlas.texels, pages, lighting, data,
+                                   *left_out, with_reference});
   for (const auto& [key, value] : extra_report.items()) json[key] = value;
   return writeBake(run, pages, data, lighting.series, json);
 }

@@ -60,8 +60,8 @@ Status readSolution(const std::string& work_dir, int threads, LoadedPlan& out) {
 
 Status readAtlasTexels(const std::string& work_dir, LoadedPlan& out) {
   const std::string path = workPath(work_dir, kTexelsFile);
-  Expected<std::vector<uint8_t>> texels = readPlanPart(
-      work_dir, kTexelsFile, WorkFileKind::kTexels, out.plan_id, out.plan.texels_checksum);
+  Expected<std::vector<uint8_t>> texels = readPlanPart(work_dir, kTexelsFile, WorkFileKind::kTexels,
+                                                       out.plan_id, out.plan.texels_checksum);
   if (!texels.ok()) return texels.status();
   Expected<AtlasTexels> atlas = decodeAtlasTexels(*texels, path);
   if (!atlas.ok()) return atlas.status();

@@ -63,9 +63,9 @@ void putStats(ByteWriter& w, const SolverStats& s) {
 
 SolverStats getStats(ByteReader& r) {
   SolverStats s;
-  for (uint64_t* v : {&s.rays, &s.hits, &s.back_absorbed, &s.inside_origin_rays, &s.batches,
-                      &s.subdivisions, &s.hit_elements, &s.propagation_visits,
-                      &s.propagation_bound})
+  for (uint64_t* v :
+       {&s.rays, &s.hits, &s.back_absorbed, &s.inside_origin_rays, &s.batches, &s.subdivisions,
+        &s.hit_elements, &s.propagation_visits, &s.propagation_bound})
     *v = r.get<uint64_t>();
   s.passes_completed = r.get<uint32_t>();
   s.elements = size_t(r.get<uint64_t>());
@@ -80,8 +80,8 @@ SolverStats getStats(ByteReader& r) {
 uint64_t treeHash(const ElementTree& tree) {
   uint64_t h = fnv1a64(nullptr, 0);
   for (const TreeNode& n : tree.nodes()) {
-    const int32_t fields[] = {int32_t(n.kind), int32_t(n.side), n.parent,
-                              n.child[0],      n.child[1],      int32_t(n.triangle),
+    const int32_t fields[] = {int32_t(n.kind),      int32_t(n.side),      n.parent,
+                              n.child[0],           n.child[1],           int32_t(n.triangle),
                               int32_t(n.vertex[0]), int32_t(n.vertex[1]), int32_t(n.vertex[2])};
     h = fnv1a64(fields, sizeof fields, h);
     h = fnv1a64(&n.area_m2, sizeof n.area_m2, h);
@@ -178,8 +178,8 @@ bool RadiositySolver::State::shootingFits() const {
   const State& s = *this;
   const size_t nodes = s.tree->nodes().size();
   const size_t sides = s.geometry->triangleCount() * 2;
-  const bool pending_ok = s.pending.empty() || (*s.pending.begin() >= 0 &&
-                                                size_t(*s.pending.rbegin()) < nodes);
+  const bool pending_ok =
+      s.pending.empty() || (*s.pending.begin() >= 0 && size_t(*s.pending.rbegin()) < nodes);
   return s.e_pass.size() == nodes && s.e_unshot.size() == nodes && s.e_sum.size() == nodes &&
          s.element_s1.size() == sides && s.element_s2.size() == sides && pending_ok &&
          s.light_unshot.size() == (s.started ? s.lights.size() : s.light_unshot.size()) &&
@@ -191,7 +191,8 @@ Status RadiositySolver::State::replaySubdivisions(const std::vector<int>& splits
   State& s = *this;
   for (int leaf : splits) {
     if (leaf < 0 || size_t(leaf) >= s.tree->nodes().size() || !s.tree->node(leaf).isLeaf())
-      return notThisSolution("split " + std::to_string(leaf) + " is not a leaf of this level's tree");
+      return notThisSolution("split " + std::to_string(leaf) +
+                             " is not a leaf of this level's tree");
     if (!s.tree->subdivide(leaf, [](int) {}))
       return notThisSolution("split " + std::to_string(leaf) + " exceeds the node cap");
   }

@@ -117,7 +117,8 @@ LightingPasses lightingFromShards(const LoadedPlan& loaded, MergedShards& merged
     ErrorPoint point;
     point.t_s = solver_seconds + merged.lighting_seconds * double(p + 1) / loaded.plan.passes;
     const double texel_error = merged.spreads[p].relativeError(p + 1);
-    point.est_rel_error = std::sqrt(out.solver_error * out.solver_error + texel_error * texel_error);
+    point.est_rel_error =
+        std::sqrt(out.solver_error * out.solver_error + texel_error * texel_error);
     point.rays = loaded.solver->stats().rays;
     out.series.push_back(point);
   }

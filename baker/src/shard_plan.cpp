@@ -54,7 +54,8 @@ Status validatePlanOptions(const BakeOptions& options, uint32_t shards) {
         "--passes (a timed bake's report.json says how many it ran: lightmap.lighting_passes)");
   }
   if (!options.reference_dir.empty())
-    return badInput("--reference is for whole bakes; give it to svit-bake on the merged OUT's level");
+    return badInput(
+        "--reference is for whole bakes; give it to svit-bake on the merged OUT's level");
   return Status();
 }
 
@@ -70,7 +71,8 @@ Status checkWorkDirectory(const fs::path& work) {
     return badInput(work.string() + ": exists and is not a directory; not replaced");
   if (fs::is_empty(work, ec) || fs::exists(work / kPlanFile, ec))
     return checkWritableDirectory(parent);
-  return badInput(work.string() + ": neither empty nor a svit-bake plan (no plan.bin); not replaced");
+  return badInput(work.string() +
+                  ": neither empty nor a svit-bake plan (no plan.bin); not replaced");
 }
 
 // Deals the texels' chunks to shards: each chunk, in texel order, to the
@@ -136,10 +138,12 @@ Status writePlanFiles(const fs::path& work, const std::vector<NamedFile>& files)
   std::error_code ec;
   fs::remove_all(staging, ec);
   fs::create_directories(staging, ec);
-  if (ec) return Status(StatusCode::kIoError, staging.string() + ": cannot create: " + ec.message());
+  if (ec)
+    return Status(StatusCode::kIoError, staging.string() + ": cannot create: " + ec.message());
   Status status;
   for (const auto& [name, bytes] : files) {
-    if (status.ok()) status = writeFileReplacing((staging / name).string(), bytes.data(), bytes.size());
+    if (status.ok())
+      status = writeFileReplacing((staging / name).string(), bytes.data(), bytes.size());
   }
   if (status.ok()) status = swapIntoPlace(staging, work);
   if (status.ok()) return status;

@@ -79,15 +79,14 @@ Expected<ShardRunResult> runBakeShard(const std::string& work_dir, uint32_t shar
   Expected<LoadedPlan> loaded = loadPlan(work_dir, threads);
   if (!loaded.ok()) return loaded.status();
   if (shard >= loaded->plan.shards) {
-    return Status(StatusCode::kInvalidInput,
-                  "shard " + std::to_string(shard) + " out of range: " +
-                      workPath(work_dir, kPlanFile) + " has shards 0.." +
-                      std::to_string(loaded->plan.shards - 1));
+    return Status(StatusCode::kInvalidInput, "shard " + std::to_string(shard) + " out of range: " +
+                                                 workPath(work_dir, kPlanFile) + " has shards 0.." +
+                                                 std::to_string(loaded->plan.shards - 1));
   }
   const BakeOptions options = loaded->plan.bakeOptions(work_dir, threads);
   BakeRun run = makeBakeRun(options, progress, cancel, "lighting");
-  run.cancelled = Status(StatusCode::kCancelled, "shard " + std::to_string(shard) +
-                                                     " cancelled; nothing written");
+  run.cancelled = Status(StatusCode::kCancelled,
+                         "shard " + std::to_string(shard) + " cancelled; nothing written");
   const std::vector<uint32_t> texels = loaded->plan.shardTexels(shard);
   Expected<ShardLighting> lighting = lightShard(run, *loaded, shard, texels);
   if (!lighting.ok()) return lighting.status();
@@ -98,8 +97,8 @@ Expected<ShardRunResult> runBakeShard(const std::string& work_dir, uint32_t shar
   result.shards = loaded->plan.shards;
   result.texels = texels.size();
   result.path = workPath(work_dir, shardFileName(shard, ".bin"));
-  if (Status s = writeWorkFile(result.path, WorkFileKind::kShard, loaded->plan_id,
-                               encodeShard(*lighting));
+  if (Status s =
+          writeWorkFile(result.path, WorkFileKind::kShard, loaded->plan_id, encodeShard(*lighting));
       !s.ok())
     return s;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

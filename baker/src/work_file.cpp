@@ -64,7 +64,8 @@ Status writeWorkFile(const std::string& path, WorkFileKind kind, uint64_t plan_i
 Expected<WorkFile> readWorkFile(const std::string& path, WorkFileKind kind) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return bad(path, std::string("missing (") + std::strerror(errno) + ")");
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                             std::istreambuf_iterator<char>());
   if (in.bad()) return Status(StatusCode::kIoError, path + ": cannot be read");
   ByteReader header(bytes.data(), std::min(bytes.size(), kHeaderBytes));
   char magic[8];
@@ -83,8 +84,8 @@ Expected<WorkFile> readWorkFile(const std::string& path, WorkFileKind kind) {
                          std::to_string(kWorkFormatVersion) + "; run every step with one build");
   }
   if (found_kind != uint32_t(kind)) {
-    return bad(path, std::string("holds a ") + kindName(WorkFileKind(found_kind)) +
-                         ", not a " + kindName(kind));
+    return bad(path, std::string("holds a ") + kindName(WorkFileKind(found_kind)) + ", not a " +
+                         kindName(kind));
   }
   if (bytes.size() - kHeaderBytes != payload_bytes) {
     return bad(path, "truncated or padded: " + std::to_string(bytes.size()) + " bytes, " +

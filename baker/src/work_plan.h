@@ -31,7 +31,7 @@ struct WorkPlan {
 
   uint32_t shards = 1;
   uint64_t texel_count = 0;
-  uint32_t chunk_texels = 256;       ///< texels per chunk, the unit shards are dealt
+  uint32_t chunk_texels = 256;        ///< texels per chunk, the unit shards are dealt
   std::vector<uint32_t> chunk_shard;  ///< per chunk of consecutive texels: its shard
   std::vector<uint64_t> shard_cost;   ///< per shard: the rays its texels cast per pass
   uint64_t solution_checksum = 0;     ///< of solution.bin's payload

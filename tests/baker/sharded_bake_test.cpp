@@ -27,7 +27,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kCornellLevel = std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/level.json";
+const std::string kCornellLevel =
+    std::string(SVIT_SOURCE_DIR) + "/samples/levels/cornell/level.json";
 const std::string kHouseLevel = std::string(SVIT_SOURCE_DIR) + "/samples/levels/house/level.json";
 
 std::vector<char> fileBytes(const fs::path& path) {
