@@ -2,6 +2,7 @@
 
 #include "loaded_plan.h"
 
+#include <cstdio>
 #include <filesystem>
 
 #include "work_file.h"
@@ -76,6 +77,12 @@ Status readAtlasTexels(const std::string& work_dir, LoadedPlan& out) {
 
 std::string workPath(const std::string& work_dir, const std::string& name) {
   return (std::filesystem::path(work_dir) / name).string();
+}
+
+std::string planIdText(uint64_t plan_id) {
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(plan_id));
+  return text;
 }
 
 std::string shardFileName(uint32_t shard, const char* extension) {

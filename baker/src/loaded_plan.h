@@ -23,6 +23,9 @@ std::string workPath(const std::string& work_dir, const std::string& name);
 /// "shard-I" + `extension` (".bin", ".json").
 std::string shardFileName(uint32_t shard, const char* extension);
 
+/// A plan id as 16 hex digits, as plan.json and the errors show it.
+std::string planIdText(uint64_t plan_id);
+
 /// `level` outlives `solver` (declared first, destroyed last).
 struct LoadedPlan {
   WorkPlan plan;

@@ -20,12 +20,6 @@
 namespace svit::baker {
 namespace {
 
-std::string hexId(uint64_t id) {
-  char text[17];
-  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(id));
-  return text;
-}
-
 // Shard `shard`'s result, checked to be whole, of this plan, and of the
 // size the plan gives it.
 Expected<ShardLighting> readShard(const std::string& work_dir, const LoadedPlan& loaded,
@@ -36,9 +30,10 @@ Expected<ShardLighting> readShard(const std::string& work_dir, const LoadedPlan&
   Expected<WorkFile> file = readWorkFile(path, WorkFileKind::kShard);
   if (!file.ok()) return Status(file.status().code(), file.status().message() + rerun);
   if (file->plan_id != loaded.plan_id) {
-    return Status(StatusCode::kInvalidInput,
-                  path + ": from another plan (plan id " + hexId(file->plan_id) + ", " +
-                      workPath(work_dir, kPlanFile) + " is " + hexId(loaded.plan_id) + ")" + rerun);
+    return Status(StatusCode::kInvalidInput, path + ": from another plan (plan id " +
+                                                 planIdText(file->plan_id) + ", " +
+                                                 workPath(work_dir, kPlanFile) + " is " +
+                                                 planIdText(loaded.plan_id) + ")" + rerun);
   }
   Expected<ShardLighting> lighting = decodeShard(file->payload, path);
   if (!lighting.ok()) return Status(lighting.status().code(), lighting.status().message() + rerun);
@@ -127,7 +122,7 @@ LightingPasses lightingFromShards(const LoadedPlan& loaded, MergedShards& merged
 
 nlohmann::ordered_json shardedReport(const LoadedPlan& loaded, const MergedShards& merged) {
   nlohmann::ordered_json json;
-  json["plan_id"] = hexId(loaded.plan_id);
+  json["plan_id"] = planIdText(loaded.plan_id);
   json["shards"] = loaded.plan.shards;
   json["passes"] = loaded.plan.passes;
   json["plan_radiosity_seconds"] = loaded.solver->stats().seconds;

@@ -13,7 +13,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -110,12 +109,10 @@ WorkPlan makeWorkPlan(const BakeOptions& planned, uint32_t shards, const LoadedL
 
 // plan.json: the plan for people and job scripts (the steps read plan.bin).
 std::string planSummaryJson(const WorkPlan& plan, uint64_t plan_id, double seconds) {
-  char id[17];
-  std::snprintf(id, sizeof id, "%016llx", static_cast<unsigned long long>(plan_id));
   nlohmann::ordered_json json;
   json["level"] = plan.level_path;
   json["level_hash"] = plan.level_hash;
-  json["plan_id"] = id;
+  json["plan_id"] = planIdText(plan_id);
   json["seed"] = plan.seed;
   json["quality"] = plan.quality;
   json["passes"] = plan.passes;
