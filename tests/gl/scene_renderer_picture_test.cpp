@@ -32,13 +32,13 @@ using test::placeAt;
 using test::readLinearFrame;
 
 // Bakes good enough that their own noise sits well below the errors measured.
-constexpr TestBake kRuntimeBake{1, 0.1, 8};
-constexpr TestBake kReferenceBake{2, 0.1, 8};
-constexpr TestBake kSecondReferenceBake{3, 0.1, 8};
-// The house's rooms need more of the bake's time to reach that noise.
-constexpr TestBake kHouseRuntimeBake{1, 0.3, 20};
-constexpr TestBake kHouseReferenceBake{2, 0.3, 20};
-constexpr TestBake kHouseSecondReferenceBake{3, 0.3, 20};
+constexpr TestBake kRuntimeBake{1, 1, 3};
+constexpr TestBake kReferenceBake{2, 1, 3};
+constexpr TestBake kSecondReferenceBake{3, 1, 3};
+// The house's rooms need more lighting passes to reach that noise.
+constexpr TestBake kHouseRuntimeBake{1, 1, 10};
+constexpr TestBake kHouseReferenceBake{2, 1, 10};
+constexpr TestBake kHouseSecondReferenceBake{3, 1, 10};
 // RuntimeSettings::max_samples_per_frame: deterministic frames
 constexpr int kSamplesPerFrame = 24;
 constexpr int kFrames = 16;  // the Cornell box settles in 11 at that budget

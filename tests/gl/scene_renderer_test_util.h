@@ -39,19 +39,21 @@ inline std::string hex(uint64_t v) {
   return text;
 }
 
-// Bakes `level_path` at low quality, once per level content across test
+// Bakes `level_path` quickly (few passes), once per level content across test
 // processes (CTest runs every TEST in its own process): the bake goes to a
 // directory named after the level hash and is reused while it reads back
 // with the same hash. bakeLevel swaps its output in atomically, so
 // processes racing on a bake leave a whole one.
 /// How a test bakes a level: different seeds give independent references
-/// (their difference is the bakes' noise floor).
+/// (their difference is the bakes' noise floor). A pass count, never a time
+/// budget: the same bake on every machine, however loaded (a budget gave CI
+/// fewer lighting passes than a developer's machine, and a noisier reference).
 struct TestBake {
   uint64_t seed = 1;
-  double quality = 0.05;
-  double time_s = 6;
+  double quality = 1;
+  uint32_t passes = 1;
   bool operator<(const TestBake& o) const {
-    return std::tie(seed, quality, time_s) < std::tie(o.seed, o.quality, o.time_s);
+    return std::tie(seed, quality, passes) < std::tie(o.seed, o.quality, o.passes);
   }
 };
 
@@ -65,11 +67,9 @@ inline const BakedLevel& bakedLevel(const std::string& level_path, const TestBak
   if (!scene.ok()) return cache[{level_path, how}];
   level.scene = std::move(scene).value();
   const uint64_t hash = hashLevel(level.scene);
-  const bool default_bake = how.seed == 1 && how.quality == 0.05 && how.time_s == 6;
-  const std::string name = default_bake ? hex(hash)
-                                        : hex(hash) + "-s" + std::to_string(how.seed) + "-q" +
-                                              std::to_string(int(how.quality * 1000)) + "-t" +
-                                              std::to_string(int(how.time_s * 10));
+  const std::string name = hex(hash) + "-s" + std::to_string(how.seed) + "-q" +
+                           std::to_string(int(how.quality * 1000)) + "-p" +
+                           std::to_string(how.passes);
   level.dir = (fs::temp_directory_path() / "svit_scene_renderer_test" / name).string();
   Expected<BakeData> bake = readBakeFile(level.dir + "/bake.svit");
   if (!bake.ok() || bake->level_hash != hash) {
@@ -78,7 +78,7 @@ inline const BakedLevel& bakedLevel(const std::string& level_path, const TestBak
     options.level_path = level_path;
     options.out_dir = level.dir;
     options.quality = how.quality;
-    options.time_budget_s = how.time_s;
+    options.passes = how.passes;
     options.seed = how.seed;
     Expected<baker::BakeResult> result = baker::bakeLevel(options, nullptr, nullptr);
     EXPECT_TRUE(result.ok()) << result.status().message();
