@@ -3,7 +3,7 @@
 // Output stays finite, GL raises no error, and each case holds a bound of
 // its own on the flux the static patches gain or lose: a far object next to
 // none, an object through a wall and a curtain of crates little, a closed
-// shade keeps most of its lamp's light in.
+// shade keeps all of its lamp's light in unless another object pierces it.
 
 #include <gtest/gtest.h>
 
@@ -162,42 +162,78 @@ TEST_F(RuntimeRobustness, ManyObjectsAndTeleports) {
   EXPECT_LT(flux.gained_lm + flux.lost_lm, 1.0);
 }
 
-TEST_F(RuntimeRobustness, LightInsideAnObject) {
-  ASSERT_TRUE(runtime_->addObject(cube("lamp shade", 0.2f), at(0, 1, 0)).ok());
-  const std::vector<Rgb> shaded = settledDeltas(*runtime_);
+// Flux a 1e6 cd lamp at `lamp_at` adds to the static patches (what a
+// shade around it at `shade_at` already changed subtracted; deltas hold the
+// lamp's bounced light, its direct light is the shaders'), as a share of
+// its flux, 4 pi x 1e6 lm. Output stays finite, on the shade too.
+double lampLeak(Runtime& runtime, const Vec3& shade_at, const Vec3& lamp_at) {
+  EXPECT_TRUE(
+      runtime.addObject(cube("lamp shade", 0.2f), at(shade_at.x, shade_at.y, shade_at.z)).ok());
+  const std::vector<Rgb> shaded = settledDeltas(runtime);
   Light lamp;
   lamp.name = "inside";
-  lamp.position = {0.05f, 1.03f, 0.02f};
+  lamp.position = lamp_at;
   lamp.intensity = 1e6f;
-  Expected<LightId> id = runtime_->addLight(lamp);
-  ASSERT_TRUE(id.ok());
-  for (int i = 0; i < 3; ++i) EXPECT_TRUE(runtime_->update(0).error.empty());
-  expectFinite(*runtime_);
+  EXPECT_TRUE(runtime.addLight(lamp).ok());
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(runtime.update(0).error.empty());
+  expectFinite(runtime);
   for (uint32_t t = 0; t < 12; ++t) {
-    const Rgb shade = *runtime_->objectPatchIrradiance(runtime_->objects().back(), t);
+    const Rgb shade = *runtime.objectPatchIrradiance(runtime.objects().back(), t);
     EXPECT_TRUE(std::isfinite(shade.r) && std::isfinite(shade.g) && std::isfinite(shade.b));
   }
-  // What the lamp adds to the static patches (the shade alone subtracted;
-  // deltas hold the lamp's bounced light, its direct light is the shaders')
-  // against its flux, 4 pi x 1e6 lm. Measured: 7.7 % with the closed shade,
-  // 65 % without it. Bounds: 9 %, and under 15 % of the unshaded lamp's.
-  settledDeltas(*runtime_);
-  const DeltaFlux flux = staticDeltaFlux(*runtime_, shaded);
-  const double lamp_lm = 4.0 * kPi * double(lamp.intensity);
-  std::printf("[measured] lamp in a shade: gained %.4g lm, lost %.4g lm of %.4g lm (%.3f %%)\n",
-              flux.gained_lm, flux.lost_lm, lamp_lm,
-              100.0 * (flux.gained_lm + flux.lost_lm) / lamp_lm);
-  // The same lamp without the shade, for scale.
+  settledDeltas(runtime);
+  const DeltaFlux flux = staticDeltaFlux(runtime, shaded);
+  return (flux.gained_lm + flux.lost_lm) / (4.0 * kPi * double(lamp.intensity));
+}
+
+// A closed shade in free air (nothing else inside it) keeps all of its
+// lamp's light: the lamp's maps show only the shade's back faces, which
+// absorb, so no static patch changes at all. Measured: 0 (exactly). The
+// same lamp with no shade gives 52.5 % for scale.
+TEST_F(RuntimeRobustness, LightInsideAnObject) {
+  const Vec3 shade_at{0.0f, 1.5f, 0.5f}, lamp_at{0.05f, 1.53f, 0.52f};
+  const double leak = lampLeak(*runtime_, shade_at, lamp_at);
   std::unique_ptr<Runtime> unshaded = create();
   ASSERT_TRUE(unshaded);
   const std::vector<Rgb> unlit = settledDeltas(*unshaded);
+  Light lamp;
+  lamp.position = lamp_at;
+  lamp.intensity = 1e6f;
   ASSERT_TRUE(unshaded->addLight(lamp).ok());
   settledDeltas(*unshaded);
   const DeltaFlux open = staticDeltaFlux(*unshaded, unlit);
-  std::printf("[measured] the lamp without its shade: gained %.4g lm, lost %.4g lm (%.3f %%)\n",
-              open.gained_lm, open.lost_lm, 100.0 * (open.gained_lm + open.lost_lm) / lamp_lm);
-  EXPECT_LT(flux.gained_lm + flux.lost_lm, 0.09 * lamp_lm);
-  EXPECT_LT(flux.gained_lm + flux.lost_lm, 0.15 * (open.gained_lm + open.lost_lm));
+  const double open_share = (open.gained_lm + open.lost_lm) / (4.0 * kPi * double(lamp.intensity));
+  std::printf(
+      "[measured] lamp in a shade in free air: %.3g %% of its flux; without the shade %.3f %%\n",
+      100.0 * leak, 100.0 * open_share);
+  EXPECT_LT(leak, 1e-9);
+  EXPECT_GT(open_share, 0.3);  // the lamp does light the box: the bound above can fail
+}
+
+// The same shade at (0, 1, 0), where the level's tall box passes through
+// it: the lamp lights the part of the tall box's face inside the shade
+// (17.5 % of its flux lands on that face), and the face, one runtime patch,
+// reflects it from all of its area, nine tenths of it outside the shade.
+// Patches reflect what they get uniformly (thesis 5.3); interpenetrating
+// objects leak by the share of a patch that lies inside. Measured: 7.7 %;
+// bound 9 %. With the tall box hidden the same shade and lamp leak nothing,
+// which shows that the leak is the tall box's.
+TEST_F(RuntimeRobustness, LightInsideAnObjectThatAnotherPierces) {
+  const Vec3 shade_at{0.0f, 1.0f, 0.0f}, lamp_at{0.05f, 1.03f, 0.02f};
+  const double pierced = lampLeak(*runtime_, shade_at, lamp_at);
+  std::unique_ptr<Runtime> without_box = create();
+  ASSERT_TRUE(without_box);
+  const ObjectId tall_box = without_box->objects().front();
+  ASSERT_EQ(without_box->objectInfo(tall_box)->name, "tallBox");
+  ASSERT_TRUE(without_box->setObjectVisible(tall_box, false).ok());
+  const double alone = lampLeak(*without_box, shade_at, lamp_at);
+  std::printf(
+      "[measured] lamp in a shade the tall box pierces: %.3f %% of its flux; "
+      "with the tall box hidden %.3g %%\n",
+      100.0 * pierced, 100.0 * alone);
+  EXPECT_LT(pierced, 0.09);
+  EXPECT_GT(pierced, 0.01);  // the patch path does leak here: the case is what it says
+  EXPECT_LT(alone, 1e-9);
 }
 
 }  // namespace
