@@ -62,6 +62,8 @@ void printUsage(FILE* out) {
       "  --bake OUT       the bake directory (OUT/bake.svit) written by svit-bake for LEVEL\n"
       "  --headless       no window: render N frames of simulated time (frame / fps)\n"
       "  --script S.json  camera keys and per-frame events (samples/walk/README.md)\n"
+      "  --camera NAME    look from the level's glTF camera NAME (default: the level's\n"
+      "                   camera path, else its first glTF camera, else an overview)\n"
       "  --frames N       frames to render headless (default: the script's, else 90)\n"
       "  --frames-out DIR write DIR/frame-0000.png ... (headless)\n"
       "  --frames-format png|exr  png (default): display colour; exr: DIR/frame-0000.exr ...\n"
@@ -94,6 +96,19 @@ std::string combinationError(const WalkOptions& o) {
   return "";
 }
 
+// The field an option taking a path (or, --camera, a name) sets; null for
+// any other option.
+std::string* textOption(const std::string& arg, WalkOptions& o) {
+  if (arg == "--bake") return &o.bake_dir;
+  if (arg == "--script") return &o.script;
+  if (arg == "--frames-out") return &o.frames_out;
+  if (arg == "--stats") return &o.stats;
+  if (arg == "--probe") return &o.probe;
+  if (arg == "--probe-out") return &o.probe_out;
+  if (arg == "--camera") return &o.camera;
+  return nullptr;
+}
+
 }  // namespace
 
 ParsedArgs parseWalkArgs(int argc, const char* const* argv) {
@@ -119,16 +134,10 @@ ParsedArgs parseWalkArgs(int argc, const char* const* argv) {
       o.headless = true;
     } else if (arg == "--overlay") {
       o.overlay = true;
-    } else if (arg == "--bake" || arg == "--script" || arg == "--frames-out" || arg == "--stats" ||
-               arg == "--probe" || arg == "--probe-out") {
-      if (!value(v) || *v == '\0') return fail(arg + " needs a path");
-      std::string& target = arg == "--bake"         ? o.bake_dir
-                            : arg == "--script"     ? o.script
-                            : arg == "--frames-out" ? o.frames_out
-                            : arg == "--stats"      ? o.stats
-                            : arg == "--probe"      ? o.probe
-                                                    : o.probe_out;
-      target = v;
+    } else if (std::string* target = textOption(arg, o)) {
+      if (!value(v) || *v == '\0')
+        return fail(arg + (arg == "--camera" ? " needs a camera name" : " needs a path"));
+      *target = v;
     } else if (arg == "--frames") {
       int n = 0;
       if (!value(v) || !parseInt(v, 1, 1000000, n))

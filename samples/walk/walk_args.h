@@ -20,6 +20,7 @@ struct WalkOptions {
   std::string bake_dir;  ///< --bake OUT: the directory holding bake.svit
   bool headless = false;
   std::string script;         ///< --script S.json, empty: none
+  std::string camera;         ///< --camera NAME: a glTF camera of the level, empty: the default
   std::optional<int> frames;  ///< --frames N (headless), else the script's or 90
   std::string frames_out;     ///< --frames-out DIR (headless), empty: no frames written
   FramesFormat frames_format = FramesFormat::kPng;  ///< --frames-format png|exr

@@ -19,7 +19,39 @@ Camera fromKey(const CameraKey& key, float near_m, float far_m) {
   return c;
 }
 
+// A glTF camera with its own planes; an infinite one ends where the
+// overview's far plane does.
+Camera fromSceneCamera(const SceneCamera& camera, float far_m) {
+  Camera c;
+  c.position = camera.position;
+  c.look_at = fromGlm(toGlm(camera.position) + toGlm(camera.forward));
+  c.up = camera.up;
+  c.yfov_rad = camera.yfov_rad;
+  c.near_m = camera.near_m;
+  c.far_m = camera.far_m > 0 ? camera.far_m : std::max(far_m, 100.0f * camera.near_m);
+  return c;
+}
+
 }  // namespace
+
+Expected<int> chooseSceneCamera(const Scene& scene, const std::string& level,
+                                const std::string& name, bool script_has_camera) {
+  if (name.empty()) {
+    return scene.camera_paths.empty() && !scene.cameras.empty() ? 0 : -1;
+  }
+  if (script_has_camera) {
+    return Status(StatusCode::kInvalidInput,
+                  "--camera '" + name + "': the script's camera keys place the camera too");
+  }
+  std::string names;
+  for (size_t i = 0; i < scene.cameras.size(); ++i) {
+    if (scene.cameras[i].name == name) return int(i);
+    names += (names.empty() ? "'" : ", '") + scene.cameras[i].name + "'";
+  }
+  return Status(StatusCode::kInvalidInput,
+                "--camera '" + name + "': " + level + " has no camera called that (" +
+                    (names.empty() ? "it has no glTF cameras" : "its cameras: " + names) + ")");
+}
 
 Camera levelOverview(const Scene& scene) {
   glm::vec3 lo(1e30f), hi(-1e30f);
@@ -47,10 +79,12 @@ Camera levelOverview(const Scene& scene) {
 }
 
 Camera cameraAt(const Scene& scene, const Camera& overview, std::span<const CameraKey> script_keys,
-                float t_s) {
+                int scene_camera, float t_s) {
   if (!script_keys.empty()) {
     return fromKey(sampleCameraKeys(script_keys, t_s, false), overview.near_m, overview.far_m);
   }
+  if (scene_camera >= 0)
+    return fromSceneCamera(scene.cameras[size_t(scene_camera)], overview.far_m);
   if (!scene.camera_paths.empty() && !scene.camera_paths[0].keys.empty()) {
     const CameraPath& path = scene.camera_paths[0];
     return fromKey(sampleCameraKeys(path.keys, t_s, path.loop), overview.near_m, overview.far_m);

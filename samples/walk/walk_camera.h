@@ -1,9 +1,11 @@
 #pragma once
-// Where svit-walk looks from: the script's camera keys, else the level's
-// first camera path, else a view of the whole level; and the free-flying
-// camera of the window mode.
+// Where svit-walk looks from: the script's camera keys, else the glTF camera
+// chosen (--camera NAME), else the level's first camera path, else its first
+// glTF camera, else a view of the whole level; and the free-flying camera of
+// the window mode.
 
 #include <span>
+#include <string>
 
 #include "svit/scene.h"
 #include "svit/scene_renderer.h"
@@ -15,10 +17,19 @@ namespace svit::walk {
 /// camera of cameraAt() takes its planes from it). Walks every vertex: call once.
 Camera levelOverview(const Scene& scene);
 
-/// The scripted camera at global time `t_s`: `script_keys` when non-empty
-/// (never looping), else the level's first camera path, else `overview`.
+/// The Scene::cameras index to look from: the camera called `name` when
+/// given, else the first glTF camera of a level without a camera path, else
+/// -1. Errors (kInvalidInput, naming `level`): no camera called `name` (the
+/// message lists those there are); `name` given with a script that has
+/// camera keys of its own.
+Expected<int> chooseSceneCamera(const Scene& scene, const std::string& level,
+                                const std::string& name, bool script_has_camera);
+
+/// The camera at global time `t_s`: `script_keys` when non-empty (never
+/// looping), else Scene::cameras[scene_camera] when >= 0, else the level's
+/// first camera path, else `overview`.
 Camera cameraAt(const Scene& scene, const Camera& overview, std::span<const CameraKey> script_keys,
-                float t_s);
+                int scene_camera, float t_s);
 
 /// A first-person camera: position, yaw about +Y and pitch, in radians.
 struct FlyCamera {

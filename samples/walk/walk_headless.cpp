@@ -30,7 +30,8 @@ Status runHeadless(WalkSession& session) {
       if (event.frame != frame) continue;
       if (Status s = applyEvent(session, event); !s.ok()) return s;
     }
-    const Camera camera = cameraAt(session.scene, session.overview, session.script.camera, t_s);
+    const Camera camera =
+        cameraAt(session.scene, session.overview, session.script.camera, session.scene_camera, t_s);
     const float aspect = float(session.renderer->width()) / float(session.renderer->height());
     Expected<FrameStats> lighting = stepLighting(session, t_s, camera, aspect);
     if (!lighting.ok())

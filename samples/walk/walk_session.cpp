@@ -73,6 +73,10 @@ Expected<std::unique_ptr<WalkSession>> openSession(const WalkOptions& options) {
     if (!script.ok()) return script.status();
     s.script = std::move(script).value();
   }
+  Expected<int> camera =
+      chooseSceneCamera(s.scene, options.level, options.camera, !s.script.camera.empty());
+  if (!camera.ok()) return camera.status();
+  s.scene_camera = *camera;
   s.fps = options.fps.value_or(s.script.fps.value_or(30.0f));
   s.frames = options.frames.value_or(s.script.frames.value_or(90));
   if (options.headless) {

@@ -33,6 +33,7 @@ struct WalkSession {
   double budget_ms = 0;
   ShadingView view = ShadingView::kRuntime;
   Camera overview;          ///< levelOverview(scene)
+  int scene_camera = -1;    ///< Scene::cameras index looked from (chooseSceneCamera), or -1
   std::string gl_renderer;  ///< GL_RENDERER
   // Declared in the order they are made: destroyed renderer first, window last.
   std::unique_ptr<GlWindow> window;

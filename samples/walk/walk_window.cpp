@@ -232,8 +232,8 @@ Status runWindow(WalkSession& session) {
   GLFWwindow* window = session.window->handle();
   Controls controls;
   controls.session = &session;
-  controls.camera =
-      FlyCamera::lookingLike(cameraAt(session.scene, session.overview, session.script.camera, 0));
+  controls.camera = FlyCamera::lookingLike(
+      cameraAt(session.scene, session.overview, session.script.camera, session.scene_camera, 0));
   controls.speed_m_per_s = std::max(
       0.1f, glm::length(toGlm(session.overview.position) - toGlm(session.overview.look_at)) / 6);
   controls.message =

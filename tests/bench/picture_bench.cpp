@@ -190,7 +190,8 @@ int main(int argc, char** argv) {
     const auto t0 = Clock::now();
     motion.advance(t);
     SVIT_SETUP_CHECK(motion.applyTo(*runtime).ok(), "placing the objects");
-    const Camera camera = walk::cameraAt(base.scene, overview, {}, t);
+    const Camera camera = walk::cameraAt(base.scene, overview, {},
+                                         *walk::chooseSceneCamera(base.scene, "", "", false), t);
     SVIT_SETUP_CHECK(runtime->setView(viewOf(camera, settings)).ok(), "view");
     const FrameStats stats = runtime->update(0);
     SVIT_SETUP_CHECK(stats.error.empty(), stats.error);

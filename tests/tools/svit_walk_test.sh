@@ -36,6 +36,7 @@ cat >"$work/script.json" <<'JSON'
             {"frame": 2, "baked_emitter": {"index": 0, "scale": 0.5}},
             {"frame": 3, "view": "delta"}]}
 JSON
+printf '%s' '{"camera": [{"t_s": 0, "position": [0, 1, 3.4], "look_at": [0, 1, 0]}]}' >"$work/script_camera.json"
 printf '0 0 0 0 1 0\n# a comment\n0 1.98 0 0 -1 0\n-0.99 1 0 1 0 0\n0.99 1 0 -1 0 0\n' >"$work/points.txt"
 expect_exit walk 0 -- "$walk" "$level" --bake "$work/cornell" --headless --script "$work/script.json" \
   --frames-out "$work/frames" --stats "$work/stats.json" --probe "$work/points.txt" --probe-out "$work/probe.txt" \
@@ -154,6 +155,42 @@ expect_err missing_bake_message "bake.svit"
   --texels-per-m 8 --quiet || fail "bake of the bare glTF"
 expect_exit other_level_bake 1 -- "$walk" "$level" --bake "$work/gltf_bake" --headless --frames 1
 expect_err other_level_bake_message "another level"
+# glTF cameras as viewpoints: the Cornell glTF with two cameras (the bake of
+# the bare glTF serves: cameras are not in the level hash). With no camera
+# path the first camera is the default; --camera picks one by name; an
+# unknown name, or --camera with a script's own camera keys, is exit 1.
+python3 - "$cornell_gltf" "$work/cameras.gltf" <<'PY' || fail "write the glTF with cameras"
+import json, os, shutil, sys
+gltf = json.load(open(sys.argv[1]))
+for b in gltf["buffers"]:  # beside the copy: the loader reads buffers from the glTF's directory
+    shutil.copy(os.path.join(os.path.dirname(sys.argv[1]), b["uri"]), os.path.dirname(sys.argv[2]))
+gltf["cameras"] = [{"name": "Front", "type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.05}},
+                   {"name": "Corner", "type": "perspective", "perspective": {"yfov": 0.9, "znear": 0.05, "zfar": 20}}]
+gltf["nodes"] += [{"name": "front eye", "camera": 0, "translation": [0, 1, 3.4]},
+                  {"name": "corner eye", "camera": 1, "translation": [0.8, 1.7, 0.8],
+                   "rotation": [-0.2391, 0.3696, 0.0990, 0.8924]}]
+gltf["scenes"][0]["nodes"] += [len(gltf["nodes"]) - 2, len(gltf["nodes"]) - 1]
+json.dump(gltf, open(sys.argv[2], "w"))
+PY
+for view in default Front Corner; do
+  extra=()
+  [[ $view != default ]] && extra=(--camera "$view")
+  expect_exit "camera_$view" 0 -- "$walk" "$work/cameras.gltf" --bake "$work/gltf_bake" --headless --frames 1 \
+    --view baked --frames-out "$work/camera_$view" --width 64 --height 36 "${extra[@]}"
+done
+cmp -s "$work/camera_default/frame-0000.png" "$work/camera_Front/frame-0000.png" \
+  && ok "the first glTF camera is the default" || fail "the default view is not the first glTF camera"
+cmp -s "$work/camera_Front/frame-0000.png" "$work/camera_Corner/frame-0000.png" \
+  && fail "--camera Corner showed what Front shows" || ok "--camera picks the named camera"
+expect_exit camera_unknown 1 -- "$walk" "$work/cameras.gltf" --bake "$work/gltf_bake" --headless --frames 1 \
+  --camera Back
+expect_err camera_unknown_message "--camera 'Back': $work/cameras.gltf has no camera called that (its cameras: 'Front', 'Corner')"
+expect_exit camera_with_script 1 -- "$walk" "$work/cameras.gltf" --bake "$work/gltf_bake" --headless \
+  --camera Front --script "$work/script_camera.json"
+expect_err camera_with_script_message "--camera 'Front': the script's camera keys place the camera too"
+expect_exit camera_empty 2 -- "$walk" "$work/cameras.gltf" --bake "$work/gltf_bake" --headless --camera ""
+expect_err camera_empty_message "--camera needs a camera name"
+
 bad_script() {  # NAME JSON EXPECTED-MESSAGE
   printf '%s' "$2" >"$work/bad.json"
   expect_exit "$1" 1 -- "$walk" "$level" --bake "$work/cornell" --headless --frames 3 --script "$work/bad.json"

@@ -28,7 +28,7 @@ Expected<Scene> loadLevel(const std::string& path, const LoadOptions& options = 
 Expected<Scene> loadGltf(const std::string& path, const LoadOptions& options = {});
 
 /// Writes the scene's meshes, materials (factors and textures), nodes and
-/// lights as a .gltf with an embedded buffer, dynamic marks as
+/// lights and cameras as a .gltf with an embedded buffer, dynamic marks as
 /// extras.svit.dynamic. Writes `path`.tmp then renames, so a failure leaves
 /// any previous file intact. Sun, sky and paths belong to level.json and are
 /// not written.

@@ -97,6 +97,7 @@ struct Node {
   /// moves at run time (extras.svit.dynamic or level.json, inherited by children)
   bool dynamic = false;
   bool animated = false;  ///< a glTF animation channel targets this node or an ancestor
+  int camera = -1;        ///< glTF camera index it places, or -1
 };
 
 /// A mesh placed in the world: one per node that holds a mesh.
@@ -193,6 +194,21 @@ struct CameraPath {
   std::vector<CameraKey> keys;
 };
 
+/// A viewpoint the glTF names: a node holding a perspective camera, placed
+/// by the node's world transform (glTF cameras look down their node's -Z,
+/// +Y up). Cameras do not change the lighting: they are not in the level
+/// hash.
+struct SceneCamera {
+  std::string name;  ///< the camera's name, else its node's, else "camera N"
+  int node = -1;
+  Vec3 position{0, 0, 0};
+  Vec3 forward{0, 0, -1};  ///< world, unit
+  Vec3 up{0, 1, 0};        ///< world, unit, perpendicular to forward
+  float yfov_rad = 1.0471975512f;
+  float near_m = 0.05f;
+  float far_m = 0;  ///< 0: the glTF gives none (an infinite projection)
+};
+
 /// Counters of what import skipped or repaired; each also has a line in
 /// Scene::warnings naming the element.
 struct ImportCounters {
@@ -219,6 +235,7 @@ struct Scene {
   Sky sky;
   std::vector<ObjectPath> object_paths;
   std::vector<CameraPath> camera_paths;
+  std::vector<SceneCamera> cameras;  ///< the glTF's, in node order
   std::vector<std::string> warnings;
   ImportCounters counters;
 

@@ -30,7 +30,8 @@ struct SceneSummary {
   size_t animation_tracks = 0;
   size_t object_paths = 0;
   size_t camera_paths = 0;
-  Aabb bounds;  ///< world bounds of all placed triangles, metres
+  std::vector<std::string> cameras;  ///< names of the glTF's viewpoints (Scene::cameras)
+  Aabb bounds;                       ///< world bounds of all placed triangles, metres
   std::vector<std::string> warnings;
 };
 

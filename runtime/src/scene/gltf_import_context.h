@@ -40,6 +40,9 @@ Status importMaterials(ImportContext& context);
 Status importMesh(ImportContext& context, int mesh_index, Mesh& mesh);
 /// Fills Scene::nodes (local transforms, extras.svit.dynamic) and lights.
 Status importNodesAndLights(ImportContext& context, std::vector<int>& scene_roots);
+/// Sets Node::camera and lists the perspective cameras the nodes hold in
+/// Scene::cameras (placed by finalizeScene); orthographic ones are a warning.
+Status importCameras(ImportContext& context);
 /// Fills Scene::animations; marks animated nodes.
 Status importAnimations(ImportContext& context);
 

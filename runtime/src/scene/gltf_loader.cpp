@@ -173,6 +173,7 @@ Expected<Scene> importGltfUnfinalized(const std::string& path, const LoadOptions
   gltf::ImportContext context{model, path, options, scene, {}, &encoded_images, -1};
   if (Status s = gltf::importMaterials(context); !s.ok()) return s;
   if (Status s = gltf::importNodesAndLights(context, scene_roots); !s.ok()) return s;
+  if (Status s = gltf::importCameras(context); !s.ok()) return s;
   // Convert only meshes that nodes of the scene use; others stay empty.
   scene.meshes.resize(model.meshes.size());
   std::vector<bool> used(model.meshes.size(), false);

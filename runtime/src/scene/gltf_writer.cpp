@@ -235,6 +235,16 @@ void writeNodes(const Scene& scene, tinygltf::Model& model) {
     ext["light"] = tinygltf::Value(int(model.lights.size() - 1));
     model.nodes[size_t(light.node)].extensions["KHR_lights_punctual"] = tinygltf::Value(ext);
   }
+  for (const SceneCamera& camera : scene.cameras) {
+    tinygltf::Camera out;
+    out.name = camera.name;
+    out.type = "perspective";
+    out.perspective.yfov = camera.yfov_rad;
+    out.perspective.znear = camera.near_m;
+    out.perspective.zfar = camera.far_m;
+    model.cameras.push_back(out);
+    model.nodes[size_t(camera.node)].camera = int(model.cameras.size() - 1);
+  }
   tinygltf::Scene gltf_scene;
   for (size_t i = 0; i < scene.nodes.size(); ++i) {
     if (scene.nodes[i].parent < 0) gltf_scene.nodes.push_back(int(i));

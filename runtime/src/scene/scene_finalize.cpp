@@ -110,6 +110,30 @@ Status placeLights(Scene& scene, const std::vector<bool>& reached) {
   return Status();
 }
 
+// Places the cameras by their nodes (looking down the node's -Z, +Y up);
+// cameras on nodes outside the active scene are dropped, like lights.
+Status placeCameras(Scene& scene, const std::vector<bool>& reached) {
+  std::vector<SceneCamera> placed;
+  for (SceneCamera& camera : scene.cameras) {
+    if (!reached[size_t(camera.node)]) continue;
+    const glm::mat4 world = toGlm(scene.nodes[size_t(camera.node)].world_from_node);
+    const glm::vec3 forward = glm::mat3(world) * glm::vec3(0, 0, -1);
+    const glm::vec3 up = glm::mat3(world) * glm::vec3(0, 1, 0);
+    const glm::vec3 right = glm::cross(forward, up);
+    if (!(glm::length(right) > 0.0f)) {
+      return Status(StatusCode::kInvalidInput, scene.gltf_path + ": camera '" + camera.name +
+                                                   "' on " + nodeName(scene, camera.node) +
+                                                   ": singular transform gives it no view");
+    }
+    camera.position = fromGlm(transformPoint(world, glm::vec3(0)));
+    camera.forward = fromGlm(glm::normalize(forward));
+    camera.up = fromGlm(glm::normalize(glm::cross(right, forward)));
+    placed.push_back(camera);
+  }
+  scene.cameras = std::move(placed);
+  return Status();
+}
+
 Status checkHasTriangles(const Scene& scene) {
   size_t triangles = 0;
   for (const Instance& instance : scene.instances)
@@ -129,6 +153,7 @@ Status finalizeScene(Scene& scene, const std::vector<int>& scene_roots) {
   std::vector<bool> reached(scene.nodes.size(), false);
   if (Status s = placeNodes(scene, scene_roots, reached); !s.ok()) return s;
   if (Status s = placeLights(scene, reached); !s.ok()) return s;
+  if (Status s = placeCameras(scene, reached); !s.ok()) return s;
   return checkHasTriangles(scene);
 }
 

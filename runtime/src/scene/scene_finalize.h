@@ -1,6 +1,6 @@
 #pragma once
 // Last stage of level loading, after glTF import and level.json: inherit
-// dynamic marks, compute world transforms, place instances and lights, and
+// dynamic marks, compute world transforms, place instances, lights and cameras, and
 // reject scenes with nothing to light.
 
 #include <string>

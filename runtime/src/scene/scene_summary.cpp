@@ -66,6 +66,7 @@ SceneSummary summarize(const Scene& scene) {
   for (const Animation& a : scene.animations) summary.animation_tracks += a.tracks.size();
   summary.object_paths = scene.object_paths.size();
   summary.camera_paths = scene.camera_paths.size();
+  for (const SceneCamera& camera : scene.cameras) summary.cameras.push_back(camera.name);
   summary.warnings = scene.warnings;
   return summary;
 }
@@ -99,6 +100,9 @@ std::string summaryToText(const std::string& level_path, const SceneSummary& s) 
   out += "animation   " + std::to_string(s.animations) + " animations, " +
          std::to_string(s.animation_tracks) + " tracks; " + std::to_string(s.object_paths) +
          " object paths, " + std::to_string(s.camera_paths) + " camera paths\n";
+  out += "cameras     " + std::to_string(s.cameras.size());
+  for (size_t i = 0; i < s.cameras.size(); ++i) out += (i ? ", '" : ": '") + s.cameras[i] + "'";
+  out += "\n";
   if (s.bounds.empty()) {
     out += "bounds      empty\n";
   } else {
@@ -130,6 +134,7 @@ std::string summaryToJson(const std::string& level_path, const SceneSummary& s) 
                      {"tracks", s.animation_tracks},
                      {"object_paths", s.object_paths},
                      {"camera_paths", s.camera_paths}};
+  j["cameras"] = s.cameras;
   if (s.bounds.empty()) {
     j["bounds_m"] = nullptr;
   } else {
