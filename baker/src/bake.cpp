@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "svit/bake_file.h"
+#include "svit/level.h"
 #include "svit/lightmap_image.h"
 #include "bake_output.h"
 #include "bake_stages.h"
@@ -120,6 +121,29 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const LoadedLevel& leve
 
 }  // namespace
 
+namespace {
+
+// --sun/--sky: parsed as a level file's objects; only for a bare glTF,
+// whose level has no other place for them (a level .json has its own).
+Status validateSunAndSky(const BakeOptions& o) {
+  if (o.sun_json.empty() && o.sky_json.empty()) return Status();
+  const std::string extension = fs::path(o.level_path).extension().string();
+  if (extension != ".gltf" && extension != ".glb" && extension != ".GLTF" && extension != ".GLB") {
+    return Status(StatusCode::kInvalidInput, std::string(o.sun_json.empty() ? "--sky" : "--sun") +
+                                                 " is for a bare glTF: " + o.level_path +
+                                                 " is a level file; give its sun and sky there");
+  }
+  if (!o.sun_json.empty()) {
+    if (Expected<Sun> sun = parseSunJson(o.sun_json, "--sun"); !sun.ok()) return sun.status();
+  }
+  if (!o.sky_json.empty()) {
+    if (Expected<Sky> sky = parseSkyJson(o.sky_json, "--sky"); !sky.ok()) return sky.status();
+  }
+  return Status();
+}
+
+}  // namespace
+
 Status validateBakeOptions(const BakeOptions& o) {
   auto bad = [](const std::string& m) { return Status(StatusCode::kInvalidInput, m); };
   if (o.level_path.empty()) return bad("no level given");
@@ -138,7 +162,7 @@ Status validateBakeOptions(const BakeOptions& o) {
   }
   if (o.max_page_size < 16 || o.max_page_size > 16384)
     return bad("page size must be in [16, 16384]");
-  return Status();
+  return validateSunAndSky(o);
 }
 
 Expected<BakeResult> bakeLevel(const BakeOptions& options,
@@ -150,7 +174,8 @@ Expected<BakeResult> bakeLevel(const BakeOptions& options,
   // Load the level, the --reference bake, and the ray caster. A bad level
   // is reported first: it is the error a user fixes first.
   if (!run.clock.report(0, run.clock.remaining())) return run.cancelled;
-  Expected<std::unique_ptr<LoadedLevel>> level = loadBakeLevel(options.level_path);
+  Expected<std::unique_ptr<LoadedLevel>> level =
+      loadBakeLevel(options.level_path, options.sun_json, options.sky_json);
   if (!level.ok()) return level.status();
   Expected<std::vector<LightmapImage>> reference_pages =
       readReferencePages(options.reference_dir, (*level)->level_hash);

@@ -15,6 +15,7 @@
 #include "bake_output.h"
 #include "double_math.h"
 #include "file_output.h"
+#include "light_sources.h"
 #include "random.h"
 
 namespace svit::baker {
@@ -207,6 +208,19 @@ nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
   return json;
 }
 
+// With --sun/--sky, OUT/level.json: the level the bake lit (the glTF by
+// absolute path, with that sun and sky), which svit-walk and the runtime
+// load to match the bake's level hash.
+Status writeBakedLevelJson(const BakeOptions& options, const fs::path& staging) {
+  if (options.sun_json.empty() && options.sky_json.empty()) return Status();
+  nlohmann::ordered_json level;
+  level["gltf"] = fs::absolute(options.level_path).lexically_normal().string();
+  if (!options.sun_json.empty()) level["sun"] = nlohmann::ordered_json::parse(options.sun_json);
+  if (!options.sky_json.empty()) level["sky"] = nlohmann::ordered_json::parse(options.sky_json);
+  const std::string text = level.dump(2) + "\n";
+  return writeFileReplacing((staging / "level.json").string(), text.data(), text.size());
+}
+
 // Writes the pages, the bake file and report.json into a fresh directory
 // beside OUT, then swaps it in; OUT is left as it was on any failure.
 Expected<BakeResult> writeBake(BakeRun& run, const LightmapPages& pages, const BakeData& data,
@@ -232,6 +246,7 @@ Expected<BakeResult> writeBake(BakeRun& run, const LightmapPages& pages, const B
     if (run.cancelRequested()) return fail(run.cancelled);
   }
   if (Status s = writeBakeFile(data, (staging / "bake.svit").string()); !s.ok()) return fail(s);
+  if (Status s = writeBakedLevelJson(run.options, staging); !s.ok()) return fail(s);
   BakeResult result;
   result.pages = pages.images.size();
   result.covered_texels = countTexels(pages).covered;
@@ -240,6 +255,8 @@ Expected<BakeResult> writeBake(BakeRun& run, const LightmapPages& pages, const B
       series.empty() ? std::numeric_limits<double>::quiet_NaN() : series.back().ref_rel_error;
   run.clock.endStage("done");
   json["stage_seconds"]["write"] = run.clock.stageSeconds().back().second;
+  for (const auto& warning : json["warnings"])
+    result.warnings.push_back(warning.get<std::string>());
   result.seconds = run.clock.elapsed();
   json["total_seconds"] = result.seconds;
   result.report_json = json.dump(2) + "\n";
@@ -283,15 +300,50 @@ BakeRun makeBakeRun(const BakeOptions& options,
       Status(StatusCode::kCancelled, "bake cancelled; " + options.out_dir + " left as it was")};
 }
 
-Expected<std::unique_ptr<LoadedLevel>> loadBakeLevel(const std::string& level_path) {
+namespace {
+
+// What a user who bakes a glTF without lights (most glTF files carry none)
+// must be told, instead of black lightmaps without a word.
+std::string noLightWarning(const Scene& scene) {
+  size_t runtime_lights = 0;
+  for (const Light& light : scene.lights) runtime_lights += light.dynamic ? 1 : 0;
+  std::string warning = scene.source_path +
+                        ": no light source to bake (no static light, emissive surface, sun or "
+                        "sky with any power): every lightmap texel is 0";
+  if (runtime_lights > 0) {
+    warning += "; its " + std::to_string(runtime_lights) +
+               " dynamic light(s) are the runtime's, not baked";
+  }
+  return warning +
+         ". Add KHR_lights_punctual lights or emissive materials to the glTF, a sun or sky in a "
+         "level .json, or give svit-bake --sun/--sky";
+}
+
+}  // namespace
+
+Expected<std::unique_ptr<LoadedLevel>> loadBakeLevel(const std::string& level_path,
+                                                     const std::string& sun_json,
+                                                     const std::string& sky_json) {
   auto level = std::make_unique<LoadedLevel>();
   Expected<Scene> scene = loadLevel(level_path);
   if (!scene.ok()) return scene.status();
   level->scene = std::move(scene).value();
+  if (!sun_json.empty()) {
+    Expected<Sun> sun = parseSunJson(sun_json, "--sun");
+    if (!sun.ok()) return sun.status();
+    level->scene.sun = *sun;
+  }
+  if (!sky_json.empty()) {
+    Expected<Sky> sky = parseSkyJson(sky_json, "--sky");
+    if (!sky.ok()) return sky.status();
+    level->scene.sky = *sky;
+  }
   level->level_hash = hashLevel(level->scene);
   Expected<BakeGeometry> geometry = flattenStaticGeometry(level->scene, &level->degenerate);
   if (!geometry.ok()) return geometry.status();
   level->geometry = std::move(geometry).value();
+  level->emits_light = emitsAnyLight(level->scene, level->geometry);
+  if (!level->emits_light) level->scene.warnings.push_back(noLightWarning(level->scene));
   Expected<std::unique_ptr<RayCaster>> caster = makeEmbreeCaster(level->geometry);
   if (!caster.ok()) return caster.status();
   level->caster = std::move(caster).value();
@@ -359,8 +411,13 @@ Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
   PageSettings page_settings;
   page_settings.dilation_texels = atlas.settings.padding_texels;
   page_settings.edge_aware_filter = true;  // gather noise; never crosses charts or creases
-  const LightmapPages pages = buildLightmapPages(level.geometry, atlas.atlas, atlas.texels,
-                                                 lighting.accumulator.mean(), page_settings);
+  LightmapPages pages = buildLightmapPages(level.geometry, atlas.atlas, atlas.texels,
+                                           lighting.accumulator.mean(), page_settings);
+  if (!level.emits_light) {
+    for (LightmapImage& page : pages.images) {
+      page.comments = "svit: black: the level has no light source to bake (report.json)";
+    }
+  }
   BakeData data =
       lightmapBakeData(run.options, level.level_hash, level.geometry, atlas.atlas, pages);
   run.clock.endStage("runtime");

@@ -83,6 +83,9 @@ struct LoadedLevel {
   Scene scene;
   uint64_t level_hash = 0;
   size_t degenerate = 0;  ///< static triangles flattened to zero area, skipped
+  /// false: nothing baked emits, every texel is 0 (Scene::warnings says so,
+  /// and so does every page's EXR "comments")
+  bool emits_light = true;
   BakeGeometry geometry;
   std::unique_ptr<RayCaster> caster;
 
@@ -91,8 +94,12 @@ struct LoadedLevel {
   LoadedLevel& operator=(const LoadedLevel&) = delete;
 };
 
-/// Loads `level_path`, flattens its static geometry and builds the caster.
-Expected<std::unique_ptr<LoadedLevel>> loadBakeLevel(const std::string& level_path);
+/// Loads `level_path` (its sun and sky replaced by `sun_json` / `sky_json`
+/// when given: BakeOptions), flattens its static geometry and builds the
+/// caster.
+Expected<std::unique_ptr<LoadedLevel>> loadBakeLevel(const std::string& level_path,
+                                                     const std::string& sun_json = "",
+                                                     const std::string& sky_json = "");
 
 /// Radiosity until the plan's error target or time cap (or, with
 /// --passes, its error target at a pass end only: deterministic).

@@ -255,4 +255,12 @@ Expected<std::vector<LightSource>> makeLightSources(const Scene& scene,
   return sources;
 }
 
+bool emitsAnyLight(const Scene& scene, const BakeGeometry& geometry) {
+  for (const Rgb& e : geometry.emission) {
+    if (e.r > 0 || e.g > 0 || e.b > 0) return true;
+  }
+  const Expected<std::vector<LightSource>> sources = makeLightSources(scene, geometry);
+  return !sources.ok() || !sources->empty();
+}
+
 }  // namespace svit::baker

@@ -53,6 +53,12 @@ class LightSource {
 Expected<std::vector<LightSource>> makeLightSources(const Scene& scene,
                                                     const BakeGeometry& geometry);
 
+/// Whether anything the bake lights with emits: a static light, the sun or
+/// the sky with flux (makeLightSources' sources), or a static emissive
+/// triangle. False: every lightmap texel is 0. A scene makeLightSources
+/// refuses counts as emitting (the bake reports that error itself).
+bool emitsAnyLight(const Scene& scene, const BakeGeometry& geometry);
+
 /// glTF KHR_lights_punctual spot falloff: t^2 with
 /// t = clamp((cos - cos_outer) / (cos_inner - cos_outer), 0, 1).
 double spotFalloff(double cos_angle, double cos_inner, double cos_outer);

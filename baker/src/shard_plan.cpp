@@ -52,6 +52,11 @@ Status validatePlanOptions(const BakeOptions& options, uint32_t shards) {
         "--time cannot plan a sharded bake: a budget picks the pass count as a bake runs; give "
         "--passes (a timed bake's report.json says how many it ran: lightmap.lighting_passes)");
   }
+  if (!options.sun_json.empty() || !options.sky_json.empty()) {
+    return badInput(
+        "--sun and --sky are for whole bakes; plan a level .json that has them (the OUT/level.json "
+        "a bake with --sun/--sky writes is one)");
+  }
   if (!options.reference_dir.empty())
     return badInput(
         "--reference is for whole bakes; give it to svit-bake on the merged OUT's level");

@@ -1,5 +1,5 @@
 // svit-bake LEVEL -o OUT [--seed N] [--time SECONDS | --passes P] [--quality Q]
-//   [--texels-per-m T] [--threads N] [--reference REF_OUT] [--quiet]
+//   [--texels-per-m T] [--threads N] [--reference REF_OUT] [--sun JSON] [--sky JSON] [--quiet]
 // svit-bake plan LEVEL -o WORK --shards N [the same options but --time]
 // svit-bake shard WORK I [--threads N] [--quiet]
 // svit-bake merge WORK -o OUT [--threads N] [--quiet]
@@ -32,7 +32,8 @@ void usage(FILE* out) {
   std::fprintf(
       out,
       "usage: svit-bake LEVEL -o OUT [--seed N] [--time SECONDS | --passes P] [--quality Q]\n"
-      "                 [--texels-per-m T] [--threads N] [--reference REF_OUT] [--quiet]\n"
+      "                 [--texels-per-m T] [--threads N] [--reference REF_OUT]\n"
+      "                 [--sun JSON] [--sky JSON] [--quiet]\n"
       "       svit-bake plan LEVEL -o WORK --shards N [--passes P] [the options above]\n"
       "       svit-bake shard WORK I [--threads N] [--quiet]\n"
       "       svit-bake merge WORK -o OUT [--threads N] [--quiet]\n"
@@ -46,6 +47,11 @@ void usage(FILE* out) {
       "  --texels-per-m T lightmap density (default: about 256k texels for the level)\n"
       "  --threads N      worker threads (default: all cores); results do not depend on it\n"
       "  --reference DIR  a previous bake of the same level to measure the true error against\n"
+      "  --sun JSON       a bare glTF's sun, level.json's \"sun\" object, e.g.\n"
+      "                   '{\"direction_to_sun\": [0.3, 1, 0.2], \"illuminance_lux\": 100000}'\n"
+      "  --sky JSON       its sky, e.g. '{\"model\": \"uniform\", \"zenith_luminance\": [3000, "
+      "3000, 3000]}';\n"
+      "                   with either, OUT/level.json is the level baked (walk that one)\n"
       "  --quiet          print nothing but errors\n"
       "Ctrl-C or SIGTERM cancels (exit 3) and leaves OUT as it was; a kill or a full\n"
       "disk leaves it the previous bake or the whole new one.\n"
@@ -128,9 +134,14 @@ int parseOptions(int argc, char** argv, int first, svit::baker::BakeOptions& opt
       if (!value(number) || number != std::floor(number))
         return badUsage("--threads needs a whole number");
       options.threads = int(number);
-    } else if (arg == "--reference") {
-      if (i + 1 >= argc) return badUsage("--reference needs a bake directory");
-      options.reference_dir = argv[++i];
+    } else if (arg == "--reference" || arg == "--sun" || arg == "--sky") {
+      if (i + 1 >= argc) {
+        return badUsage(arg + (arg == "--reference" ? " needs a bake directory"
+                                                    : " needs a JSON object, as in a level .json"));
+      }
+      (arg == "--reference" ? options.reference_dir
+       : arg == "--sun"     ? options.sun_json
+                            : options.sky_json) = argv[++i];
     } else if (arg == "--quiet") {
       quiet = true;
     } else if (!arg.empty() && arg[0] == '-') {
@@ -259,6 +270,18 @@ void printSummary(const svit::baker::BakeOptions& options, const svit::baker::Ba
   if (result.ref_rel_error == result.ref_rel_error)
     std::printf(", error against the reference %.2f%%", 100.0 * result.ref_rel_error);
   std::printf("\n");
+  if (!options.sun_json.empty() || !options.sky_json.empty()) {
+    std::printf("the level baked (with --sun/--sky) is %s/level.json: walk that one\n",
+                options.out_dir.c_str());
+  }
+}
+
+// report.json's warnings, one line each on stderr: a level with no light
+// source among them, so that black lightmaps never come without a word.
+void printWarnings(const std::vector<std::string>& warnings) {
+  for (const std::string& warning : warnings) {
+    std::fprintf(stderr, "svit-bake: warning: %s\n", warning.c_str());
+  }
 }
 
 int reportFailure(const svit::Status& status) {
@@ -273,7 +296,10 @@ int runBake(const svit::baker::BakeOptions& options, bool quiet) {
       options, [&](const svit::baker::BakeProgress& p) { return printer(p); }, &g_cancel);
   printer.finish();
   if (!result.ok()) return reportFailure(result.status());
-  if (!quiet) printSummary(options, *result);
+  if (!quiet) {
+    printWarnings(result->warnings);
+    printSummary(options, *result);
+  }
   return 0;
 }
 
@@ -320,6 +346,7 @@ int runMerge(const svit::baker::BakeOptions& options, const Command& command) {
   printer.finish();
   if (!result.ok()) return reportFailure(result.status());
   if (!command.quiet) {
+    printWarnings(result->warnings);
     std::printf("merged %s into %s in %.2f s: %zu page(s), %zu texels, estimated error %.2f%%\n",
                 command.work_dir.c_str(), options.out_dir.c_str(), result->seconds, result->pages,
                 result->covered_texels, 100.0 * result->est_rel_error);

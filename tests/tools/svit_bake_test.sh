@@ -100,5 +100,52 @@ cp -r "$work/a" "$work/corrupt"
 printf 'garbage' | dd of="$work/corrupt/bake.svit" bs=1 seek=20 conv=notrunc status=none
 expect_exit probe_corrupt 1 -- "$probe" "$work/corrupt" "$work/points.txt"
 
+# A glTF with no light source (most glTF files carry none): the bake works,
+# warns on stderr and in report.json, and every page's EXR says why it is
+# black (its "comments" attribute).
+expect_exit unlit 0 -- "$bake" "$data/good_quad.gltf" -o "$work/unlit" --passes 1
+grep -q "svit-bake: warning: .*good_quad.gltf: no light source to bake" "$work/err.txt" \
+  && ok "no-light warning on stderr" || { fail "no-light warning on stderr"; cat "$work/err.txt"; }
+python3 - "$work/unlit" <<'PY' && ok "no-light warning in report.json and the EXR" || fail "no-light warning in report and EXR"
+import json, sys
+out = sys.argv[1]
+assert any("no light source to bake" in w for w in json.load(open(f"{out}/report.json"))["warnings"])
+exr = open(f"{out}/lightmap-0.exr", "rb").read()
+at = exr.index(b"comments\0string\0")
+assert b"no light source to bake" in exr[at:at + 120], exr[at:at + 120]
+PY
+expect_exit lit_quiet 0 -- "$bake" "$cornell" -o "$work/lit" --quality 0.05 --passes 1 --texels-per-m 8
+grep -q "no light source" "$work/err.txt" && fail "a lit level warned of no light" || ok "a lit level does not warn"
+
+# --sun / --sky give a bare glTF its sun and sky: the bake lights the quad and
+# writes OUT/level.json, the level it baked (svit_walk.tool walks one).
+sun='{"direction_to_sun": [0.3, 1, 0.2], "illuminance_lux": 100000}'
+sky='{"model": "uniform", "zenith_luminance": [3000, 3000, 3000]}'
+expect_exit sun_and_sky 0 -- "$bake" "$data/good_quad.gltf" -o "$work/sunlit" --passes 1 --sun "$sun" --sky "$sky"
+grep -q "no light source" "$work/err.txt" && fail "--sun still warned of no light" || ok "--sun lights the level"
+grep -q "sunlit/level.json: walk that one" "$work/out.txt" && ok "says which level it baked" || fail "no level.json line"
+python3 - "$work/sunlit" "$data/good_quad.gltf" <<'PY' && ok "OUT/level.json names the glTF, sun and sky" || fail "OUT/level.json"
+import json, os, sys
+level = json.load(open(f"{sys.argv[1]}/level.json"))
+assert level["gltf"] == os.path.abspath(sys.argv[2]), level["gltf"]
+assert level["sun"]["illuminance_lux"] == 100000 and level["sky"]["model"] == "uniform", level
+PY
+# Bad --sun / --sky: exit 2, naming the option and the field or value.
+bad_sun() {  # NAME WANT-TEXT ARGS...
+  local name="$1" text="$2"; shift 2
+  expect_exit "$name" 2 -- "$bake" "$@" -o "$work/x"
+  grep -qF -- "$text" "$work/err.txt" && ok "$name message" || { fail "$name message lacks '$text'"; cat "$work/err.txt"; }
+}
+bad_sun sun_not_json "--sun: not valid JSON" "$data/good_quad.gltf" --sun '{"illuminance_lux": '
+bad_sun sun_no_lux "--sun: sun.illuminance_lux: is required" "$data/good_quad.gltf" --sun '{"direction_to_sun": [0, 1, 0]}'
+bad_sun sun_unknown_field "--sun: sun.lux: unknown field" "$data/good_quad.gltf" --sun '{"lux": 5}'
+bad_sun sky_bad_model "--sky: sky.model: 'cloudy'" "$data/good_quad.gltf" --sky '{"model": "cloudy"}'
+bad_sun sun_on_level_json "--sun is for a bare glTF" "$data/good_level.json" --sun "$sun"
+expect_exit sun_no_value 2 -- "$bake" "$data/good_quad.gltf" -o "$work/x" --sun
+grep -qF -- "--sun needs a JSON object" "$work/err.txt" && ok "sun_no_value message" || fail "sun_no_value message"
+bad_sun plan_with_sun "--sun and --sky are for whole bakes" plan "$data/good_quad.gltf" --shards 2 --passes 1 \
+  --sun "$sun"
+[[ ! -e "$work/x" ]] && ok "refused --sun/--sky write nothing" || fail "a refused bake left $work/x"
+
 if [[ $failures -ne 0 ]]; then echo "$failures failed"; exit 1; fi
 echo "all svit-bake / svit-probe checks passed"

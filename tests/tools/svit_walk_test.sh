@@ -191,6 +191,16 @@ expect_err camera_with_script_message "--camera 'Front': the script's camera key
 expect_exit camera_empty 2 -- "$walk" "$work/cameras.gltf" --bake "$work/gltf_bake" --headless --camera ""
 expect_err camera_empty_message "--camera needs a camera name"
 
+# A bare glTF baked with --sun/--sky walks as the OUT/level.json the bake
+# wrote (the same level hash); the bare glTF is another level to that bake.
+"$bake" "$src/tests/data/good_quad.gltf" -o "$work/sunlit" --passes 1 --quiet \
+  --sun '{"direction_to_sun": [0.3, 1, 0.2], "illuminance_lux": 100000}' || fail "bake with --sun"
+expect_exit sunlit_level_json 0 -- "$walk" "$work/sunlit/level.json" --bake "$work/sunlit" --headless --frames 1 \
+  --width 64 --height 36
+expect_exit sunlit_bare_gltf 1 -- "$walk" "$src/tests/data/good_quad.gltf" --bake "$work/sunlit" --headless \
+  --frames 1
+expect_err sunlit_bare_gltf_message "another level"
+
 bad_script() {  # NAME JSON EXPECTED-MESSAGE
   printf '%s' "$2" >"$work/bad.json"
   expect_exit "$1" 1 -- "$walk" "$level" --bake "$work/cornell" --headless --frames 3 --script "$work/bad.json"

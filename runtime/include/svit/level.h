@@ -24,6 +24,13 @@ struct LoadOptions {
 /// Scene::warnings. Thread-safe: yes (no shared state).
 Expected<Scene> loadLevel(const std::string& path, const LoadOptions& options = {});
 
+/// A sun or a sky given outside a level file (svit-bake --sun/--sky): the
+/// JSON text of level.json's "sun" or "sky" object, checked as strictly
+/// (docs/level-format.md). Errors (kInvalidInput) start with `origin` and
+/// name the field: "--sun: sun.illuminance_lux: is required".
+Expected<Sun> parseSunJson(const std::string& text, const std::string& origin);
+Expected<Sky> parseSkyJson(const std::string& text, const std::string& origin);
+
 /// Loads a bare glTF 2.0 file (.gltf or .glb).
 Expected<Scene> loadGltf(const std::string& path, const LoadOptions& options = {});
 

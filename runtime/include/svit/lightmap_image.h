@@ -15,6 +15,9 @@ struct LightmapImage {
   int width = 0;
   int height = 0;
   std::vector<float> rgb;  ///< row-major, 3 floats per texel, row 0 = v in [0, 1/height)
+  /// The EXR's standard "comments" attribute (a page says there why it is
+  /// black, for one); empty: none written, or none in the file.
+  std::string comments;
 
   Rgb texel(int x, int y) const {
     const float* p = &rgb[(size_t(y) * size_t(width) + size_t(x)) * 3];
@@ -24,7 +27,8 @@ struct LightmapImage {
   Rgb sampleBilinear(Vec2 uv) const;
 };
 
-/// Writes an fp32 RGB EXR via `path`.tmp and a rename. Errors: non-finite
+/// Writes an fp32 RGB EXR (with a "comments" attribute when `comments` is
+/// set) via `path`.tmp and a rename. Errors: non-finite
 /// texels (naming the first), I/O failure.
 Status writeLightmapExr(const LightmapImage& image, const std::string& path);
 

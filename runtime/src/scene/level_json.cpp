@@ -885,7 +885,33 @@ Expected<Scene> loadLevelJson(const std::string& path, const LoadOptions& option
   return scene;
 }
 
+// One level.json object read alone from `text` by `read`.
+template <typename Value, typename Read>
+Expected<Value> parseLevelObject(const std::string& text, const std::string& origin, Read read) {
+  const Json j = Json::parse(text, nullptr, false);
+  if (j.is_discarded()) {
+    return Status(StatusCode::kInvalidInput, origin + ": not valid JSON: '" + text + "'");
+  }
+  LevelReader reader;
+  reader.path = origin;
+  Value value;
+  if (Status s = read(reader, j, value); !s.ok()) return s;
+  return value;
+}
+
 }  // namespace
+
+Expected<Sun> parseSunJson(const std::string& text, const std::string& origin) {
+  return parseLevelObject<Sun>(
+      text, origin,
+      [](const LevelReader& reader, const Json& j, Sun& sun) { return reader.readSun(j, sun); });
+}
+
+Expected<Sky> parseSkyJson(const std::string& text, const std::string& origin) {
+  return parseLevelObject<Sky>(
+      text, origin,
+      [](const LevelReader& reader, const Json& j, Sky& sky) { return reader.readSky(j, sky); });
+}
 
 Expected<Scene> loadLevel(const std::string& path, const LoadOptions& options) {
   const std::string extension = std::filesystem::path(path).extension().string();

@@ -70,6 +70,15 @@ Status writeLightmapExr(const LightmapImage& image, const std::string& path) {
   // fp32, not half: direct sunlight (1e5 lux) overflows half's 65504.
   header.requested_pixel_types = requested;
   header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
+  EXRAttribute comments;
+  if (!image.comments.empty()) {
+    std::strcpy(comments.name, "comments");
+    std::strcpy(comments.type, "string");
+    comments.value = reinterpret_cast<unsigned char*>(const_cast<char*>(image.comments.data()));
+    comments.size = int(image.comments.size());
+    header.num_custom_attributes = 1;
+    header.custom_attributes = &comments;
+  }
   // Encoded in memory and written by writeFileReplacing: SaveEXRImageToFile
   // does not check fclose, so a write that fails at the last buffered block
   // (a full disk, `ulimit -f`) would pass as a whole file.
@@ -371,7 +380,11 @@ Expected<LightmapImage> readLightmapExr(const std::string& path) {
   if (Status s = checkImageSize(h, bytes.size(), path, width, height); !s.ok()) return s;
   ExrImageGuard image;
   if (Status s = decodeImage(bytes, h, width, height, path, image.image); !s.ok()) return s;
-  return copyRgbPlanes(image.image, rgb_channel, width, height, path);
+  Expected<LightmapImage> out = copyRgbPlanes(image.image, rgb_channel, width, height, path);
+  std::vector<std::string> comments;
+  if (out.ok() && headerAttributes(bytes, "comments", comments) && !comments.empty())
+    out->comments = comments.front();
+  return out;
 }
 
 }  // namespace svit

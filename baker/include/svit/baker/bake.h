@@ -39,6 +39,11 @@ struct BakeOptions {
   /// a previous bake of the same level and settings, for the true error
   std::string reference_dir;
   int max_page_size = 2048;
+  /// --sun / --sky: the JSON of level.json's "sun" or "sky" object, for a
+  /// bare glTF (.gltf/.glb) only; empty: none. The bake then also writes
+  /// OUT/level.json (the glTF by absolute path, this sun and sky): the
+  /// level it baked, for svit-walk and the runtime.
+  std::string sun_json, sky_json;
 };
 
 /// Checks option ranges (what the tool reports as bad usage, exit 2).
@@ -60,6 +65,9 @@ struct BakeResult {
   size_t covered_texels = 0;
   double est_rel_error = 1;
   double ref_rel_error = std::numeric_limits<double>::quiet_NaN();
+  /// report.json's "warnings": what import skipped, a level with no light
+  /// source (its lightmaps are black), ...
+  std::vector<std::string> warnings;
 };
 
 /// Removes the OUT.tmp-<pid> and OUT.old-<pid> directories beside
