@@ -285,8 +285,10 @@ class Runtime {
   // ---- dynamic objects ----
   /// The object made from a dynamic scene node, or kInvalidId.
   ObjectId objectForNode(int node) const;
-  /// Adds an object. Errors: empty or malformed mesh (index out of range,
-  /// non-finite position, albedo outside [0, 1)), non-finite transform.
+  /// Adds an object under a new id (one above the last given). Errors: empty
+  /// or malformed mesh (index out of range, non-finite position, albedo
+  /// outside [0, 1)), non-finite transform; kUnsupported once 2^32 - 1 ids
+  /// have been given (ids are never reused).
   Expected<ObjectId> addObject(const DynamicMesh& mesh, const Mat4& world_from_object);
   /// Moves an object (teleports are fine). Errors: unknown id, non-finite matrix.
   Status setObjectTransform(ObjectId object, const Mat4& world_from_object);
