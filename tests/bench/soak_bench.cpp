@@ -78,6 +78,13 @@ soak::SoakReport soakOnce(const Options& o, const Scene& scene, const BakeData& 
   return soak::runHouseSoak(**runtime, o.seed, o.frames, o.sample_every);
 }
 
+// Bytes of each resources() line, by name.
+nlohmann::ordered_json lineBytes(const std::vector<std::pair<std::string, uint64_t>>& named) {
+  nlohmann::ordered_json lines = nlohmann::ordered_json::object();
+  for (const auto& [name, bytes] : named) lines[name] = bytes;
+  return lines;
+}
+
 nlohmann::ordered_json reportJson(const soak::SoakReport& r) {
   nlohmann::ordered_json j;
   j["frames"] = r.frames;
@@ -92,10 +99,15 @@ nlohmann::ordered_json reportJson(const soak::SoakReport& r) {
     j["samples"].push_back({{"frame", s.frame},
                             {"host_bytes", s.host_bytes},
                             {"gpu_bytes", s.gpu_bytes},
+                            {"heap_bytes", s.heap_bytes},
+                            {"object_bytes", s.object_bytes},
+                            {"emitters", s.emitters},
                             {"gl_objects", s.gl_objects},
                             {"objects", s.objects},
                             {"patches", s.patches},
-                            {"mean_frame_ms", s.mean_frame_ms}});
+                            {"mean_frame_ms", s.mean_frame_ms},
+                            {"host_lines", lineBytes(s.host_lines)},
+                            {"lines", lineBytes(s.lines)}});
   }
   return j;
 }
@@ -130,9 +142,12 @@ int main(int argc, char** argv) {
     json["replay_identical"] = replayed;
   }
   for (const soak::SoakSample& s : first.samples) {
-    std::printf("frame %6llu: host %10llu B, GPU %10llu B, %5u patches, %6.2f ms/frame\n",
-                (unsigned long long)s.frame, (unsigned long long)s.host_bytes,
-                (unsigned long long)s.gpu_bytes, s.patches, s.mean_frame_ms);
+    std::printf(
+        "frame %6llu: host %10llu B, heap %10llu B, GPU %10llu B, %5u patches, %5u emitters, "
+        "%6.2f ms/frame\n",
+        (unsigned long long)s.frame, (unsigned long long)s.host_bytes,
+        (unsigned long long)s.heap_bytes, (unsigned long long)s.gpu_bytes, s.patches, s.emitters,
+        s.mean_frame_ms);
   }
   for (const std::string& f : first.failures) std::printf("FAILURE %s\n", f.c_str());
   std::printf("replay at frame %llu: %s\n", (unsigned long long)o.frames,

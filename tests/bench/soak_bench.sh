@@ -2,7 +2,8 @@
 # The long soak (issue 24): bakes the 2 x 2 house (samples/levels/house) as
 # the GL tests do, runs bench_soak for FRAMES frames under Xvfb, twice with
 # the same seed (the replay), and writes OUT/soak.json and OUT/soak.md, the
-# table docs/performance.md shows.
+# table docs/performance.md shows (resources() totals, the heap glibc
+# reports in use, the emitter records, and host bytes by resources() line).
 # usage: tests/bench/soak_bench.sh [BUILD_DIR] [OUT_DIR] [FRAMES]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -39,6 +40,18 @@ print(f"| at warm-up | {warm['host_bytes']:,} B | {warm['gpu_bytes']:,} B | {war
 print(f"| at the end | {last['host_bytes']:,} B | {last['gpu_bytes']:,} B | {last['patches']} |")
 print(f"| growth | {last['host_bytes'] - warm['host_bytes']:+,} B (peak after warm-up {peak_host:,} B) | "
       f"{last['gpu_bytes'] - warm['gpu_bytes']:+,} B | {last['patches'] - warm['patches']:+d} |")
+print()
+print("| after warm-up to the end | heap in use (mallinfo2 uordblks) | emitter records (emitterStates) |")
+print("|---|---|---|")
+print(f"| at warm-up | {warm['heap_bytes']:,} B | {warm['emitters']} |")
+print(f"| at the end | {last['heap_bytes']:,} B | {last['emitters']} |")
+print(f"| growth | {last['heap_bytes'] - warm['heap_bytes']:+,} B | {last['emitters'] - warm['emitters']:+d} |")
+print()
+print("| host bytes by resources() line | at warm-up | at the end | growth |")
+print("|---|---|---|---|")
+for name, before in warm["host_lines"].items():
+    after = last["host_lines"].get(name, 0)
+    print(f"| {name} | {before:,} B | {after:,} B | {after - before:+,} B |")
 print()
 print(f"Frame time (update(), llvmpipe): {early:.2f} ms per frame in the first quarter after warm-up, "
       f"{late:.2f} ms in the last ({(late / early - 1) * 100:+.1f} %).")

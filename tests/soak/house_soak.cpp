@@ -1,6 +1,7 @@
 #include "house_soak.h"
 
 #include <epoxy/gl.h>
+#include <malloc.h>
 
 #include <chrono>
 #include <cmath>
@@ -35,6 +36,9 @@ DynamicMesh prop(abuse::Draws& draws) {
   mesh.albedo = {draws.between(0.1f, 0.9f), draws.between(0.1f, 0.9f), draws.between(0.1f, 0.9f)};
   return mesh;
 }
+
+// glibc's count of the bytes malloc has handed out and not had back.
+uint64_t heapBytesInUse() { return uint64_t(mallinfo2().uordblks); }
 
 bool finiteRgb(const Rgb& c) {
   return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b);
@@ -108,7 +112,11 @@ class Soak {
       s.gpu_bytes += use.gpu_bytes;
       s.gl_objects += use.gl_objects;
       s.lines.push_back({use.name, use.cpu_bytes + use.gpu_bytes});
+      s.host_lines.push_back({use.name, use.cpu_bytes});
+      if (use.name == kObjectsLine) s.object_bytes = use.cpu_bytes;
     }
+    s.heap_bytes = heapBytesInUse();
+    s.emitters = uint32_t(runtime_.emitterStates().size());
     s.objects = uint32_t(runtime_.objects().size());
     s.patches = uint32_t(runtime_.patchDeltas().size());
     s.mean_frame_ms = timed_frames_ ? frame_ms_ / double(timed_frames_) : 0;

@@ -28,13 +28,25 @@ struct SoakSample {
   uint64_t frame = 0;
   uint64_t host_bytes = 0;  ///< resources(): cpu_bytes summed
   uint64_t gpu_bytes = 0;   ///< resources(): gpu_bytes summed
+  /// The heap glibc reports in use (mallinfo2().uordblks): the runtime's and
+  /// everything else the process allocated (the GL driver's, the soak's).
+  uint64_t heap_bytes = 0;
+  /// resources()' "dynamic objects" line, host bytes: the objects' records
+  /// and triangles, which must not grow while the live props stay the same.
+  uint64_t object_bytes = 0;
+  uint32_t emitters = 0;  ///< emitterStates().size(): emitter records kept
   uint32_t gl_objects = 0;
   uint32_t objects = 0;      ///< live dynamic objects
   uint32_t patches = 0;      ///< patchDeltas().size()
   double mean_frame_ms = 0;  ///< update() wall time, mean since the previous sample
   /// Host + GPU bytes of each resources() line, by name: what grew.
   std::vector<std::pair<std::string, uint64_t>> lines;
+  /// Host bytes of each resources() line, by name (same order as `lines`).
+  std::vector<std::pair<std::string, uint64_t>> host_lines;
 };
+
+/// The resources() line of the dynamic objects' records.
+inline constexpr const char* kObjectsLine = "dynamic objects (triangles, receivers)";
 
 /// The resources() lines whose bytes differ between two samples, as
 /// "name: before -> after B", one per line.

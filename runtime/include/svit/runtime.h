@@ -170,7 +170,7 @@ struct EmitterState {
 
 /// One emitter refreshed by an update, and why.
 struct EmitterRefresh {
-  uint32_t emitter = 0;  ///< emitterStates() index
+  uint32_t emitter = 0;  ///< emitterStates() index (until the next removeObject())
   RefreshReason reason = RefreshReason::kImportant;
   double importance = 0;
 };
@@ -285,8 +285,10 @@ class Runtime {
   // ---- dynamic objects ----
   /// The object made from a dynamic scene node, or kInvalidId.
   ObjectId objectForNode(int node) const;
-  /// Adds an object. Errors: empty or malformed mesh (index out of range,
-  /// non-finite position, albedo outside [0, 1)), non-finite transform.
+  /// Adds an object under a new id (one above the last given). Errors: empty
+  /// or malformed mesh (index out of range, non-finite position, albedo
+  /// outside [0, 1)), non-finite transform; kUnsupported once 2^32 - 1 ids
+  /// have been given (ids are never reused).
   Expected<ObjectId> addObject(const DynamicMesh& mesh, const Mat4& world_from_object);
   /// Moves an object (teleports are fine). Errors: unknown id, non-finite matrix.
   Status setObjectTransform(ObjectId object, const Mat4& world_from_object);
@@ -295,7 +297,9 @@ class Runtime {
   Status deformObject(ObjectId object, std::span<const Vec3> positions);
   /// Hides (false) or shows an object without removing it.
   Status setObjectVisible(ObjectId object, bool visible);
-  /// Removes an object; its id is never reused. Error: unknown id.
+  /// Removes an object; its id is never reused (refused from then on, as an
+  /// unknown id), while what the runtime kept for it is reused by the next
+  /// object added. Error: unknown id.
   Status removeObject(ObjectId object);
   Expected<ObjectInfo> objectInfo(ObjectId object) const;
   /// Ids of the objects not removed, ascending.
@@ -332,7 +336,9 @@ class Runtime {
   /// update settles everything. Error: negative.
   Status setSampleBudget(int max_samples_per_frame);
   /// Every emitter the runtime keeps (index = EmitterRefresh::emitter) with
-  /// its importance for the last update's view.
+  /// its importance for the last update's view. Indices hold until the next
+  /// removeObject(): a removed object's emitters leave the list and the
+  /// later ones move down (keeping their order).
   std::vector<EmitterState> emitterStates() const;
   /// Brings the lighting up to date within about `budget_ms` of work
   /// (0 = no limit: settle fully). Emitters that did not fit stay pending

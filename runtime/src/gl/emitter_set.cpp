@@ -120,6 +120,36 @@ uint32_t addGroupEmitter(EmitterSet& set, const EmitterContext& c, uint32_t grou
   return set.group_emitter[group];
 }
 
+std::vector<uint32_t> eraseGroupEmitters(EmitterSet& set, uint32_t first_group, uint32_t count) {
+  std::vector<uint32_t> erased;
+  for (uint32_t g = first_group; g < first_group + count; ++g) {
+    if (set.group_emitter[g] == kInvalidId) continue;
+    erased.push_back(set.group_emitter[g]);
+    set.group_emitter[g] = kInvalidId;
+  }
+  if (erased.empty()) return erased;
+  std::sort(erased.begin(), erased.end());
+  // One pass moving the kept records down over the erased ones.
+  size_t kept = erased.front(), next_erased = 0;
+  for (size_t id = erased.front(); id < set.emitters.size(); ++id) {
+    if (next_erased < erased.size() && erased[next_erased] == id) {
+      ++next_erased;
+      continue;
+    }
+    set.emitters[kept++] = std::move(set.emitters[id]);
+  }
+  set.emitters.resize(kept);
+  for (uint32_t& id : set.group_emitter) {
+    if (id != kInvalidId) id = emitterIdAfterErase(id, erased);
+  }
+  return erased;
+}
+
+uint32_t emitterIdAfterErase(uint32_t id, const std::vector<uint32_t>& erased) {
+  const auto below = std::lower_bound(erased.begin(), erased.end(), id) - erased.begin();
+  return id - uint32_t(below);
+}
+
 namespace {
 
 /// Each bake patch's factor spread over its runtime patches by area,

@@ -42,6 +42,19 @@ void addBakedEmitters(EmitterSet& set, const EmitterContext& context);
 uint32_t addGroupEmitter(EmitterSet& set, const EmitterContext& context, uint32_t group,
                          bool bright, double wanted_flux, double max_flux);
 
+/// Erases the emitters of the groups [first_group, first_group + count)
+/// (a removed object's facings; their light already retracted): their
+/// records leave `emitters`, the later records move down (keeping their
+/// order) and group_emitter follows; the groups have no emitter, free for
+/// the next object in their slot. Returns the erased ids, ascending, for
+/// emitterIdAfterErase on ids held elsewhere. Vectors keep their capacity,
+/// so a steady add-and-remove allocates nothing here.
+std::vector<uint32_t> eraseGroupEmitters(EmitterSet& set, uint32_t first_group, uint32_t count);
+
+/// What emitter `id` (not erased) is after eraseGroupEmitters erased
+/// `erased` (ascending).
+uint32_t emitterIdAfterErase(uint32_t id, const std::vector<uint32_t>& erased);
+
 /// A baked emitter's bake factors spread over the runtime patches
 /// (Emitter::bake_shares), and its reach from them.
 void initBakeShares(Emitter& e, const EmitterContext& context);

@@ -60,6 +60,10 @@ rt::DynamicObject objectFromInstance(const Scene& scene, size_t instance_index) 
 Status unknownObject(ObjectId id) {
   return Status(StatusCode::kNotFound, "svit runtime: no object " + std::to_string(id));
 }
+Status outOfObjectIds() {
+  return Status(StatusCode::kUnsupported,
+                "svit runtime: every object id has been given (ids are never reused)");
+}
 Status unknownLight(LightId id) {
   return Status(StatusCode::kNotFound, "svit runtime: no light " + std::to_string(id));
 }
@@ -131,30 +135,43 @@ Expected<std::unique_ptr<Runtime>> Runtime::create(const Scene& scene, const Bak
   return runtime;
 }
 
-void Runtime::Impl::releaseObject(uint32_t o) {
-  rt::DynamicObject& object = objects[o];
+void Runtime::Impl::releaseObject(uint32_t slot) {
+  rt::DynamicObject& object = objects[slot];
   // Its receivers go back to the pool with no area, so nothing lights them
   // until an object takes them; it keeps no triangle, so no loop over the
   // objects' receivers reaches them through it.
   const uint32_t count = uint32_t(object.albedo.size());
   for (uint32_t t = 0; t < count; ++t) receivers[object.first_receiver + t] = {};
   if (count > 0) free_receivers.push_back({object.first_receiver, count});
-  object = rt::DynamicObject{object.name, object.instance};
+  object = rt::DynamicObject{};
   object.visible = false;
   object.removed = true;
+  // Its facings' light leaves the sums, then their records leave the set:
+  // the slot's groups are free for the next object, which makes its own
+  // emitters as a fresh runtime would.
+  const uint32_t first_group = level.static_groups + slot * kObjectShooters;
   for (uint32_t bin = 0; bin < kObjectShooters; ++bin) {
-    const uint32_t g = level.static_groups + o * kObjectShooters + bin;
-    if (emitter_set.group_emitter[g] == kInvalidId) continue;
-    Emitter& e = emitter_set.emitters[emitter_set.group_emitter[g]];
-    accumulator.retractCurrent(e);
-    e.markAsBaked();  // a dynamic object's "as baked" adds nothing
-    e.baseline = {};
-    e.has_baseline = false;
-    e.samples = {};
-    e.bake_shares = {};
-    e.lit_triangles = {};
-    e.flux = glm::dvec3(0.0);
+    const uint32_t id = emitter_set.group_emitter[first_group + bin];
+    if (id != kInvalidId) accumulator.retractCurrent(emitter_set.emitters[id]);
   }
+  renumberEmitters(rt::eraseGroupEmitters(emitter_set, first_group, kObjectShooters));
+}
+
+void Runtime::Impl::renumberEmitters(const std::vector<uint32_t>& erased) {
+  if (erased.empty()) return;
+  for (RuntimeLightState& light : lights) {
+    if (light.emitter != kInvalidId) light.emitter = rt::emitterIdAfterErase(light.emitter, erased);
+  }
+}
+
+rt::DynamicObject* Runtime::Impl::liveObject(ObjectId id) {
+  const uint32_t slot = object_slots.slotOf(id);
+  return slot == rt::kNoSlot ? nullptr : &objects[slot];
+}
+
+const rt::DynamicObject* Runtime::Impl::liveObject(ObjectId id) const {
+  const uint32_t slot = object_slots.slotOf(id);
+  return slot == rt::kNoSlot ? nullptr : &objects[slot];
 }
 
 // The first range of `count` receivers a removed object gave back, or the
@@ -174,28 +191,34 @@ uint32_t Runtime::Impl::takeReceivers(uint32_t count) {
   return end;
 }
 
-uint32_t Runtime::Impl::addObjectInternal(rt::DynamicObject object) {
+ObjectId Runtime::Impl::addObjectInternal(rt::DynamicObject object) {
+  const rt::ObjectSlots::Added added = object_slots.add();
+  if (added.id == kInvalidId) return kInvalidId;
   object.first_receiver = takeReceivers(uint32_t(object.albedo.size()));
   object.lit = false;
   object.shown_revision = accumulator.revisions();
   rt::binObjectTriangles(object);
   rt::placeObject(object);
   rt::updateObjectReceivers(object, level_box, receivers);
-  emitter_set.group_emitter.resize(emitter_set.group_emitter.size() + kObjectShooters, kInvalidId);
+  if (added.new_slot) {
+    emitter_set.group_emitter.resize(emitter_set.group_emitter.size() + kObjectShooters,
+                                     kInvalidId);
+    objects.emplace_back();
+  }
   outputs.resize(receivers.size());
   changes.noteBox(object.bounds);
-  objects.push_back(std::move(object));
+  objects[added.slot] = std::move(object);
   changes.dynamic_geometry_changed = true;
   have_content = true;
-  return uint32_t(objects.size() - 1);
+  return added.id;
 }
 
 ObjectId Runtime::objectForNode(int node) const {
-  for (size_t i = 0; i < impl_->objects.size(); ++i) {
-    const rt::DynamicObject& o = impl_->objects[i];
+  for (uint32_t slot = 0; slot < impl_->objects.size(); ++slot) {
+    const rt::DynamicObject& o = impl_->objects[slot];
     if (!o.removed && o.instance >= 0 &&
         impl_->level.scene.instances[size_t(o.instance)].node == node)
-      return ObjectId(i);
+      return impl_->object_slots.idOf(slot);
   }
   return kInvalidId;
 }
@@ -207,12 +230,15 @@ Expected<ObjectId> Runtime::addObject(const DynamicMesh& mesh, const Mat4& world
       !s.ok())
     return s;
   if (!impl_->level.bake.has_runtime_sections) return noRuntimeSections(impl_->level.bake_dir);
-  return impl_->addObjectInternal(objectFromMesh(mesh, world_from_object));
+  const ObjectId id = impl_->addObjectInternal(objectFromMesh(mesh, world_from_object));
+  if (id == kInvalidId) return outOfObjectIds();
+  return id;
 }
 
 Status Runtime::setObjectTransform(ObjectId id, const Mat4& world_from_object) {
-  if (id >= impl_->objects.size() || impl_->objects[id].removed) return unknownObject(id);
-  rt::DynamicObject& o = impl_->objects[id];
+  rt::DynamicObject* live = impl_->liveObject(id);
+  if (live == nullptr) return unknownObject(id);
+  rt::DynamicObject& o = *live;
   if (Status s = checkPlacement(o.object_positions, world_from_object,
                                 "svit runtime: object " + std::to_string(id));
       !s.ok())
@@ -224,8 +250,9 @@ Status Runtime::setObjectTransform(ObjectId id, const Mat4& world_from_object) {
 }
 
 Status Runtime::deformObject(ObjectId id, std::span<const Vec3> positions) {
-  if (id >= impl_->objects.size() || impl_->objects[id].removed) return unknownObject(id);
-  rt::DynamicObject& o = impl_->objects[id];
+  rt::DynamicObject* live = impl_->liveObject(id);
+  if (live == nullptr) return unknownObject(id);
+  rt::DynamicObject& o = *live;
   if (positions.size() != o.object_positions.size()) {
     return Status(StatusCode::kInvalidInput,
                   "svit runtime: object " + std::to_string(id) + ": " +
@@ -244,8 +271,9 @@ Status Runtime::deformObject(ObjectId id, std::span<const Vec3> positions) {
 }
 
 Status Runtime::setObjectVisible(ObjectId id, bool visible) {
-  if (id >= impl_->objects.size() || impl_->objects[id].removed) return unknownObject(id);
-  rt::DynamicObject& o = impl_->objects[id];
+  rt::DynamicObject* live = impl_->liveObject(id);
+  if (live == nullptr) return unknownObject(id);
+  rt::DynamicObject& o = *live;
   if (o.visible == visible) return Status();
   impl_->changeObject(o, [&](rt::DynamicObject& object) {
     object.visible = visible;
@@ -257,14 +285,17 @@ Status Runtime::setObjectVisible(ObjectId id, bool visible) {
 
 Status Runtime::removeObject(ObjectId id) {
   if (Status s = setObjectVisible(id, false); !s.ok()) return s;
-  impl_->objects[id].removed = true;
-  impl_->releaseObject(id);
+  const uint32_t slot = impl_->object_slots.slotOf(id);
+  impl_->objects[slot].removed = true;
+  impl_->releaseObject(slot);
+  impl_->object_slots.remove(id);  // the id stays refused; the slot goes to the next object
   return Status();
 }
 
 Expected<ObjectInfo> Runtime::objectInfo(ObjectId id) const {
-  if (id >= impl_->objects.size() || impl_->objects[id].removed) return unknownObject(id);
-  const rt::DynamicObject& o = impl_->objects[id];
+  const rt::DynamicObject* live = impl_->liveObject(id);
+  if (live == nullptr) return unknownObject(id);
+  const rt::DynamicObject& o = *live;
   ObjectInfo info;
   info.name = o.name;
   info.instance = o.instance;
@@ -278,13 +309,7 @@ Expected<ObjectInfo> Runtime::objectInfo(ObjectId id) const {
   return info;
 }
 
-std::vector<ObjectId> Runtime::objects() const {
-  std::vector<ObjectId> ids;
-  for (size_t i = 0; i < impl_->objects.size(); ++i) {
-    if (!impl_->objects[i].removed) ids.push_back(ObjectId(i));
-  }
-  return ids;
-}
+std::vector<ObjectId> Runtime::objects() const { return impl_->object_slots.liveIds(); }
 
 LightId Runtime::lightForSceneLight(int index) const {
   if (index < 0 || size_t(index) >= impl_->scene_light_to_light.size()) return kInvalidId;

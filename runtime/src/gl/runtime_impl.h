@@ -33,6 +33,7 @@
 #include "index_map_culling.h"
 #include "index_map_renderer.h"
 #include "light_scale.h"
+#include "object_slots.h"
 #include "receivers.h"
 #include "refresh_scheduler.h"
 #include "runtime_patches.h"
@@ -71,15 +72,19 @@ struct Runtime::Impl {
   rt::StaticLevel level;
 
   // Receivers: runtime patches, then per object one per triangle. Groups
-  // (what shoots): bake patches, then kObjectShooters per object.
+  // (what shoots): bake patches, then kObjectShooters per object slot.
   std::vector<rt::Receiver> receivers;
   Aabb level_box;  ///< of the static patches: where the ambient bounces (Receiver::shares_ambient)
-  std::vector<rt::DynamicObject> objects;
+  /// Public ObjectId -> slot (object_slots.h). Everything per object below
+  /// (objects, object_map_base, the shooter groups and their emitters) is
+  /// indexed by slot, and a removed object's slot goes to the next one added.
+  rt::ObjectSlots object_slots;
+  std::vector<rt::DynamicObject> objects;  ///< per slot; a free slot's is `removed`
   /// Receiver ranges (first, count) removed objects gave back; a new object
   /// takes the first that fits, so adding and removing props for hours
   /// keeps the receiver count (and every per-receiver table) flat.
   std::vector<std::pair<uint32_t, uint32_t>> free_receivers;
-  std::vector<uint32_t> object_map_base;  ///< per object: its first triangle in the dynamic map set
+  std::vector<uint32_t> object_map_base;  ///< per slot: its first triangle in the dynamic map set
   rt::MapTriangles dynamic_map;           ///< what the maps draw for the objects now
   std::vector<RuntimeLightState> lights;
   std::vector<int> scene_light_to_light;  ///< Scene::lights index -> light id (-1)
@@ -110,10 +115,18 @@ struct Runtime::Impl {
   void initStaticReceivers();
   /// The level's own dynamic content: its dynamic instances and lights.
   Status addLevelContent(Runtime& runtime);
-  uint32_t addObjectInternal(rt::DynamicObject object);
-  /// What a removed object no longer needs: its mesh data and its facing
-  /// emitters' samples and shares (their light retracted first).
-  void releaseObject(uint32_t object);
+  /// Adds `object` in a slot (a free one first); its public id, or
+  /// kInvalidId when ids ran out.
+  ObjectId addObjectInternal(rt::DynamicObject object);
+  /// The live object `id` is, or null (never given, or removed).
+  rt::DynamicObject* liveObject(ObjectId id);
+  const rt::DynamicObject* liveObject(ObjectId id) const;
+  /// Frees a removed object's slot for the next object: its record, its
+  /// receivers, and its facings' emitters (their light retracted first).
+  void releaseObject(uint32_t slot);
+  /// Renumbers the emitter ids held outside the emitter set (runtime
+  /// lights') after eraseGroupEmitters.
+  void renumberEmitters(const std::vector<uint32_t>& erased);
   uint32_t takeReceivers(uint32_t count);
   /// Applies `change` to an object, places it again and records the boxes
   /// it left and entered: the one path every object change takes.

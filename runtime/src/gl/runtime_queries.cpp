@@ -99,10 +99,11 @@ Expected<PatchInfo> Runtime::patchInfo(uint32_t patch) const {
 }
 
 Expected<Rgb> Runtime::objectPatchIrradiance(ObjectId id, uint32_t triangle) const {
-  if (id >= impl_->objects.size() || impl_->objects[id].removed) {
+  const rt::DynamicObject* live = impl_->liveObject(id);
+  if (live == nullptr) {
     return Status(StatusCode::kNotFound, "svit runtime: no object " + std::to_string(id));
   }
-  const rt::DynamicObject& o = impl_->objects[id];
+  const rt::DynamicObject& o = *live;
   if (triangle >= o.albedo.size()) {
     return Status(StatusCode::kInvalidInput, "svit runtime: object " + std::to_string(id) +
                                                  " has no triangle " + std::to_string(triangle));

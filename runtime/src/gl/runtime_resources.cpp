@@ -77,7 +77,7 @@ ResourceUse patchesUse(const rt::StaticLevel& level, const rt::ShadingOutputs& o
   return patches;
 }
 
-ResourceUse objectsUse(const std::vector<rt::DynamicObject>& objects,
+ResourceUse objectsUse(const std::vector<rt::DynamicObject>& objects, const rt::ObjectSlots& slots,
                        const rt::MapTriangles& dynamic_map) {
   ResourceUse use;
   use.name = "dynamic objects (triangles, receivers)";
@@ -88,9 +88,13 @@ ResourceUse objectsUse(const std::vector<rt::DynamicObject>& objects,
                      vectorBytes(o.world_positions);
   }
   use.cpu_bytes += mapTriangleBytes(dynamic_map);
-  // The records themselves: one per object ever added (ids are never reused).
-  use.cpu_bytes += vectorBytes(objects);
-  use.reason = use.allocated ? std::to_string(objects.size()) + " objects" : "no dynamic objects";
+  // The records themselves: one per slot, as many as were ever alive at
+  // once (a removed object's slot goes to the next one added).
+  use.cpu_bytes += vectorBytes(objects) + slots.bytes();
+  const uint32_t live = slots.liveCount();
+  use.reason = use.allocated ? std::to_string(live) + " objects in " +
+                                   std::to_string(objects.size()) + " slots"
+                             : "no dynamic objects";
   return use;
 }
 
@@ -105,7 +109,7 @@ ResourceUse cachesUse(const std::vector<Emitter>& emitters, const rt::BounceSolv
         vectorBytes(e.samples) + e.current.bytes() + e.baseline.bytes() + e.bake_shares.bytes();
     cached += e.hasCurrent() ? 1u : 0u;
   }
-  caches.cpu_bytes += vectorBytes(emitters);  // the records, a removed object's facings' too
+  caches.cpu_bytes += vectorBytes(emitters);  // the records (a removed object's leave)
   // the last frame's bounce rounds and the shares they went through
   caches.cpu_bytes += bounce_solver.bytes();
   caches.reason = caches.allocated ? std::to_string(emitters.size()) + " emitters, " +
@@ -176,7 +180,7 @@ std::vector<ResourceUse> Runtime::resources() const {
   out.push_back(pagesUse(r.level));
   out.push_back(lightmapTexturesUse(r.outputs));
   out.push_back(patchesUse(r.level, r.outputs, r.settings));
-  out.push_back(objectsUse(r.objects, r.dynamic_map));
+  out.push_back(objectsUse(r.objects, r.object_slots, r.dynamic_map));
   out.push_back(cachesUse(r.emitter_set.emitters, r.bounce_solver, r.have_content));
   out.push_back(mapsUse(r.renderer.get(), r.settings, r.have_content));
   out.push_back(viewUse(r.renderer.get(), r.settings));
