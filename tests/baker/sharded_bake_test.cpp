@@ -108,10 +108,15 @@ TEST(ShardedBake, MergeOfHouseIsTheWholeBakeByteForByte) {
   expectMergedEqualsWhole(kHouseLevel, "house");
 }
 
+// The running test's name: CTest runs tests in parallel, so each keeps its
+// own scratch directories.
+std::string testName() { return testing::UnitTest::GetInstance()->current_test_info()->name(); }
+
 // A planned Cornell box with three shards lit, and a merged OUT.
 struct PlannedCornell {
   fs::path work, out;
-  PlannedCornell() : work(scratch("errors_work")), out(scratch("errors_out")) {
+  PlannedCornell()
+      : work(scratch("errors_work_" + testName())), out(scratch("errors_out_" + testName())) {
     plan(smallBake(kCornellLevel, work), 3);
     runShards(work, {0, 1, 2});
     EXPECT_TRUE(merge(work, out).ok());

@@ -109,10 +109,11 @@ MapTriangles dynamicMapTriangles(const std::vector<DynamicObject>& objects) {
 void updateObjectReceivers(const DynamicObject& object, const Aabb& level_box,
                            std::vector<Receiver>& receivers) {
   const size_t triangles = object.albedo.size();
-  const Aabb& b = object.bounds;
-  const bool inside = !b.empty() && b.min.x <= level_box.max.x && b.max.x >= level_box.min.x &&
-                      b.min.y <= level_box.max.y && b.max.y >= level_box.min.y &&
-                      b.min.z <= level_box.max.z && b.max.z >= level_box.min.z;
+  const Aabb& box = object.bounds;
+  const bool inside = !box.empty() && box.min.x <= level_box.max.x &&
+                      box.max.x >= level_box.min.x && box.min.y <= level_box.max.y &&
+                      box.max.y >= level_box.min.y && box.min.z <= level_box.max.z &&
+                      box.max.z >= level_box.min.z;
   for (size_t t = 0; t < triangles; ++t) {
     const glm::vec3 a = toGlm(object.world_positions[t * 3]);
     const glm::vec3 b = toGlm(object.world_positions[t * 3 + 1]);
