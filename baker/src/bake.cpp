@@ -119,10 +119,6 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const LoadedLevel& leve
   return out;
 }
 
-}  // namespace
-
-namespace {
-
 // --sun/--sky: parsed as a level file's objects; only for a bare glTF,
 // whose level has no other place for them (a level .json has its own).
 Status validateSunAndSky(const BakeOptions& o) {
