@@ -162,6 +162,12 @@ TEST_F(RuntimeRobustness, ManyObjectsAndTeleports) {
   EXPECT_LT(flux.gained_lm + flux.lost_lm, 1.0);
 }
 
+// What the static patches gained and lost, as a share of an isotropic
+// lamp's flux (4 pi x intensity lm).
+double shareOfLampFlux(const DeltaFlux& flux, const Light& lamp) {
+  return (flux.gained_lm + flux.lost_lm) / (4.0 * kPi * double(lamp.intensity));
+}
+
 // Flux a 1e6 cd lamp at `lamp_at` adds to the static patches (what a
 // shade around it at `shade_at` already changed subtracted; deltas hold the
 // lamp's bounced light, its direct light is the shaders'), as a share of
@@ -182,8 +188,7 @@ double lampLeak(Runtime& runtime, const Vec3& shade_at, const Vec3& lamp_at) {
     EXPECT_TRUE(std::isfinite(shade.r) && std::isfinite(shade.g) && std::isfinite(shade.b));
   }
   settledDeltas(runtime);
-  const DeltaFlux flux = staticDeltaFlux(runtime, shaded);
-  return (flux.gained_lm + flux.lost_lm) / (4.0 * kPi * double(lamp.intensity));
+  return shareOfLampFlux(staticDeltaFlux(runtime, shaded), lamp);
 }
 
 // A closed shade in free air (nothing else inside it) keeps all of its
@@ -202,7 +207,7 @@ TEST_F(RuntimeRobustness, LightInsideAnObject) {
   ASSERT_TRUE(unshaded->addLight(lamp).ok());
   settledDeltas(*unshaded);
   const DeltaFlux open = staticDeltaFlux(*unshaded, unlit);
-  const double open_share = (open.gained_lm + open.lost_lm) / (4.0 * kPi * double(lamp.intensity));
+  const double open_share = shareOfLampFlux(open, lamp);
   std::printf(
       "[measured] lamp in a shade in free air: %.3g %% of its flux; without the shade %.3f %%\n",
       100.0 * leak, 100.0 * open_share);
