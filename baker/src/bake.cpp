@@ -185,7 +185,7 @@ Expected<BakeResult> bakeLevel(const BakeOptions& options,
   if (!solver.ok()) return solver.status();
   run.clock.endStage("atlas");
 
-  Expected<AtlasTexels> atlas = buildAtlasTexels(run, **level);
+  Expected<AtlasTexels> atlas = buildAtlasTexels(run, **level, **solver);
   if (!atlas.ok()) return atlas.status();
   if (Status s = checkReferenceAtlas(*reference_pages, atlas->texels); !s.ok()) return s;
   run.clock.endStage("lighting");

@@ -129,7 +129,7 @@ Expected<nlohmann::ordered_json> addRuntimeSections(BakeRun& run, const Scene& s
 
 // Lightmap texels written by the pass (valid 1) and by dilation (valid 2).
 struct TexelCounts {
-  size_t covered = 0, dilated = 0;
+  size_t covered = 0, dilated = 0, buried = 0;
 };
 
 TexelCounts countTexels(const LightmapPages& pages) {
@@ -138,6 +138,7 @@ TexelCounts countTexels(const LightmapPages& pages) {
     for (uint8_t v : valid) {
       counts.covered += v == 1;
       counts.dilated += v == 2;
+      counts.buried += v == 3;
     }
   }
   return counts;
@@ -159,12 +160,21 @@ struct ReportInputs {
   bool with_reference;
 };
 
+/// The level the bake lit, as report.json names it for svit-probe and the
+/// tools: with --sun/--sky that is OUT/level.json (the bare glTF alone
+/// hashes differently), else the level given.
+std::string bakedLevelPath(const BakeOptions& options) {
+  if (options.sun_json.empty() && options.sky_json.empty())
+    return fs::absolute(options.level_path).lexically_normal().string();
+  return (fs::absolute(options.out_dir).lexically_normal() / "level.json").string();
+}
+
 nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
   const BakeOptions& options = run.options;
   const SolverStats stats = in.solver.stats();
   const TexelCounts counts = countTexels(in.pages);
   nlohmann::ordered_json json;
-  json["level"] = fs::absolute(options.level_path).lexically_normal().string();
+  json["level"] = bakedLevelPath(options);
   json["level_hash"] = in.level_hash;
   json["seed"] = options.seed;
   json["quality"] = options.quality;
@@ -185,7 +195,12 @@ nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
                        {"compensation", stats.compensation},
                        {"captured_fraction", stats.captured_fraction},
                        {"back_absorbed_rays", stats.back_absorbed},
-                       {"inside_origin_rays", stats.inside_origin_rays}};
+                       {"inside_origin_rays", stats.inside_origin_rays},
+                       {"leak_guard",
+                        {{"on", stats.leak_guard},
+                         {"voxel_m", stats.leak_guard_voxel_m},
+                         {"reached_free_voxels", stats.leak_guard_reached},
+                         {"seconds", stats.leak_guard_seconds}}}};
   json["lightmap"] = {
       {"pages", in.pages.images.size()},
       {"page_width", in.texels.page_width},
@@ -193,6 +208,7 @@ nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
       {"atlas", in.atlas.authored ? "TEXCOORD_1" : "xatlas"},
       {"covered_texels", counts.covered},
       {"dilated_texels", counts.dilated},
+      {"buried_texels", counts.buried},
       {"lighting_passes", in.lighting.accumulator.passes()},
       {"gather_rays_per_texel", in.lighting.accumulator.passes() * in.lighting.gather_rays}};
   nlohmann::ordered_json warnings = in.scene.warnings;
@@ -372,7 +388,8 @@ Expected<std::unique_ptr<RadiositySolver>> solveRadiosity(BakeRun& run, const Lo
   return solver;
 }
 
-Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level) {
+Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level,
+                                       const RadiositySolver& solver) {
   AtlasTexels out;
   double total_area = 0;
   for (float a : level.geometry.areas_m2) total_area += a;
@@ -390,6 +407,10 @@ Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level) {
       rasterizeTexels(level.geometry, out.atlas, *level.caster, raster_settings);
   if (!texels.ok()) return texels.status();
   out.texels = std::move(texels).value();
+  // No light arrives at a texel in a sealed room: black, and no rays cast.
+  buryTexels(out.texels, [&](const TexelSample& s) {
+    return !solver.lightReaches(s.position, s.normal);
+  });
   return out;
 }
 

@@ -113,8 +113,9 @@ struct AtlasTexels {
 };
 
 /// The chart atlas at the plan's density, then its texels ("atlas" and
-/// "texels" stages).
-Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level);
+/// "texels" stages); those no light reaches (solver.lightReaches) are buried.
+Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level,
+                                       const RadiositySolver& solver);
 
 /// The texel lighting settings of the plan's pass `pass` (its seed).
 TexelLightingSettings passLightingSettings(const BakeRun& run, uint32_t pass);

@@ -143,6 +143,11 @@ std::vector<Rgb> filteredIndirect(const LightmapAtlas& atlas, const TexelSet& te
 void writeSamples(const TexelSet& texels, const std::vector<TexelIrradiance>& lighting,
                   const std::vector<Rgb>& indirect, LightmapPages& pages) {
   const int w = texels.page_width;
+  // Buried texels stay black and count as filled, so dilation leaves them be.
+  const size_t page_texels = size_t(w) * size_t(texels.page_height);
+  for (size_t i = 0; i < texels.texel_to_sample.size(); ++i) {
+    if (texels.texel_to_sample[i] == kBuriedTexel) pages.valid[i / page_texels][i % page_texels] = 3;
+  }
   for (size_t i = 0; i < texels.samples.size(); ++i) {
     const TexelSample& s = texels.samples[i];
     float* p = &pages.images[s.page].rgb[texelIndex(w, int(s.x), int(s.y)) * 3];
@@ -197,7 +202,8 @@ void stitchSeams(const BakeGeometry& geometry, const LightmapAtlas& atlas, const
   auto nearest = [&](uint32_t page, Vec2 uv) -> float* {
     const int x = std::clamp(int(uv.x * float(w)), 0, w - 1),
               y = std::clamp(int(uv.y * float(h)), 0, h - 1);
-    if (!pages.valid[page][texelIndex(w, x, y)]) return nullptr;
+    const uint8_t valid = pages.valid[page][texelIndex(w, x, y)];
+    if (valid == 0 || valid == 3) return nullptr;  // a buried texel stays black
     return &pages.images[page].rgb[texelIndex(w, x, y) * 3];
   };
   for (int iteration = 0; iteration < iterations; ++iteration) {

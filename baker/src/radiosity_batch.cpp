@@ -36,6 +36,7 @@ struct RayPayload {
   glm::dvec3 flux{0.0};  // lm per channel
   bool from_surface = false;
   int origin_leaf = -1;  // kEnergy: the leaf the ray leaves from
+  bool sealed_origin = false;  // kEnergy: from a point no light reaches (light_reach.h)
 };
 
 struct BatchHit {
@@ -175,6 +176,7 @@ void RadiositySolver::State::generateRay(BatchRays& b, size_t j) const {
   glm::dvec3 origin, direction, colour;
   bool from_surface = false;
   int origin_leaf = -1;
+  bool sealed_origin = false;
   if (sh.kind == ShooterKind::kLight) {
     const LightRay lr = lights[size_t(sh.index)].sample(rng);
     origin = lr.origin;
@@ -206,6 +208,7 @@ void RadiositySolver::State::generateRay(BatchRays& b, size_t j) const {
                                         cornerMagnitude(*geometry, leaf.triangle));
     origin = dvec(offset);
     from_surface = true;
+    sealed_origin = sh.kind == ShooterKind::kEnergy && !reach.reaches(p, leaf.normal);
   }
   Ray& ray = b.rays[j];
   ray.origin = fromGlm(glm::vec3(origin));
@@ -214,6 +217,7 @@ void RadiositySolver::State::generateRay(BatchRays& b, size_t j) const {
   b.payload[j].flux = colour * b.ray_y;
   b.payload[j].from_surface = from_surface;
   b.payload[j].origin_leaf = origin_leaf;
+  b.payload[j].sealed_origin = sealed_origin;
 }
 
 // Generate and cast, in parallel over fixed chunks; then locate the leaf
@@ -256,6 +260,10 @@ void RadiositySolver::State::findInsideOrigins(BatchRays& b) const {
   b.inside.assign(rays, 0);
   std::vector<uint32_t> suspects;
   for (size_t j = 0; j < rays; ++j) {
+    if (b.payload[j].sealed_origin) {
+      b.inside[j] = 1;  // no light reaches its origin: it goes back like one from inside
+      continue;
+    }
     if (b.payload[j].origin_leaf >= 0 && b.hits[j].hit() &&
         t.elementRoot(b.hits[j].triangle, b.hits[j].front) < 0) {
       suspects.push_back(uint32_t(j));

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "double_math.h"
 #include "radiosity_state.h"
@@ -31,32 +32,54 @@ const std::vector<glm::dvec3>& RadiositySolver::State::currentLevels(
   return scratch;
 }
 
-std::vector<glm::dvec3> RadiositySolver::State::elementMeans(const std::vector<glm::dvec3>& levels,
-                                                             const glm::dvec3& ambient) const {
-  // Depth-first from the object roots carrying the sum of the levels above;
-  // each leaf adds area * (sum) to its element.
-  std::vector<glm::dvec3> sums(geometry->triangleCount() * 2, glm::dvec3(0.0));
-  struct Item {
-    int node;
-    glm::dvec3 above;
-  };
-  std::vector<Item> stack;
+void RadiositySolver::State::forEachLeafLevel(
+    const std::vector<glm::dvec3>& levels,
+    const std::function<void(const TreeNode&, int, const glm::dvec3&)>& visit) const {
+  // Depth-first from the object roots carrying the sum of the levels above.
+  std::vector<std::pair<int, glm::dvec3>> stack;
   for (int root : tree->objectRoots()) stack.push_back({root, glm::dvec3(0.0)});
   while (!stack.empty()) {
-    const Item item = stack.back();
+    const auto [n, above] = stack.back();
     stack.pop_back();
-    const TreeNode& node = tree->node(item.node);
-    const glm::dvec3 here = item.above + levels[size_t(item.node)];
+    const TreeNode& node = tree->node(n);
+    const glm::dvec3 here = above + levels[size_t(n)];
     if (node.isLeaf()) {
-      sums[size_t(node.triangle) * 2 + node.side] += node.area_m2 * here;
+      visit(node, n, here);
     } else {
       stack.push_back({node.child[0], here});
       stack.push_back({node.child[1], here});
     }
   }
+}
+
+// The unshot flux's ambient estimate (thesis 5.5) is spread over the leaves
+// that received light, and none goes to leaves nothing reached: a space
+// sealed from every light (a closed room, the inside of a hollow wall)
+// stays black, as it is. The leaves that did receive light share all of
+// it, so the ambient flux is the same as spread over every surface.
+glm::dvec3 RadiositySolver::State::litLeafAmbient(const std::vector<glm::dvec3>& levels,
+                                                  const glm::dvec3& ambient) const {
+  if (!(luminanceOf(ambient) > 0)) return glm::dvec3(0.0);
+  double all_m2 = 0, lit_m2 = 0;
+  forEachLeafLevel(levels, [&](const TreeNode& leaf, int, const glm::dvec3& here) {
+    all_m2 += leaf.area_m2;
+    if (luminanceOf(here) > 0) lit_m2 += leaf.area_m2;
+  });
+  return lit_m2 > 0 ? ambient * (all_m2 / lit_m2) : glm::dvec3(0.0);
+}
+
+std::vector<glm::dvec3> RadiositySolver::State::elementMeans(const std::vector<glm::dvec3>& levels,
+                                                             const glm::dvec3& ambient) const {
+  // Each leaf adds area * (levels above it, and its ambient) to its element.
+  const glm::dvec3 lit_ambient = litLeafAmbient(levels, ambient);
+  std::vector<glm::dvec3> sums(geometry->triangleCount() * 2, glm::dvec3(0.0));
+  forEachLeafLevel(levels, [&](const TreeNode& leaf, int, const glm::dvec3& here) {
+    const glm::dvec3 with_ambient = luminanceOf(here) > 0 ? here + lit_ambient : here;
+    sums[size_t(leaf.triangle) * 2 + leaf.side] += leaf.area_m2 * with_ambient;
+  });
   for (size_t e = 0; e < sums.size(); ++e) {
     const int root = tree->elementRoot(uint32_t(e / 2), e % 2 == 0);
-    sums[e] = root >= 0 ? sums[e] / tree->node(root).area_m2 + ambient : glm::dvec3(0.0);
+    sums[e] = root >= 0 ? sums[e] / tree->node(root).area_m2 : glm::dvec3(0.0);
   }
   return sums;
 }
@@ -163,24 +186,13 @@ void RadiositySolver::prepareQueries() const {
     // Leaf values and vertex -> leaves incidence, rebuilt when the solution changed.
     std::vector<glm::dvec3> scratch;
     const std::vector<glm::dvec3>& levels = s.currentLevels(scratch);
-    const glm::dvec3 ambient = s.answerAmbient();
+    const glm::dvec3 lit_ambient = s.litLeafAmbient(levels, s.answerAmbient());
     s.leaf_value.assign(tree.nodes().size(), glm::dvec3(0.0));
     s.vertex_leaves.assign(tree.vertexCount(), {});
-    std::vector<std::pair<int, glm::dvec3>> stack;
-    for (int r : tree.objectRoots()) stack.push_back({r, ambient});
-    while (!stack.empty()) {
-      const auto [n, above] = stack.back();
-      stack.pop_back();
-      const TreeNode& node = tree.node(n);
-      const glm::dvec3 here = above + levels[size_t(n)];
-      if (node.isLeaf()) {
-        s.leaf_value[size_t(n)] = here;
-        for (uint32_t vertex : node.vertex) s.vertex_leaves[vertex].push_back(n);
-      } else {
-        stack.push_back({node.child[0], here});
-        stack.push_back({node.child[1], here});
-      }
-    }
+    s.forEachLeafLevel(levels, [&](const TreeNode& leaf, int n, const glm::dvec3& here) {
+      s.leaf_value[size_t(n)] = luminanceOf(here) > 0 ? here + lit_ambient : here;
+      for (uint32_t vertex : leaf.vertex) s.vertex_leaves[vertex].push_back(n);
+    });
     for (auto& list : s.vertex_leaves) std::sort(list.begin(), list.end());
     s.cache_version = s.version;
   }
@@ -192,6 +204,8 @@ Rgb RadiositySolver::irradianceAt(uint32_t triangle, bool front, double u, doubl
   const ElementTree& tree = *s.tree;
   const int root = tree.elementRoot(triangle, front);
   if (root < 0) return {0, 0, 0};
+  if (!s.reach.reaches(s.pointOn(triangle, u, v), s.sideNormal(triangle, front)))
+    return {0, 0, 0};  // sealed from every light: what the element holds came from elsewhere
   prepareQueries();
   const int leaf = tree.locateLeaf(root, u, v);
   const TreeNode& node = tree.node(leaf);
@@ -260,7 +274,16 @@ SolverStats RadiositySolver::stats() const {
   out.leaves = state_->tree->leafCount();
   out.captured_fraction =
       state_->surface_rays > 0 ? double(state_->surface_hits) / double(state_->surface_rays) : 1.0;
+  const LightReachStats& reach = state_->reach.stats();
+  out.leak_guard = reach.enabled;
+  out.leak_guard_voxel_m = reach.voxel_m;
+  out.leak_guard_reached = reach.reached_fraction;
+  out.leak_guard_seconds = reach.seconds;
   return out;
+}
+
+bool RadiositySolver::lightReaches(const Vec3& point, const Vec3& normal) const {
+  return state_->reach.reaches(dvec(point), dvec(normal));
 }
 
 }  // namespace svit::baker

@@ -132,6 +132,7 @@ Expected<std::unique_ptr<RadiositySolver>> RadiositySolver::create(
   Expected<std::vector<LightSource>> lights = makeLightSources(scene, geometry);
   if (!lights.ok()) return lights.status();
   s.lights = std::move(lights).value();
+  s.reach = LightReach::build(geometry, s.lights);
 
   for (const LightSource& light : s.lights) s.emitted_y += light.flux_y;
   glm::dvec3 reflectance(0.0);

@@ -3,6 +3,7 @@
 // radiosity_solution.cpp (reading the solution back); internal.
 
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <set>
 #include <vector>
@@ -11,6 +12,7 @@
 
 #include "double_math.h"
 #include "element_tree.h"
+#include "light_reach.h"
 #include "light_sources.h"
 #include "svit/baker/radiosity.h"
 
@@ -31,6 +33,9 @@ struct RadiositySolver::State {
   int threads = 1;
   std::unique_ptr<ElementTree> tree;
   std::vector<LightSource> lights;
+  /// Where light can arrive (light_reach.h): no light leaves or is read
+  /// from surface points it does not reach.
+  LightReach reach;
   std::vector<int> emitting_roots;  ///< object roots with emitted flux
 
   // Per node, grown with the tree. Irradiance (lux) received at the node's
@@ -99,9 +104,28 @@ struct RadiositySolver::State {
   void depositHits(SubtreeHits& subtrees);
   void returnInsideFlux(const BatchRays& b, const BinnedHits& binned);
   glm::dvec3 currentAmbient() const;
+  /// World point at barycentric (u, v) of `triangle`.
+  glm::dvec3 pointOn(uint32_t triangle, double u, double v) const {
+    const glm::dvec3 c0 = dvec(geometry->corner(triangle, 0));
+    return c0 + u * (dvec(geometry->corner(triangle, 1)) - c0) +
+           v * (dvec(geometry->corner(triangle, 2)) - c0);
+  }
+  /// Unit normal of the side of `triangle` asked about.
+  glm::dvec3 sideNormal(uint32_t triangle, bool front) const {
+    const glm::dvec3 n = dvec(geometry->normals[triangle]);
+    return front ? n : -n;
+  }
   /// Irradiance per node at the node's own level for the current answer.
   const std::vector<glm::dvec3>& currentLevels(std::vector<glm::dvec3>& scratch) const;
-  /// Mean irradiance per element (triangle side) for `levels` + `ambient`.
+  /// Calls `visit(leaf, leaf index, sum of the levels from its object root
+  /// down to it)` for every leaf.
+  void forEachLeafLevel(
+      const std::vector<glm::dvec3>& levels,
+      const std::function<void(const TreeNode&, int, const glm::dvec3&)>& visit) const;
+  /// The ambient irradiance of each leaf that received light for `levels`
+  /// (those that received none get none), the same flux as `ambient` on all.
+  glm::dvec3 litLeafAmbient(const std::vector<glm::dvec3>& levels, const glm::dvec3& ambient) const;
+  /// Mean irradiance per element (triangle side) for `levels` + their ambient.
   std::vector<glm::dvec3> elementMeans(const std::vector<glm::dvec3>& levels,
                                        const glm::dvec3& ambient) const;
   /// Ambient irradiance of the current answer (averaged over passes once any completed).

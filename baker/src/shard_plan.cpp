@@ -190,7 +190,7 @@ Expected<ShardPlanResult> planShardedBake(const BakeOptions& options, uint32_t s
   Expected<std::unique_ptr<RadiositySolver>> solver = solveRadiosity(run, **level);
   if (!solver.ok()) return solver.status();
   run.clock.endStage("atlas");
-  Expected<AtlasTexels> atlas = buildAtlasTexels(run, **level);
+  Expected<AtlasTexels> atlas = buildAtlasTexels(run, **level, **solver);
   if (!atlas.ok()) return atlas.status();
   run.clock.endStage("plan");
 

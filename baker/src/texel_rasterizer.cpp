@@ -3,7 +3,7 @@
 // Hodgman, "Reentrant Polygon Clipping", CACM 1974), which gives the covered
 // area and its centroid. Sample points inside or behind geometry are found
 // with short probe rays that meet a back face, and moved across it or
-// dropped: the usual leak guard of production lightmappers (Unity's texel
+// buried (black: the floor under a wall): the usual leak guard of production lightmappers (Unity's texel
 // validity / backface tolerance, Bakery's sample adjustment). The probes
 // reach about a texel, so they fix texels that straddle a surface; a texel
 // deep inside a solid stays (its lighting sees black back faces; unseen).
@@ -453,9 +453,16 @@ std::vector<uint8_t> moveLeakingSamples(const BandInput& in,
   return moved;
 }
 
+/// A band's samples, and the texels it found wholly inside or behind
+/// geometry (their samples dropped), in (y, x) order.
+struct BandTexels {
+  std::vector<TexelSample> samples;
+  std::vector<TexelSample> buried;
+};
+
 /// Probes every sample for leaks; moves the leaking ones out where it can
-/// and drops the rest (a leaking texel with no way out).
-std::vector<TexelSample> resolveLeaks(const BandInput& in, std::vector<TexelSample>& pending) {
+/// and buries the rest (a leaking texel with no way out).
+BandTexels resolveLeaks(const BandInput& in, std::vector<TexelSample>& pending) {
   const BakeGeometry& geometry = *in.geometry;
   std::vector<Ray> rays;
   rays.reserve(pending.size() * kProbes);
@@ -467,15 +474,15 @@ std::vector<TexelSample> resolveLeaks(const BandInput& in, std::vector<TexelSamp
   in.caster->intersect(rays, hits);
   const LeakCandidates leaks = findLeakCandidates(in, pending, rays, hits);
   const std::vector<uint8_t> moved = moveLeakingSamples(in, leaks.candidates, pending);
-  std::vector<TexelSample> result;
+  BandTexels result;
   for (size_t i = 0; i < pending.size(); ++i) {
-    if (!leaks.leaking[i] || moved[i]) result.push_back(pending[i]);
+    (!leaks.leaking[i] || moved[i] ? result.samples : result.buried).push_back(pending[i]);
   }
   return result;
 }
 
 /// Rasterizes one band, then pulls or drops its leaking samples. Output in (y, x) order.
-std::vector<TexelSample> rasterizeBand(const BandInput& in, size_t band) {
+BandTexels rasterizeBand(const BandInput& in, size_t band) {
   const int w = in.atlas->page_width, h = in.atlas->page_height;
   BandRows rows;
   rows.page = uint32_t(band / size_t(in.bands_per_page));
@@ -484,8 +491,33 @@ std::vector<TexelSample> rasterizeBand(const BandInput& in, size_t band) {
   rows.texels = size_t(w) * size_t(rows.y_end - rows.y_begin);
   if ((*in.band_start)[band] == (*in.band_start)[band + 1]) return {};
   std::vector<TexelSample> pending = placeSamples(in, rows, coverBand(in, band, rows));
-  if (!(in.settings->leak_probe_texels > 0.0)) return pending;
+  if (!(in.settings->leak_probe_texels > 0.0)) return {std::move(pending), {}};
   return resolveLeaks(in, pending);
+}
+
+/// The bands' samples in (page, y, x) order, and their buried texels.
+TexelSet assembleTexelSet(const LightmapAtlas& atlas, std::vector<BandTexels>& band_texels) {
+  const int w = atlas.page_width, h = atlas.page_height;
+  TexelSet set;
+  set.page_width = w;
+  set.page_height = h;
+  set.page_count = atlas.page_count;
+  set.texel_to_sample.assign(size_t(atlas.page_count) * size_t(w) * size_t(h), kNoSample);
+  const auto at = [&](const TexelSample& s) -> int32_t& {
+    return set.texel_to_sample[(size_t(s.page) * size_t(h) + s.y) * size_t(w) + s.x];
+  };
+  size_t total = 0;
+  for (const BandTexels& band : band_texels) total += band.samples.size();
+  set.samples.reserve(total);
+  for (BandTexels& band : band_texels) {  // band order is (page, y) order
+    for (const TexelSample& sample : band.samples) {
+      at(sample) = int32_t(set.samples.size());
+      set.samples.push_back(sample);
+    }
+    for (const TexelSample& sample : band.buried) at(sample) = kBuriedTexel;
+    band = BandTexels{};
+  }
+  return set;
 }
 
 Status validate(const BakeGeometry& geometry, const LightmapAtlas& atlas,
@@ -575,28 +607,29 @@ Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapA
 
   BandInput input{&geometry,   &atlas,          &caster,       &settings,
                   &band_start, &band_triangles, bands_per_page};
-  std::vector<std::vector<TexelSample>> band_samples(bands);
+  std::vector<BandTexels> band_texels(bands);
   parallelFor(bands, 1, resolveThreads(settings.threads), [&](size_t begin, size_t end) {
-    for (size_t b = begin; b < end; ++b) band_samples[b] = rasterizeBand(input, b);
+    for (size_t b = begin; b < end; ++b) band_texels[b] = rasterizeBand(input, b);
   });
+  return assembleTexelSet(atlas, band_texels);
+}
 
-  TexelSet set;
-  set.page_width = w;
-  set.page_height = h;
-  set.page_count = atlas.page_count;
-  set.texel_to_sample.assign(size_t(atlas.page_count) * size_t(w) * size_t(h), -1);
-  size_t total = 0;
-  for (const std::vector<TexelSample>& s : band_samples) total += s.size();
-  set.samples.reserve(total);
-  for (std::vector<TexelSample>& s : band_samples) {  // band order is (page, y) order
-    for (const TexelSample& sample : s) {
-      set.texel_to_sample[(size_t(sample.page) * size_t(h) + sample.y) * size_t(w) + sample.x] =
-          int32_t(set.samples.size());
-      set.samples.push_back(sample);
+size_t buryTexels(TexelSet& texels, const std::function<bool(const TexelSample&)>& buried) {
+  const size_t page = size_t(texels.page_width) * size_t(texels.page_height);
+  std::vector<TexelSample> kept;
+  kept.reserve(texels.samples.size());
+  for (const TexelSample& s : texels.samples) {
+    int32_t& slot = texels.texel_to_sample[s.page * page + size_t(s.y) * texels.page_width + s.x];
+    if (buried(s)) {
+      slot = kBuriedTexel;
+      continue;
     }
-    std::vector<TexelSample>().swap(s);
+    slot = int32_t(kept.size());
+    kept.push_back(s);
   }
-  return set;
+  const size_t count = texels.samples.size() - kept.size();
+  texels.samples = std::move(kept);
+  return count;
 }
 
 }  // namespace svit::baker

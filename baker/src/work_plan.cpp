@@ -43,7 +43,7 @@ bool texelsFit(const TexelSet& t) {
   const size_t page_texels = size_t(t.page_width) * size_t(t.page_height);
   if (t.texel_to_sample.size() != page_texels * size_t(t.page_count)) return false;
   for (int32_t s : t.texel_to_sample) {
-    if (s < -1 || (s >= 0 && size_t(s) >= t.samples.size())) return false;
+    if (s < kBuriedTexel || (s >= 0 && size_t(s) >= t.samples.size())) return false;
   }
   for (const TexelSample& s : t.samples) {
     if (s.page >= uint32_t(t.page_count) || s.x >= uint32_t(t.page_width) ||

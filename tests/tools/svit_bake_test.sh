@@ -130,6 +130,11 @@ level = json.load(open(f"{sys.argv[1]}/level.json"))
 assert level["gltf"] == os.path.abspath(sys.argv[2]), level["gltf"]
 assert level["sun"]["illuminance_lux"] == 100000 and level["sky"]["model"] == "uniform", level
 PY
+# svit-probe reads the bake's level from report.json: OUT/level.json, whose
+# hash is the bake's (the bare glTF alone would be "changed since baked").
+printf '0 0 0 0 1 0\n' >"$work/up.txt"
+expect_exit probe_sunlit 0 -- "$probe" "$work/sunlit" "$work/up.txt"
+awk '$2 > 0 { found = 1 } END { exit !found }' "$work/out.txt" && ok "the sunlit quad probes lit" || fail "sunlit probe: $(cat "$work/out.txt")"
 # Bad --sun / --sky: exit 2, naming the option and the field or value.
 bad_sun() {  # NAME WANT-TEXT ARGS...
   local name="$1" text="$2"; shift 2

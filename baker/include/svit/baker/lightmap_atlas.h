@@ -5,6 +5,7 @@
 // sample points pulled out of walls so no light leaks.
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "svit/baker/bake_geometry.h"
@@ -58,11 +59,21 @@ struct TexelSample {
   float coverage = 0;     ///< fraction of the texel's area covered by triangles, (0, 1]
 };
 
+/// TexelSet::texel_to_sample where no triangle covers the texel.
+constexpr int32_t kNoSample = -1;
+/// TexelSet::texel_to_sample where a triangle covers the texel but all of it
+/// lies inside or under geometry (the floor under a wall or a crate): no
+/// light reaches it, so its page texel is black, never dilated over from
+/// lit neighbours (which would leak light under the wall into the bilinear
+/// lookups on its dark side).
+constexpr int32_t kBuriedTexel = -2;
+
 /// All covered texels of all pages, and a per-texel index for lookups.
 struct TexelSet {
   int page_width = 0, page_height = 0, page_count = 0;
-  std::vector<TexelSample> samples;      ///< in (page, y, x) order
-  std::vector<int32_t> texel_to_sample;  ///< page_count * width * height, -1 where nothing covers
+  std::vector<TexelSample> samples;  ///< in (page, y, x) order
+  /// page_count * width * height: the sample's index, kNoSample or kBuriedTexel
+  std::vector<int32_t> texel_to_sample;
 
   int32_t sampleAt(uint32_t page, uint32_t x, uint32_t y) const {
     return texel_to_sample[(size_t(page) * size_t(page_height) + y) * size_t(page_width) + x];
@@ -81,8 +92,13 @@ struct RasterSettings {
 /// with the sample point at the centroid of the covered part clamped into
 /// it. Sample points that lie inside or behind geometry (a probe ray from
 /// them hits a back face first) are moved towards the covered part's visible
-/// side, or dropped when no point of the texel is outside. Deterministic.
+/// side, or buried (kBuriedTexel) when no point of the texel is outside.
+/// Deterministic.
 Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapAtlas& atlas,
                                    const RayCaster& caster, const RasterSettings& settings);
+
+/// Buries (kBuriedTexel: black, never dilated over) every sample for which
+/// `buried` is true, keeping the others in order. Returns how many.
+size_t buryTexels(TexelSet& texels, const std::function<bool(const TexelSample&)>& buried);
 
 }  // namespace svit::baker

@@ -105,6 +105,12 @@ struct SolverStats {
   double seconds = 0;                    ///< solver wall time
   std::string compensation = "ambient";  ///< how unshot energy is estimated (thesis 5.5)
   double captured_fraction = 1;          ///< surface rays that hit the scene (1 = closed)
+  /// The leak guard (where light can reach, flooded on a voxel grid): off
+  /// when the level is too large for its voxels to keep doors open.
+  bool leak_guard = false;
+  double leak_guard_voxel_m = 0;
+  double leak_guard_reached = 0;  ///< share of the free voxels light reaches
+  double leak_guard_seconds = 0;
 };
 
 enum class InterpolationMode {
@@ -156,6 +162,10 @@ class RadiositySolver {
   /// Builds the interpolation caches (leaf values, vertex incidence) so that
   /// irradianceAt may be called from many threads. Not thread-safe itself.
   void prepareQueries() const;
+  /// Whether any baked light can arrive at surface point `point` from the
+  /// side `normal` faces (false in a room sealed from every light and under
+  /// a wall; see SolverStats::leak_guard). irradianceAt is 0 where not.
+  bool lightReaches(const Vec3& point, const Vec3& normal) const;
 
   /// Per-triangle front irradiance of a reference solution; from then on the
   /// error series also carries the true relative error.

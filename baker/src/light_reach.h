@@ -1,0 +1,75 @@
+#pragma once
+// Where light can reach: the free space of the level on a voxel grid,
+// flooded from every baked light (a lamp's voxel, an emitter's front, the
+// outside for the sun, the sky and directional lights). A surface point
+// whose front looks into space no flood reached lies in a sealed room or
+// under a wall: no light arrives there, whatever the hierarchical solution
+// spread onto its element from the lit part (an element of a floor that
+// runs under a wall from the sunlit outside into a closed room, a cluster
+// holding both rooms of a partition). The solver shoots no light from such
+// points and the final gather reads them as black (docs/architecture.md
+// "Leaks").
+//
+// Surfaces mark every voxel they pass through (a conservative raster along
+// each triangle's dominant axis), so even a wall of zero thickness is a
+// 6-connected barrier; the cost is that an opening narrower than about two
+// voxels closes. The voxel is a 512th of the level's diagonal (coarser only
+// past a budget of voxels), and the guard stays off above kMaxVoxelM, where
+// that would close doors and windows.
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "light_sources.h"
+#include "svit/baker/bake_geometry.h"
+
+namespace svit::baker {
+
+struct LightReachStats {
+  bool enabled = false;
+  double voxel_m = 0;
+  uint32_t nx = 0, ny = 0, nz = 0;
+  double reached_fraction = 0;  ///< of the free voxels
+  double seconds = 0;
+};
+
+class LightReach {
+ public:
+  /// Voxels along the level's bounding-box diagonal.
+  static constexpr double kDiagonalVoxels = 512;
+  /// Most voxels of the grid (two bits each).
+  static constexpr uint64_t kVoxelBudget = 96'000'000;
+  /// Coarser than this the guard is off (every point counts as reached).
+  static constexpr double kMaxVoxelM = 0.25;
+
+  LightReach() = default;
+  /// Voxelizes `geometry` and floods from `lights` and the emissive
+  /// triangles. Deterministic; threads are not used.
+  static LightReach build(const BakeGeometry& geometry, const std::vector<LightSource>& lights);
+
+  /// Whether light can arrive at surface point `p` from the side `n` faces:
+  /// the first free voxel along `n` within a few voxels was reached (true
+  /// when the guard is off or no voxel along `n` is free).
+  bool reaches(const glm::dvec3& p, const glm::dvec3& n) const;
+  const LightReachStats& stats() const { return stats_; }
+
+ private:
+  size_t index(uint32_t x, uint32_t y, uint32_t z) const {
+    return (size_t(z) * ny_ + y) * nx_ + x;
+  }
+  bool cellOf(const glm::dvec3& p, uint32_t* x, uint32_t* y, uint32_t* z) const;
+  void markTriangle(const glm::dvec3 (&c)[3]);
+  void seed(const glm::dvec3& p, std::vector<uint32_t>& frontier);
+  void seedBoundary(std::vector<uint32_t>& frontier);
+  void flood(std::vector<uint32_t>& frontier);
+
+  LightReachStats stats_;
+  glm::dvec3 origin_{0.0};
+  double voxel_ = 0;
+  uint32_t nx_ = 0, ny_ = 0, nz_ = 0;
+  std::vector<uint64_t> solid_, reached_;  ///< bitsets over the grid
+};
+
+}  // namespace svit::baker
