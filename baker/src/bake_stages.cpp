@@ -409,7 +409,7 @@ Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level,
   out.texels = std::move(texels).value();
   // No light arrives at a texel in a sealed room: black, and no rays cast.
   buryTexels(out.texels, [&](const TexelSample& s) {
-    return !solver.lightReaches(s.position, s.normal);
+    return !solver.lightReaches(s.triangle, s.position, s.normal);
   });
   return out;
 }

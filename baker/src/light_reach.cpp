@@ -96,15 +96,15 @@ void LightReach::markTriangle(const glm::dvec3 (&c)[3]) {
 }
 
 // A light inside a voxel some surface passes through floods from the free
-// voxels around it.
+// voxels around it; one outside the grid is outside every wall, with the sun.
 void LightReach::seed(const glm::dvec3& p, std::vector<uint32_t>& frontier) {
   uint32_t x, y, z;
-  if (!cellOf(p, &x, &y, &z)) return;
+  if (!cellOf(p, &x, &y, &z)) return seedBoundary(frontier);
   for (int dz = -1; dz <= 1; ++dz) {
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
         const bool centre = dx == 0 && dy == 0 && dz == 0;
-        if (!centre && !bit(solid_, index(x, y, z)) ) continue;  // free: the centre alone
+        if (!centre && !bit(solid_, index(x, y, z))) continue;  // free: the centre alone
         const int64_t X = int64_t(x) + dx, Y = int64_t(y) + dy, Z = int64_t(z) + dz;
         if (X < 0 || Y < 0 || Z < 0 || X >= nx_ || Y >= ny_ || Z >= nz_) continue;
         const size_t i = index(uint32_t(X), uint32_t(Y), uint32_t(Z));
@@ -125,8 +125,8 @@ void LightReach::seedBoundary(std::vector<uint32_t>& frontier) {
 
 // Breadth-first through 6-connected free voxels.
 void LightReach::flood(std::vector<uint32_t>& frontier) {
-  const int64_t steps[6] = {1, -1, int64_t(nx_), -int64_t(nx_), int64_t(nx_) * ny_,
-                            -int64_t(nx_) * ny_};
+  const int64_t steps[6] = {
+      1, -1, int64_t(nx_), -int64_t(nx_), int64_t(nx_) * ny_, -int64_t(nx_) * ny_};
   for (size_t f = 0; f < frontier.size(); ++f) {
     const uint32_t i = frontier[f];
     const uint32_t x = i % nx_, y = (i / nx_) % ny_, z = i / (nx_ * ny_);
@@ -141,14 +141,14 @@ void LightReach::flood(std::vector<uint32_t>& frontier) {
   }
 }
 
-LightReach LightReach::build(const BakeGeometry& geometry,
-                             const std::vector<LightSource>& lights) {
+LightReach LightReach::build(const BakeGeometry& geometry, const std::vector<LightSource>& lights,
+                             double max_voxel_m) {
   const auto start = std::chrono::steady_clock::now();
   LightReach r;
   const glm::dvec3 lo = dvec(geometry.bounds.min), hi = dvec(geometry.bounds.max);
   r.voxel_ = voxelFor(hi - lo);
   r.stats_.voxel_m = r.voxel_;
-  if (!(r.voxel_ <= kMaxVoxelM) || geometry.triangleCount() == 0) return r;
+  if (!(r.voxel_ <= max_voxel_m) || geometry.triangleCount() == 0) return r;
   r.origin_ = lo - double(kPadVoxels) * r.voxel_;
   const glm::dvec3 cells = glm::ceil((hi - lo) / r.voxel_) + 2.0 * kPadVoxels + 1.0;
   r.nx_ = uint32_t(cells.x);
@@ -192,35 +192,31 @@ LightReach LightReach::build(const BakeGeometry& geometry,
   return r;
 }
 
-bool LightReach::reaches(const glm::dvec3& p, const glm::dvec3& n) const {
+bool LightReach::reaches(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& toward) const {
   if (!stats_.enabled) return true;
-  // The first free voxel in front of the surface, within two voxels.
+  // Where a perpendicular surface fills the voxels in front of `p` (the
+  // floor along a wall's foot, the very corner of a room), the way in
+  // front is read a voxel further into p's own surface, up to kInwardVoxels.
+  const double length = glm::length(toward - p);
+  const glm::dvec3 inward = length > 0 ? (toward - p) / length : glm::dvec3(0.0);
+  for (double walk = 0; walk <= kInwardVoxels; walk += 1.0) {
+    const glm::dvec3 q = p + inward * std::min(length, walk * voxel_);
+    int verdict = firstFreeAlong(q, n);
+    if (verdict >= 0) return verdict == 1;
+  }
+  return true;  // walled in on every side: nothing to tell, so no guard
+}
+
+// The first free voxel in front of the surface at q, within two voxels:
+// 1 if light reached it, 0 if not, -1 if all are solid.
+int LightReach::firstFreeAlong(const glm::dvec3& q, const glm::dvec3& n) const {
   for (double step = 0.5; step <= 2.0; step += 0.5) {
     uint32_t x, y, z;
-    if (!cellOf(p + n * (step * voxel_), &x, &y, &z)) return true;  // outside the grid: open
+    if (!cellOf(q + n * (step * voxel_), &x, &y, &z)) return 1;  // outside the grid: open
     const size_t i = index(x, y, z);
-    if (!bit(solid_, i)) return bit(reached_, i);
+    if (!bit(solid_, i)) return bit(reached_, i) ? 1 : 0;
   }
-  // In a corner where surfaces fill the voxels in front: reached only when
-  // every free voxel around, in front of the surface, was.
-  uint32_t x, y, z;
-  if (!cellOf(p + n * voxel_, &x, &y, &z)) return true;
-  bool any = false;
-  for (int dz = -1; dz <= 1; ++dz) {
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        const int64_t X = int64_t(x) + dx, Y = int64_t(y) + dy, Z = int64_t(z) + dz;
-        if (X < 0 || Y < 0 || Z < 0 || X >= nx_ || Y >= ny_ || Z >= nz_) continue;
-        const glm::dvec3 centre = origin_ + (glm::dvec3(X, Y, Z) + 0.5) * voxel_;
-        if (glm::dot(centre - p, n) <= 0) continue;
-        const size_t i = index(uint32_t(X), uint32_t(Y), uint32_t(Z));
-        if (bit(solid_, i)) continue;
-        if (!bit(reached_, i)) return false;
-        any = true;
-      }
-    }
-  }
-  return any;
+  return -1;
 }
 
 }  // namespace svit::baker

@@ -14,8 +14,9 @@
 // each triangle's dominant axis), so even a wall of zero thickness is a
 // 6-connected barrier; the cost is that an opening narrower than about two
 // voxels closes. The voxel is a 512th of the level's diagonal (coarser only
-// past a budget of voxels), and the guard stays off above kMaxVoxelM, where
-// that would close doors and windows.
+// past a budget of voxels), and the guard stays off where the voxel would
+// be coarser than RadiositySettings::leak_guard_max_voxel_m, as it would
+// close doors and windows.
 
 #include <cstdint>
 #include <vector>
@@ -41,29 +42,34 @@ class LightReach {
   static constexpr double kDiagonalVoxels = 512;
   /// Most voxels of the grid (two bits each).
   static constexpr uint64_t kVoxelBudget = 96'000'000;
-  /// Coarser than this the guard is off (every point counts as reached).
-  static constexpr double kMaxVoxelM = 0.25;
+  /// How far a query walks into its surface, in voxels.
+  static constexpr double kInwardVoxels = 3.0;
 
   LightReach() = default;
   /// Voxelizes `geometry` and floods from `lights` and the emissive
   /// triangles. Deterministic; threads are not used.
-  static LightReach build(const BakeGeometry& geometry, const std::vector<LightSource>& lights);
+  /// Off (every point reached) where the voxel would be coarser than
+  /// `max_voxel_m`.
+  static LightReach build(const BakeGeometry& geometry, const std::vector<LightSource>& lights,
+                          double max_voxel_m);
 
   /// Whether light can arrive at surface point `p` from the side `n` faces:
   /// the first free voxel along `n` within a few voxels was reached (true
-  /// when the guard is off or no voxel along `n` is free).
-  bool reaches(const glm::dvec3& p, const glm::dvec3& n) const;
+  /// when the guard is off or no voxel around is free). `toward` is a point
+  /// inside the surface (its triangle's centroid): where surfaces fill the
+  /// voxels in front of `p`, points up to kInwardVoxels towards it are
+  /// asked instead, so the edge where two walls meet looks into the room.
+  bool reaches(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& toward) const;
   const LightReachStats& stats() const { return stats_; }
 
  private:
-  size_t index(uint32_t x, uint32_t y, uint32_t z) const {
-    return (size_t(z) * ny_ + y) * nx_ + x;
-  }
+  size_t index(uint32_t x, uint32_t y, uint32_t z) const { return (size_t(z) * ny_ + y) * nx_ + x; }
   bool cellOf(const glm::dvec3& p, uint32_t* x, uint32_t* y, uint32_t* z) const;
   void markTriangle(const glm::dvec3 (&c)[3]);
   void seed(const glm::dvec3& p, std::vector<uint32_t>& frontier);
   void seedBoundary(std::vector<uint32_t>& frontier);
   void flood(std::vector<uint32_t>& frontier);
+  int firstFreeAlong(const glm::dvec3& q, const glm::dvec3& n) const;
 
   LightReachStats stats_;
   glm::dvec3 origin_{0.0};

@@ -146,7 +146,8 @@ void writeSamples(const TexelSet& texels, const std::vector<TexelIrradiance>& li
   // Buried texels stay black and count as filled, so dilation leaves them be.
   const size_t page_texels = size_t(w) * size_t(texels.page_height);
   for (size_t i = 0; i < texels.texel_to_sample.size(); ++i) {
-    if (texels.texel_to_sample[i] == kBuriedTexel) pages.valid[i / page_texels][i % page_texels] = 3;
+    if (texels.texel_to_sample[i] == kBuriedTexel)
+      pages.valid[i / page_texels][i % page_texels] = 3;
   }
   for (size_t i = 0; i < texels.samples.size(); ++i) {
     const TexelSample& s = texels.samples[i];

@@ -35,7 +35,7 @@ struct Shooter {
 struct RayPayload {
   glm::dvec3 flux{0.0};  // lm per channel
   bool from_surface = false;
-  int origin_leaf = -1;  // kEnergy: the leaf the ray leaves from
+  int origin_leaf = -1;        // kEnergy: the leaf the ray leaves from
   bool sealed_origin = false;  // kEnergy: from a point no light reaches (light_reach.h)
 };
 
@@ -208,7 +208,7 @@ void RadiositySolver::State::generateRay(BatchRays& b, size_t j) const {
                                         cornerMagnitude(*geometry, leaf.triangle));
     origin = dvec(offset);
     from_surface = true;
-    sealed_origin = sh.kind == ShooterKind::kEnergy && !reach.reaches(p, leaf.normal);
+    sealed_origin = sh.kind == ShooterKind::kEnergy && !reachesOn(leaf.triangle, p, leaf.normal);
   }
   Ray& ray = b.rays[j];
   ray.origin = fromGlm(glm::vec3(origin));

@@ -17,7 +17,7 @@
 namespace svit::baker {
 namespace {
 
-constexpr uint32_t kSnapshotVersion = 1;
+constexpr uint32_t kSnapshotVersion = 2;  // 2: leak_guard_max_voxel_m
 
 void putSettings(ByteWriter& w, const RadiositySettings& s) {
   w.put(s.seed);
@@ -30,6 +30,7 @@ void putSettings(ByteWriter& w, const RadiositySettings& s) {
   w.put(s.pass_end_rays);
   w.put(s.emitter_split_ratio);
   w.put(s.hard_edge_rad);
+  w.put(s.leak_guard_max_voxel_m);
 }
 
 RadiositySettings getSettings(ByteReader& r, int threads) {
@@ -44,6 +45,7 @@ RadiositySettings getSettings(ByteReader& r, int threads) {
   s.pass_end_rays = r.get<double>();
   s.emitter_split_ratio = r.get<double>();
   s.hard_edge_rad = r.get<double>();
+  s.leak_guard_max_voxel_m = r.get<double>();
   s.threads = threads;
   return s;
 }

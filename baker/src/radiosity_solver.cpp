@@ -77,12 +77,13 @@ Status checkSolverInputs(const Scene& scene, const BakeGeometry& geometry,
   if (!(settings.subdiv > 0) || !(settings.min_perimeter_m >= 0) || settings.first_pass_rays == 0 ||
       !(settings.pass_growth >= 1.0) || settings.max_batch_rays == 0 ||
       !(settings.pass_end_rays >= 1.0) || !(settings.emitter_split_ratio > 1.0) ||
-      settings.min_hits_per_element == 0 || settings.threads < 0) {
+      settings.min_hits_per_element == 0 || settings.threads < 0 ||
+      !(settings.leak_guard_max_voxel_m >= 0)) {
     return Status(StatusCode::kInvalidInput,
                   "radiosity settings: out of range (subdiv > 0, min_perimeter_m >= 0, "
                   "first_pass_rays > 0, pass_growth >= 1, max_batch_rays > 0, "
                   "pass_end_rays >= 1, emitter_split_ratio > 1, "
-                  "min_hits_per_element > 0, threads >= 0)");
+                  "min_hits_per_element > 0, threads >= 0, leak_guard_max_voxel_m >= 0)");
   }
   for (size_t t = 0; t < geometry.triangleCount(); ++t) {
     const Rgb& a = geometry.albedo[t];
@@ -132,7 +133,7 @@ Expected<std::unique_ptr<RadiositySolver>> RadiositySolver::create(
   Expected<std::vector<LightSource>> lights = makeLightSources(scene, geometry);
   if (!lights.ok()) return lights.status();
   s.lights = std::move(lights).value();
-  s.reach = LightReach::build(geometry, s.lights);
+  s.reach = LightReach::build(geometry, s.lights, settings.leak_guard_max_voxel_m);
 
   for (const LightSource& light : s.lights) s.emitted_y += light.flux_y;
   glm::dvec3 reflectance(0.0);

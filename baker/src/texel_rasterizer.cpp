@@ -3,10 +3,10 @@
 // Hodgman, "Reentrant Polygon Clipping", CACM 1974), which gives the covered
 // area and its centroid. Sample points inside or behind geometry are found
 // with short probe rays that meet a back face, and moved across it or
-// buried (black: the floor under a wall): the usual leak guard of production lightmappers (Unity's texel
-// validity / backface tolerance, Bakery's sample adjustment). The probes
-// reach about a texel, so they fix texels that straddle a surface; a texel
-// deep inside a solid stays (its lighting sees black back faces; unseen).
+// buried (black: the floor under a wall): the usual leak guard of production lightmappers (Unity's
+// texel validity / backface tolerance, Bakery's sample adjustment). The probes reach about a texel,
+// so they fix texels that straddle a surface; a texel deep inside a solid stays (its lighting sees
+// black back faces; unseen).
 //
 // Work is split into bands of rows of one page; each band reads the
 // triangles that overlap it in triangle order and writes only its own

@@ -39,7 +39,7 @@ LeakLevel sunlitGround(const std::string& name) {
 void addRoomProbes(LeakLevel& level, float half) {
   const float near = half - 0.15f, at = half - 0.02f;
   level.dark.push_back(probe({0, 0.01f, 0}, {0, 1, 0}));
-  level.dark.push_back(probe({near, 0.01f, 0.3f}, {0, 1, 0}));  // the floor near a wall
+  level.dark.push_back(probe({near, 0.01f, 0.3f}, {0, 1, 0}));    // the floor near a wall
   level.dark.push_back(probe({-near, 0.01f, -near}, {0, 1, 0}));  // and near a corner
   level.edge.push_back(probe({at, 0.01f, 0.3f}, {0, 1, 0}));
   level.edge.push_back(probe({-at, 0.01f, -at}, {0, 1, 0}));
@@ -171,7 +171,8 @@ LeakLevel partitionedRooms(const std::string& name, bool double_sided) {
   for (float sign : {-1.0f, 1.0f}) {
     std::vector<ProbePoint>& probes = sign < 0 ? level.lit : level.dark;
     probes.push_back(probe({sign * 1.0f, 0.01f, 0.3f}, {0, 1, 0}));
-    probes.push_back(probe({sign * 0.15f, 0.01f, -0.6f}, {0, 1, 0}));  // the floor near the partition
+    // the floor near the partition
+    probes.push_back(probe({sign * 0.15f, 0.01f, -0.6f}, {0, 1, 0}));
     if (sign > 0) level.edge.push_back(probe({0.02f, 0.01f, -0.6f}, {0, 1, 0}));
     probes.push_back(probe({sign * 2.0f, 1.2f, -h + 0.01f}, {0, 0, 1}));
     // The partition; a one-sided one has no surface on the dark side.

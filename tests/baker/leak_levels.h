@@ -20,7 +20,7 @@ struct LeakLevel {
   /// Dark floor within half a texel of a wall the floor runs under from the
   /// light: bilinear filtering reads the lit texel beyond (measured only).
   std::vector<ProbePoint> edge;
-  std::vector<ProbePoint> lit;     ///< the light the dark ones are measured against
+  std::vector<ProbePoint> lit;  ///< the light the dark ones are measured against
   /// Why the level still leaks, when it does (the test then skips it).
   std::string known_leak;
 };
@@ -28,14 +28,16 @@ struct LeakLevel {
 /// Axis-aligned box of six outward quads as one mesh (a slab, a crate).
 inline std::vector<Vec3> boxCorners(Vec3 lo, Vec3 hi) {
   const float x0 = lo.x, y0 = lo.y, z0 = lo.z, x1 = hi.x, y1 = hi.y, z1 = hi.z;
-  const auto quad = [](Vec3 a, Vec3 b, Vec3 c, Vec3 d) { return std::vector<Vec3>{a, b, c, a, c, d}; };
+  const auto quad = [](Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+    return std::vector<Vec3>{a, b, c, a, c, d};
+  };
   std::vector<Vec3> corners;
   for (const std::vector<Vec3>& q :
-       {quad({x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}),    // -y
-        quad({x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}, {x1, y1, z0}),    // +y
-        quad({x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}),    // -x
-        quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}),    // +x
-        quad({x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}),    // -z
+       {quad({x0, y0, z0}, {x1, y0, z0}, {x1, y0, z1}, {x0, y0, z1}),     // -y
+        quad({x0, y1, z0}, {x0, y1, z1}, {x1, y1, z1}, {x1, y1, z0}),     // +y
+        quad({x0, y0, z0}, {x0, y0, z1}, {x0, y1, z1}, {x0, y1, z0}),     // -x
+        quad({x1, y0, z0}, {x1, y1, z0}, {x1, y1, z1}, {x1, y0, z1}),     // +x
+        quad({x0, y0, z0}, {x0, y1, z0}, {x1, y1, z0}, {x1, y0, z0}),     // -z
         quad({x0, y0, z1}, {x1, y0, z1}, {x1, y1, z1}, {x0, y1, z1})}) {  // +z
     corners.insert(corners.end(), q.begin(), q.end());
   }

@@ -9,7 +9,10 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "leak_levels.h"
 #include "svit/baker/bake.h"
@@ -25,12 +28,14 @@ namespace fs = std::filesystem;
 constexpr double kDarkBound = 1e-4;
 
 struct LeakFigures {
-  double lit_lux = 0;          ///< mean of the lit probes
-  double darkest_share = 0;    ///< the brightest dark probe over lit_lux
-  size_t brightest_dark = 0;   ///< its index
-  double edge_share = 0;       ///< the brightest edge probe over lit_lux
+  double lit_lux = 0;         ///< mean of the lit probes
+  double darkest_share = 0;   ///< the brightest dark probe over lit_lux
+  size_t brightest_dark = 0;  ///< its index
+  double edge_share = 0;      ///< the brightest edge probe over lit_lux
   double bake_s = 0;
   size_t texels = 0;
+  size_t buried_texels = 0;  ///< black on purpose: under geometry or unreached
+  double guard_s = 0;        ///< the light-reach flood's share of bake_s
 };
 
 fs::path scratch(const std::string& name) {
@@ -91,11 +96,14 @@ LeakFigures bakeAndProbe(const test::LeakLevel& level) {
   }
   figures.bake_s = baked->seconds;
   figures.texels = baked->covered_texels;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "out" / "report.json"));
+  figures.buried_texels = report["lightmap"]["buried_texels"].get<size_t>();
+  figures.guard_s = report["radiosity"]["leak_guard"]["seconds"].get<double>();
   std::printf(
       "%s: lit %.4g lux, brightest dark probe %zu at %.3g of it, 2 cm from a wall %.3g; %zu "
-      "texels, %.1f s\n",
+      "texels (%zu buried), %.2f s (leak guard %.3f s)\n",
       level.name.c_str(), figures.lit_lux, figures.brightest_dark, figures.darkest_share,
-      figures.edge_share, figures.texels, figures.bake_s);
+      figures.edge_share, figures.texels, figures.buried_texels, figures.bake_s, figures.guard_s);
   return figures;
 }
 

@@ -99,7 +99,7 @@ TEST(TexelRasterizer, EdgeTexelsArePartialAndCoverageSumsToTheUvArea) {
   EXPECT_NEAR(coverage / uv_area, 1.0, 1e-4);
 }
 
-TEST(TexelRasterizer, FloorTexelsUnderASolidBoxAreDroppedOrMovedOut) {
+TEST(TexelRasterizer, FloorTexelsUnderASolidBoxAreBuriedOrMovedOut) {
   // Floor [0,1]^2 (x-z) facing +y on a 10x10 page: texel = 0.1 m, texel
   // (i, j) spans x in [i/10, (i+1)/10], z likewise. A solid box rests on it
   // over [0.33, 0.54]^2: texel 4 is fully under it, texel 3 is 70% under
@@ -135,7 +135,8 @@ TEST(TexelRasterizer, FloorTexelsUnderASolidBoxAreDroppedOrMovedOut) {
 
   Expected<TexelSet> set = rasterizeTexels(geometry, atlas, **caster, RasterSettings{});
   ASSERT_TRUE(set.ok()) << set.status().message();
-  EXPECT_EQ(set->sampleAt(0, 4, 4), -1) << "the texel wholly under the box is dropped";
+  EXPECT_EQ(set->sampleAt(0, 4, 4), kBuriedTexel)
+      << "the texel wholly under the box is buried (black, never dilated over)";
   size_t floor_samples = 0;
   for (const TexelSample& s : set->samples) {
     if (s.page != 0) continue;
@@ -198,7 +199,7 @@ TEST(TexelRasterizer, LeakingSamplesLeaveTheSolidRatherThanGoDeeper) {
   Expected<TexelSet> plain = rasterizeTexels(geometry, atlas, **caster, no_probes);
   Expected<TexelSet> set = rasterizeTexels(geometry, atlas, **caster, RasterSettings{});
   ASSERT_TRUE(plain.ok() && set.ok());
-  EXPECT_EQ(set->sampleAt(0, 3, 5), -1);
+  EXPECT_EQ(set->sampleAt(0, 3, 5), kBuriedTexel);
   EXPECT_GE(set->sampleAt(0, 4, 5), 0);
   // Whatever moved went out of the box.
   for (const TexelSample& s : set->samples) {

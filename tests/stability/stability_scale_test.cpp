@@ -73,6 +73,8 @@ Answer solve(const LevelSpec& spec, uint32_t first_pass_rays, uint32_t passes, u
   RadiositySettings settings;
   settings.first_pass_rays = first_pass_rays;
   settings.seed = seed;
+  // The guard's one length scales with the level, so it decides the same.
+  settings.leak_guard_max_voxel_m *= spec.scale;
   a.solved = test::prepareSolver(scene, settings);
   if (!a.solved->solver) return a;
   StopRule stop;

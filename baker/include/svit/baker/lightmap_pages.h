@@ -22,8 +22,9 @@ struct PageSettings {
 };
 
 struct LightmapPages {
-  std::vector<LightmapImage> images;        ///< irradiance, lux
-  std::vector<std::vector<uint8_t>> valid;  ///< per page texel: 1 covered, 2 dilated, 3 buried (black), 0 empty
+  std::vector<LightmapImage> images;  ///< irradiance, lux
+  /// per page texel: 1 covered, 2 dilated, 3 buried (black), 0 empty
+  std::vector<std::vector<uint8_t>> valid;
 };
 
 LightmapPages buildLightmapPages(const BakeGeometry& geometry, const LightmapAtlas& atlas,

@@ -49,6 +49,10 @@ struct RadiositySettings {
   double emitter_split_ratio = 2.0;
   /// Vertex radiosity averages only elements whose normals differ by less (rad).
   double hard_edge_rad = 0.5235987755982988;  // 30 degrees
+  /// The leak guard (light_reach.h) voxelizes the level at a 512th of its
+  /// diagonal and stays off where that voxel is coarser than this (metres),
+  /// as it would close doors and windows; 0 turns it off.
+  double leak_guard_max_voxel_m = 0.25;
 };
 
 /// Progress reported between batches.
@@ -162,10 +166,11 @@ class RadiositySolver {
   /// Builds the interpolation caches (leaf values, vertex incidence) so that
   /// irradianceAt may be called from many threads. Not thread-safe itself.
   void prepareQueries() const;
-  /// Whether any baked light can arrive at surface point `point` from the
+  /// Whether any baked light can arrive at `point` of `triangle` from the
   /// side `normal` faces (false in a room sealed from every light and under
-  /// a wall; see SolverStats::leak_guard). irradianceAt is 0 where not.
-  bool lightReaches(const Vec3& point, const Vec3& normal) const;
+  /// a wall; see SolverStats::leak_guard; false for a triangle out of
+  /// range). irradianceAt is 0 where not.
+  bool lightReaches(uint32_t triangle, const Vec3& point, const Vec3& normal) const;
 
   /// Per-triangle front irradiance of a reference solution; from then on the
   /// error series also carries the true relative error.
