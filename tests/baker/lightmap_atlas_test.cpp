@@ -1,13 +1,14 @@
 // Lightmap atlas (xatlas and authored TEXCOORD_1) on scenes built in code:
-// density, disjoint texels, pages, authored UVs, errors, and atlas and
-// texels identical for one and two threads. The texel rasterizer is in
-// texel_rasterizer_test.cpp.
+// density, disjoint texels, pages, authored UVs, errors, atlas and texels
+// identical for one and two threads, also when xatlas charts in several
+// groups. The texel rasterizer is in texel_rasterizer_test.cpp.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "svit/baker/ray_caster.h"
 #include "lightmap_test_util.h"
 #include "test_scenes.h"
+#include "xatlas_unwrap.h"
 
 namespace svit::baker {
 namespace {
@@ -276,6 +278,93 @@ TEST(LightmapAtlas, TriangleXatlasDropsIsAnErrorNamingIt) {
   EXPECT_EQ(atlas.status().code(), StatusCode::kUnsupported);
   EXPECT_NE(atlas.status().message().find("mesh 'speck') triangle 0"), std::string::npos)
       << atlas.status().message();
+}
+
+/// A corrugated sheet: `panels` strips folded alternately up and down by
+/// 90 degrees (so each strip is a chart of its own), each strip a grid of
+/// `grid` x `grid` quads, 0.5 m a side: 2 panels grid^2 triangles.
+std::vector<Vec3> corrugatedSheet(int panels, int grid) {
+  std::vector<Vec3> corners;
+  const float side = 0.5f, step = side / float(grid), rise = side * 0.70710678f;
+  for (int p = 0; p < panels; ++p) {
+    // Strip p runs from x0 at height y0 to x0 + rise at height y1.
+    const float x0 = float(p) * rise, y0 = (p % 2) ? rise : 0.0f, y1 = (p % 2) ? 0.0f : rise;
+    for (int i = 0; i < grid; ++i) {
+      for (int j = 0; j < grid; ++j) {
+        auto at = [&](int a, int b) {
+          const float f = float(a) / float(grid);
+          return Vec3{x0 + f * rise, y0 + f * (y1 - y0), float(b) * step};
+        };
+        const Vec3 a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+        corners.insert(corners.end(), {a, c, b, a, d, c});
+      }
+    }
+  }
+  return corners;
+}
+
+TEST(LightmapAtlas, SeveralChartingGroupsPackDisjointAndIdenticallyForOneAndTwoThreads) {
+  SceneBuilder b;
+  const int grey = b.material({0.5f, 0.5f, 0.5f});
+  const int mesh = b.addMesh("sheet", corrugatedSheet(8, 16), grey);  // 4096 triangles
+  for (int i = 1; i < 10; ++i) addInstance(b.scene(), mesh, {0, 0, 1.0f * float(i)});
+  const BakeGeometry geometry = flatten(b.scene());
+  // More than two groups' worth, each instance well inside one group.
+  ASSERT_GT(geometry.triangleCount(), 2 * kXatlasGroupTriangles);
+  ASSERT_LT(4096u, kXatlasGroupTriangles);
+  LightmapAtlas atlases[2];
+  for (int run = 0; run < 2; ++run) {
+    AtlasSettings settings;
+    settings.texels_per_m = 16;
+    settings.threads = run + 1;
+    Expected<LightmapAtlas> atlas = buildLightmapAtlas(b.scene(), geometry, settings);
+    ASSERT_TRUE(atlas.ok()) << atlas.status().message();
+    atlases[run] = *atlas;
+  }
+  EXPECT_EQ(atlases[0].page_count, atlases[1].page_count);
+  EXPECT_EQ(atlases[0].page_width, atlases[1].page_width);
+  EXPECT_EQ(atlases[0].page_height, atlases[1].page_height);
+  EXPECT_EQ(atlases[0].triangle_page, atlases[1].triangle_page);
+  EXPECT_EQ(atlases[0].triangle_chart, atlases[1].triangle_chart);
+  ASSERT_EQ(atlases[0].triangle_uv.size(), atlases[1].triangle_uv.size());
+  EXPECT_EQ(std::memcmp(atlases[0].triangle_uv.data(), atlases[1].triangle_uv.data(),
+                        atlases[0].triangle_uv.size() * sizeof(Vec2)),
+            0);
+
+  const LightmapAtlas& atlas = atlases[1];
+  // Instances are charted separately: a chart id names one instance's
+  // triangles only, whichever group charted them (ids are atlas-wide).
+  std::map<uint32_t, uint32_t> chart_instance;
+  for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+    const auto [it, added] = chart_instance.emplace(atlas.triangle_chart[t], geometry.instance[t]);
+    EXPECT_EQ(it->second, geometry.instance[t]) << "chart " << atlas.triangle_chart[t];
+  }
+  EXPECT_GE(chart_instance.size(), 8u * 10u);  // a chart per strip at least
+  // Charts of different groups overlapped in their own layouts; packed,
+  // no texel is touched by two charts (padding keeps them apart).
+  const int sub = 4;
+  const std::vector<int64_t> owner = ownerRaster(atlas, sub);
+  const size_t w = size_t(atlas.page_width) * sub, h = size_t(atlas.page_height) * sub;
+  std::map<size_t, uint32_t> texel_chart;
+  size_t shared = 0;
+  for (size_t i = 0; i < owner.size(); ++i) {
+    if (owner[i] < 0) continue;
+    const size_t page = i / (w * h), y = (i % (w * h)) / w, x = i % w;
+    const size_t texel =
+        (page * size_t(atlas.page_height) + y / sub) * size_t(atlas.page_width) + x / sub;
+    const uint32_t chart = atlas.triangle_chart[size_t(owner[i])];
+    const auto [it, added] = texel_chart.emplace(texel, chart);
+    if (it->second != chart && shared++ < 5)
+      ADD_FAILURE() << "texel " << texel << " is shared by charts " << it->second << " and "
+                    << chart;
+  }
+  EXPECT_EQ(shared, 0u);
+  // Every triangle is placed at the density (planar strips: isometric up to
+  // the rounding of each chart to whole texels, 9/8 a side at most here).
+  for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+    const double expected = double(geometry.areas_m2[t]) * 16.0 * 16.0;
+    EXPECT_NEAR(texelArea(atlas, t) / expected, 1.0, 0.3) << "triangle " << t;
+  }
 }
 
 bool sameSample(const TexelSample& a, const TexelSample& b) {

@@ -44,7 +44,9 @@ struct LightmapAtlas {
 /// - Otherwise xatlas charts every static instance's world-space triangles
 ///   separately (so instances never share texels) at texels_per_m with
 ///   `padding_texels`, into as many pages of at most max_page_size as needed.
+///   Charting runs on `threads` workers; the atlas is the same for any number.
 /// Errors: xatlas failure, max_page_size < 16, texels_per_m not > 0.
+/// Thread-safe: yes (calls share only xatlas's print setting, set once).
 Expected<LightmapAtlas> buildLightmapAtlas(const Scene& scene, const BakeGeometry& geometry,
                                            const AtlasSettings& settings);
 
