@@ -200,6 +200,7 @@ nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
                         {{"on", stats.leak_guard},
                          {"voxel_m", stats.leak_guard_voxel_m},
                          {"reached_free_voxels", stats.leak_guard_reached},
+                         {"small_pockets_opened", stats.leak_guard_pockets_opened},
                          {"seconds", stats.leak_guard_seconds}}}};
   json["lightmap"] = {
       {"pages", in.pages.images.size()},

@@ -123,8 +123,31 @@ void LightReach::seedBoundary(std::vector<uint32_t>& frontier) {
   frontier.push_back(0);
 }
 
-// Breadth-first through 6-connected free voxels.
-void LightReach::flood(std::vector<uint32_t>& frontier) {
+// Every 6-connected set of free voxels the flood did not reach that has at
+// most `max_voxels` counts as reached: the gaps between the leaves of a
+// plant or the folds of a curtain, closed at this voxel size, are no room
+// sealed from the light. Returns how many were opened.
+size_t LightReach::openSmallPockets(size_t max_voxels) {
+  std::vector<uint64_t> seen = reached_;
+  std::vector<uint32_t> pocket;
+  size_t opened = 0;
+  const size_t count = size_t(nx_) * ny_ * nz_;
+  for (size_t i = 0; i < count; ++i) {
+    if (bit(solid_, i) || bit(seen, i)) continue;
+    setBit(seen, i);
+    pocket.assign(1, uint32_t(i));
+    floodInto(pocket, seen);
+    if (pocket.size() > max_voxels) continue;
+    for (uint32_t j : pocket) setBit(reached_, j);
+    ++opened;
+  }
+  return opened;
+}
+
+void LightReach::flood(std::vector<uint32_t>& frontier) { floodInto(frontier, reached_); }
+
+// Breadth-first through 6-connected free voxels, marking them in `marks`.
+void LightReach::floodInto(std::vector<uint32_t>& frontier, std::vector<uint64_t>& marks) const {
   const int64_t steps[6] = {
       1, -1, int64_t(nx_), -int64_t(nx_), int64_t(nx_) * ny_, -int64_t(nx_) * ny_};
   for (size_t f = 0; f < frontier.size(); ++f) {
@@ -134,8 +157,8 @@ void LightReach::flood(std::vector<uint32_t>& frontier) {
     for (int s = 0; s < 6; ++s) {
       if (!inside[s]) continue;
       const size_t j = size_t(int64_t(i) + steps[s]);
-      if (bit(solid_, j) || bit(reached_, j)) continue;
-      setBit(reached_, j);
+      if (bit(solid_, j) || bit(marks, j)) continue;
+      setBit(marks, j);
       frontier.push_back(uint32_t(j));
     }
   }
@@ -180,13 +203,15 @@ LightReach LightReach::build(const BakeGeometry& geometry, const std::vector<Lig
     if (geometry.double_sided[t]) r.seed(centroid - n * r.voxel_, frontier);
   }
   r.flood(frontier);
-  size_t solid = 0;
+  r.stats_.sealed_pockets_opened = r.openSmallPockets(kMaxPocketVoxels);
+  size_t solid = 0, reached = 0;
   for (uint64_t word : r.solid_) solid += size_t(__builtin_popcountll(word));
+  for (uint64_t word : r.reached_) reached += size_t(__builtin_popcountll(word));
   r.stats_.enabled = true;
   r.stats_.nx = r.nx_;
   r.stats_.ny = r.ny_;
   r.stats_.nz = r.nz_;
-  r.stats_.reached_fraction = count > solid ? double(frontier.size()) / double(count - solid) : 0;
+  r.stats_.reached_fraction = count > solid ? double(reached) / double(count - solid) : 0;
   r.stats_.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;

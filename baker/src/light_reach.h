@@ -32,7 +32,8 @@ struct LightReachStats {
   bool enabled = false;
   double voxel_m = 0;
   uint32_t nx = 0, ny = 0, nz = 0;
-  double reached_fraction = 0;  ///< of the free voxels
+  double reached_fraction = 0;       ///< of the free voxels
+  size_t sealed_pockets_opened = 0;  ///< unreached spaces too small to be rooms
   double seconds = 0;
 };
 
@@ -42,6 +43,9 @@ class LightReach {
   static constexpr double kDiagonalVoxels = 512;
   /// Most voxels of the grid (two bits each).
   static constexpr uint64_t kVoxelBudget = 96'000'000;
+  /// Unreached spaces of at most this many voxels count as reached (4^3:
+  /// a room is larger, the gaps between a plant's leaves are not).
+  static constexpr size_t kMaxPocketVoxels = 64;
   /// How far a query walks into its surface, in voxels.
   static constexpr double kInwardVoxels = 3.0;
 
@@ -69,6 +73,8 @@ class LightReach {
   void seed(const glm::dvec3& p, std::vector<uint32_t>& frontier);
   void seedBoundary(std::vector<uint32_t>& frontier);
   void flood(std::vector<uint32_t>& frontier);
+  void floodInto(std::vector<uint32_t>& frontier, std::vector<uint64_t>& marks) const;
+  size_t openSmallPockets(size_t max_voxels);
   int firstFreeAlong(const glm::dvec3& q, const glm::dvec3& n) const;
 
   LightReachStats stats_;

@@ -279,6 +279,7 @@ SolverStats RadiositySolver::stats() const {
   out.leak_guard_voxel_m = reach.voxel_m;
   out.leak_guard_reached = reach.reached_fraction;
   out.leak_guard_seconds = reach.seconds;
+  out.leak_guard_pockets_opened = reach.sealed_pockets_opened;
   return out;
 }
 

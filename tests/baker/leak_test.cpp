@@ -53,12 +53,24 @@ double meanLux(const std::vector<ProbeResult>& results) {
   return results.empty() ? 0 : sum / double(results.size());
 }
 
+/// `points` as svit-probe's POINTS file, so the bake beside it can be
+/// probed again by hand or by another build (tests/bench/leak_compare.sh).
+void writePoints(const fs::path& path, const std::vector<ProbePoint>& points) {
+  std::ofstream out(path);
+  for (const ProbePoint& p : points)
+    out << p.position.x << ' ' << p.position.y << ' ' << p.position.z << ' ' << p.normal.x << ' '
+        << p.normal.y << ' ' << p.normal.z << '\n';
+}
+
 /// Bakes the level and probes it; a failure is an assertion.
 LeakFigures bakeAndProbe(const test::LeakLevel& level) {
   const fs::path dir = scratch(level.name);
   const std::string gltf = (dir / "level.gltf").string();
   const Status written = writeGltf(level.scene, gltf);
   EXPECT_TRUE(written.ok()) << written.message();
+  writePoints(dir / "dark.txt", level.dark);
+  writePoints(dir / "lit.txt", level.lit);
+  writePoints(dir / "edge.txt", level.edge);
   BakeOptions options;
   options.level_path = gltf;
   options.out_dir = (dir / "out").string();

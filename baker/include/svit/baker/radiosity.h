@@ -115,6 +115,7 @@ struct SolverStats {
   double leak_guard_voxel_m = 0;
   double leak_guard_reached = 0;  ///< share of the free voxels light reaches
   double leak_guard_seconds = 0;
+  size_t leak_guard_pockets_opened = 0;  ///< sealed spaces too small to be rooms
 };
 
 enum class InterpolationMode {
