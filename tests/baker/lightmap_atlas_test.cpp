@@ -114,6 +114,19 @@ std::vector<int64_t> ownerRaster(const LightmapAtlas& atlas, int sub = 4) {
   return owner;
 }
 
+// The same pages, charts and UVs, bit for bit.
+void expectSameAtlas(const LightmapAtlas& a, const LightmapAtlas& b) {
+  EXPECT_EQ(a.page_count, b.page_count);
+  EXPECT_EQ(a.page_width, b.page_width);
+  EXPECT_EQ(a.page_height, b.page_height);
+  EXPECT_EQ(a.triangle_page, b.triangle_page);
+  EXPECT_EQ(a.triangle_chart, b.triangle_chart);
+  ASSERT_EQ(a.triangle_uv.size(), b.triangle_uv.size());
+  EXPECT_EQ(
+      std::memcmp(a.triangle_uv.data(), b.triangle_uv.data(), a.triangle_uv.size() * sizeof(Vec2)),
+      0);
+}
+
 TEST(LightmapAtlas, XatlasPlacesEveryTriangleAtTheTexelDensityWithoutOverlap) {
   const Scene scene = furnishedRoom();
   const BakeGeometry geometry = flatten(scene);
@@ -321,15 +334,7 @@ TEST(LightmapAtlas, SeveralChartingGroupsPackDisjointAndIdenticallyForOneAndTwoT
     ASSERT_TRUE(atlas.ok()) << atlas.status().message();
     atlases[run] = *atlas;
   }
-  EXPECT_EQ(atlases[0].page_count, atlases[1].page_count);
-  EXPECT_EQ(atlases[0].page_width, atlases[1].page_width);
-  EXPECT_EQ(atlases[0].page_height, atlases[1].page_height);
-  EXPECT_EQ(atlases[0].triangle_page, atlases[1].triangle_page);
-  EXPECT_EQ(atlases[0].triangle_chart, atlases[1].triangle_chart);
-  ASSERT_EQ(atlases[0].triangle_uv.size(), atlases[1].triangle_uv.size());
-  EXPECT_EQ(std::memcmp(atlases[0].triangle_uv.data(), atlases[1].triangle_uv.data(),
-                        atlases[0].triangle_uv.size() * sizeof(Vec2)),
-            0);
+  expectSameAtlas(atlases[0], atlases[1]);
 
   const LightmapAtlas& atlas = atlases[1];
   // Instances are charted separately: a chart id names one instance's
@@ -395,14 +400,7 @@ TEST(LightmapAtlas, AtlasAndTexelsAreIdenticalForOneAndTwoThreads) {
     atlases[run] = *atlas;
     sets[run] = *set;
   }
-  EXPECT_EQ(atlases[0].page_width, atlases[1].page_width);
-  EXPECT_EQ(atlases[0].page_height, atlases[1].page_height);
-  EXPECT_EQ(atlases[0].triangle_page, atlases[1].triangle_page);
-  EXPECT_EQ(atlases[0].triangle_chart, atlases[1].triangle_chart);
-  ASSERT_EQ(atlases[0].triangle_uv.size(), atlases[1].triangle_uv.size());
-  EXPECT_EQ(std::memcmp(atlases[0].triangle_uv.data(), atlases[1].triangle_uv.data(),
-                        atlases[0].triangle_uv.size() * sizeof(Vec2)),
-            0);
+  expectSameAtlas(atlases[0], atlases[1]);
   ASSERT_EQ(sets[0].samples.size(), sets[1].samples.size());
   EXPECT_GT(sets[0].samples.size(), 10000u);
   for (size_t i = 0; i < sets[0].samples.size(); ++i) {
