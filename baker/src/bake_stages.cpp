@@ -409,8 +409,13 @@ Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level,
   if (!texels.ok()) return texels.status();
   out.texels = std::move(texels).value();
   // No light arrives at a texel in a sealed room: black, and no rays cast.
+  // Nor at one whose square reaches under a wall into such a room (a floor
+  // running under the wall): lit, its light would be filtered into the room.
   buryTexels(out.texels, [&](const TexelSample& s) {
-    return !solver.lightReaches(s.triangle, s.position, s.normal);
+    if (!solver.lightReaches(s.triangle, s.position, s.normal)) return true;
+    for (const Vec3& corner : texelFootprint(level.geometry, out.atlas, s))
+      if (!solver.lightReaches(s.triangle, corner, s.normal)) return true;
+    return false;
   });
   return out;
 }

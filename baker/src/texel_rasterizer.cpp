@@ -614,6 +614,19 @@ Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapA
   return assembleTexelSet(atlas, band_texels);
 }
 
+std::array<Vec3, 4> texelFootprint(const BakeGeometry& geometry, const LightmapAtlas& atlas,
+                                   const TexelSample& s) {
+  const UvTriangle tri = uvTriangle(atlas, s.triangle);
+  std::array<Vec3, 4> corners;
+  for (int k = 0; k < 4; ++k) {
+    double u, v;
+    barycentric(tri, {double(s.x + (k & 1)), double(s.y + (k >> 1))}, &u, &v);
+    clampBarycentric(&u, &v);
+    corners[size_t(k)] = worldPoint(geometry, s.triangle, u, v);
+  }
+  return corners;
+}
+
 size_t buryTexels(TexelSet& texels, const std::function<bool(const TexelSample&)>& buried) {
   const size_t page = size_t(texels.page_width) * size_t(texels.page_height);
   std::vector<TexelSample> kept;

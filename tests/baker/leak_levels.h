@@ -18,7 +18,8 @@ struct LeakLevel {
   std::string sun_json, sky_json;  ///< level.json's objects; empty: none
   std::vector<ProbePoint> dark;    ///< must read (almost) black
   /// Dark floor within half a texel of a wall the floor runs under from the
-  /// light: bilinear filtering reads the lit texel beyond (measured only).
+  /// light, where bilinear filtering would read a lit texel straddling the
+  /// wall: must read black too.
   std::vector<ProbePoint> edge;
   std::vector<ProbePoint> lit;  ///< the light the dark ones are measured against
   /// Why the level still leaks, when it does (the test then skips it).

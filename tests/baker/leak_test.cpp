@@ -131,6 +131,9 @@ TEST_P(Leaks, SealedSpacesAndFloorsUnderWallsAreDark) {
   EXPECT_LT(figures.darkest_share, kDarkBound)
       << level.name << ": dark probe " << figures.brightest_dark << " reads "
       << figures.darkest_share << " of the lit probes' " << figures.lit_lux << " lux";
+  EXPECT_LT(figures.edge_share, kDarkBound)
+      << level.name << ": 2 cm from a wall the floor runs under, the dark side reads "
+      << figures.edge_share << " of the lit probes' " << figures.lit_lux << " lux";
 }
 
 INSTANTIATE_TEST_SUITE_P(Levels, Leaks, testing::Range(size_t(0), test::leakLevels().size()),

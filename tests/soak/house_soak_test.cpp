@@ -35,21 +35,26 @@ soak::SoakReport soakOnce(uint64_t seed) {
 // keeps per object stays where it was: the objects' records to the byte,
 // the emitter records within one object's facings (which facings of the
 // live props have emitters depends on where they stand: 395 to 397
-// measured), and the process's heap within 64 KB (it holds the GL driver's
-// allocations too: -31 to +9 KB measured). Before a removed object's slot
-// was reused, from frame 200 to 600 the records grew 92,424 -> 112,904 B,
-// the emitter records 558 -> 957 and the heap by 177 to 224 KB.
+// measured), and the process's heap back within 64 KB at the end (it holds
+// the GL driver's allocations too: -31 to +9 KB measured) and within 256 KB
+// on the way (a sample may catch transient queues: +125 KB at frame 300 with
+// the host records +55 KB, back to -15 KB at 400). Before a removed
+// object's slot was reused, from frame 200 to 600 the records grew
+// 92,424 -> 112,904 B, the emitter records 558 -> 957 and the heap by 177
+// to 224 KB.
 void expectRecordsFlat(const std::vector<soak::SoakSample>& samples, size_t warm_index) {
   const soak::SoakSample& warm = samples[warm_index];
-  constexpr int64_t kHeapSlackBytes = 64 * 1024;
+  constexpr int64_t kHeapSlackBytes = 64 * 1024, kHeapTransientBytes = 256 * 1024;
   for (size_t i = warm_index + 1; i < samples.size(); ++i) {
     const soak::SoakSample& s = samples[i];
     EXPECT_EQ(s.object_bytes, warm.object_bytes)
         << "frame " << s.frame << ": the objects' records grew";
     EXPECT_LE(s.emitters, warm.emitters + 6) << "frame " << s.frame << ": emitter records grew";
-    EXPECT_LT(int64_t(s.heap_bytes) - int64_t(warm.heap_bytes), kHeapSlackBytes)
+    EXPECT_LT(int64_t(s.heap_bytes) - int64_t(warm.heap_bytes), kHeapTransientBytes)
         << "frame " << s.frame << ": the heap grew";
   }
+  EXPECT_LT(int64_t(samples.back().heap_bytes) - int64_t(warm.heap_bytes), kHeapSlackBytes)
+      << "frame " << samples.back().frame << ": the heap grew";
 }
 
 TEST(RuntimeSoak, HouseHoldsForSixHundredFramesAndReplays) {

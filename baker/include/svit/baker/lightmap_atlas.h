@@ -4,6 +4,7 @@
 // exact texel rasterization (coverage, position, normal, validity) with
 // sample points pulled out of walls so no light leaks.
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -102,5 +103,11 @@ Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapA
 /// Buries (kBuriedTexel: black, never dilated over) every sample for which
 /// `buried` is true, keeping the others in order. Returns how many.
 size_t buryTexels(TexelSet& texels, const std::function<bool(const TexelSample&)>& buried);
+
+/// The world points of the four corners of sample `s`'s texel square, each
+/// clamped into the sample's triangle (its lightmap footprint on that
+/// triangle's plane): what bilinear filtering spreads the texel over.
+std::array<Vec3, 4> texelFootprint(const BakeGeometry& geometry, const LightmapAtlas& atlas,
+                                   const TexelSample& s);
 
 }  // namespace svit::baker
