@@ -412,9 +412,9 @@ Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level,
   // Nor at one whose square reaches under a wall into such a room (a floor
   // running under the wall): lit, its light would be filtered into the room.
   buryTexels(out.texels, [&](const TexelSample& s) {
-    if (!solver.lightReaches(s.triangle, s.position, s.normal)) return true;
+    if (!solver.lightReaches(s.position, s.normal)) return true;
     for (const Vec3& corner : texelFootprint(level.geometry, out.atlas, s))
-      if (!solver.lightReaches(s.triangle, corner, s.normal)) return true;
+      if (!solver.lightReaches(corner, s.normal)) return true;
     return false;
   });
   return out;

@@ -217,19 +217,12 @@ LightReach LightReach::build(const BakeGeometry& geometry, const std::vector<Lig
   return r;
 }
 
-bool LightReach::reaches(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& toward) const {
+bool LightReach::reaches(const glm::dvec3& p, const glm::dvec3& n) const {
   if (!stats_.enabled) return true;
-  // Where a perpendicular surface fills the voxels in front of `p` (the
-  // floor along a wall's foot, the very corner of a room), the way in
-  // front is read a voxel further into p's own surface, up to kInwardVoxels.
-  const double length = glm::length(toward - p);
-  const glm::dvec3 inward = length > 0 ? (toward - p) / length : glm::dvec3(0.0);
-  for (double walk = 0; walk <= kInwardVoxels; walk += 1.0) {
-    const glm::dvec3 q = p + inward * std::min(length, walk * voxel_);
-    int verdict = firstFreeAlong(q, n);
-    if (verdict >= 0) return verdict == 1;
-  }
-  return true;  // walled in on every side: nothing to tell, so no guard
+  const int verdict = firstFreeAlong(p, n);
+  // Walled in (a room's very corner, the floor along a wall's foot, where
+  // the surfaces fill the voxels in front): nothing to tell, so no guard.
+  return verdict != 0;
 }
 
 // The first free voxel in front of the surface at q, within two voxels:

@@ -46,8 +46,6 @@ class LightReach {
   /// Unreached spaces of at most this many voxels count as reached (4^3:
   /// a room is larger, the gaps between a plant's leaves are not).
   static constexpr size_t kMaxPocketVoxels = 64;
-  /// How far a query walks into its surface, in voxels.
-  static constexpr double kInwardVoxels = 3.0;
 
   LightReach() = default;
   /// Voxelizes `geometry` and floods from `lights` and the emissive
@@ -59,11 +57,8 @@ class LightReach {
 
   /// Whether light can arrive at surface point `p` from the side `n` faces:
   /// the first free voxel along `n` within a few voxels was reached (true
-  /// when the guard is off or no voxel around is free). `toward` is a point
-  /// inside the surface (its triangle's centroid): where surfaces fill the
-  /// voxels in front of `p`, points up to kInwardVoxels towards it are
-  /// asked instead, so the edge where two walls meet looks into the room.
-  bool reaches(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& toward) const;
+  /// when the guard is off or every voxel along `n` is solid).
+  bool reaches(const glm::dvec3& p, const glm::dvec3& n) const;
   const LightReachStats& stats() const { return stats_; }
 
  private:

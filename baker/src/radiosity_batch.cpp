@@ -208,7 +208,7 @@ void RadiositySolver::State::generateRay(BatchRays& b, size_t j) const {
                                         cornerMagnitude(*geometry, leaf.triangle));
     origin = dvec(offset);
     from_surface = true;
-    sealed_origin = sh.kind == ShooterKind::kEnergy && !reachesOn(leaf.triangle, p, leaf.normal);
+    sealed_origin = sh.kind == ShooterKind::kEnergy && !reach.reaches(p, leaf.normal);
   }
   Ray& ray = b.rays[j];
   ray.origin = fromGlm(glm::vec3(origin));

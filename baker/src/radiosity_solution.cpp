@@ -204,7 +204,7 @@ Rgb RadiositySolver::irradianceAt(uint32_t triangle, bool front, double u, doubl
   const ElementTree& tree = *s.tree;
   const int root = tree.elementRoot(triangle, front);
   if (root < 0) return {0, 0, 0};
-  if (!s.reachesOn(triangle, s.pointOn(triangle, u, v), s.sideNormal(triangle, front)))
+  if (!s.reach.reaches(s.pointOn(triangle, u, v), s.sideNormal(triangle, front)))
     return {0, 0, 0};  // sealed from every light: what the element holds came from elsewhere
   prepareQueries();
   const int leaf = tree.locateLeaf(root, u, v);
@@ -283,9 +283,8 @@ SolverStats RadiositySolver::stats() const {
   return out;
 }
 
-bool RadiositySolver::lightReaches(uint32_t triangle, const Vec3& point, const Vec3& normal) const {
-  if (triangle >= state_->geometry->triangleCount()) return false;
-  return state_->reachesOn(triangle, dvec(point), dvec(normal));
+bool RadiositySolver::lightReaches(const Vec3& point, const Vec3& normal) const {
+  return state_->reach.reaches(dvec(point), dvec(normal));
 }
 
 }  // namespace svit::baker

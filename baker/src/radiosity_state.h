@@ -110,11 +110,6 @@ struct RadiositySolver::State {
     return c0 + u * (dvec(geometry->corner(triangle, 1)) - c0) +
            v * (dvec(geometry->corner(triangle, 2)) - c0);
   }
-  /// Whether light can arrive at point `p` of `triangle` from the side `n`
-  /// faces (light_reach.h; the triangle's centroid is the way into it).
-  bool reachesOn(uint32_t triangle, const glm::dvec3& p, const glm::dvec3& n) const {
-    return reach.reaches(p, n, pointOn(triangle, 1.0 / 3.0, 1.0 / 3.0));
-  }
   /// Unit normal of the side of `triangle` asked about.
   glm::dvec3 sideNormal(uint32_t triangle, bool front) const {
     const glm::dvec3 n = dvec(geometry->normals[triangle]);

@@ -167,11 +167,10 @@ class RadiositySolver {
   /// Builds the interpolation caches (leaf values, vertex incidence) so that
   /// irradianceAt may be called from many threads. Not thread-safe itself.
   void prepareQueries() const;
-  /// Whether any baked light can arrive at `point` of `triangle` from the
+  /// Whether any baked light can arrive at surface point `point` from the
   /// side `normal` faces (false in a room sealed from every light and under
-  /// a wall; see SolverStats::leak_guard; false for a triangle out of
-  /// range). irradianceAt is 0 where not.
-  bool lightReaches(uint32_t triangle, const Vec3& point, const Vec3& normal) const;
+  /// a wall; see SolverStats::leak_guard). irradianceAt is 0 where not.
+  bool lightReaches(const Vec3& point, const Vec3& normal) const;
 
   /// Per-triangle front irradiance of a reference solution; from then on the
   /// error series also carries the true relative error.
