@@ -225,14 +225,24 @@ bool LightReach::reaches(const glm::dvec3& p, const glm::dvec3& n) const {
   return verdict != 0;
 }
 
-// The first free voxel in front of the surface at q, within two voxels:
-// 1 if light reached it, 0 if not, -1 if all are solid.
+// The voxel in front of the surface at q, past q's own voxel (which the
+// surface marks): 1 if light reached it, 0 if not, -1 if it is solid too
+// (another surface within a voxel: what lies beyond it may be across a
+// wall, so it tells nothing).
 int LightReach::firstFreeAlong(const glm::dvec3& q, const glm::dvec3& n) const {
-  for (double step = 0.5; step <= 2.0; step += 0.5) {
+  // q's own voxel is taken a hair in front of q: a surface on a voxel
+  // boundary fills the voxel in front, and q, rounded to float, may lie
+  // just behind it.
+  uint32_t x0, y0, z0;
+  if (!cellOf(q + n * (1e-3 * voxel_), &x0, &y0, &z0)) return 1;  // outside the grid: open
+  const size_t own = index(x0, y0, z0);
+  for (double step = 0.25; step <= 2.0; step += 0.25) {
     uint32_t x, y, z;
-    if (!cellOf(q + n * (step * voxel_), &x, &y, &z)) return 1;  // outside the grid: open
+    if (!cellOf(q + n * (step * voxel_), &x, &y, &z)) return 1;
     const size_t i = index(x, y, z);
-    if (!bit(solid_, i)) return bit(reached_, i) ? 1 : 0;
+    if (i == own) continue;
+    if (bit(solid_, i)) return -1;
+    return bit(reached_, i) ? 1 : 0;
   }
   return -1;
 }

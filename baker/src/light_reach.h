@@ -55,9 +55,11 @@ class LightReach {
   static LightReach build(const BakeGeometry& geometry, const std::vector<LightSource>& lights,
                           double max_voxel_m);
 
-  /// Whether light can arrive at surface point `p` from the side `n` faces:
-  /// the first free voxel along `n` within a few voxels was reached (true
-  /// when the guard is off or every voxel along `n` is solid).
+  /// Whether light can arrive at surface point `p` from the side `n` (unit)
+  /// faces: the voxel in front of `p`'s own along `n` was reached (true
+  /// when the guard is off, or when that voxel is solid too: another
+  /// surface within a voxel walls `p` in and what lies past it may be
+  /// across a wall).
   bool reaches(const glm::dvec3& p, const glm::dvec3& n) const;
   const LightReachStats& stats() const { return stats_; }
 

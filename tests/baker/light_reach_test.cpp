@@ -70,6 +70,22 @@ TEST(LightReach, RoomCornersAndWallFeetWalledInByVoxelsCountAsReached) {
   EXPECT_TRUE(built.reach.reaches({0, 0.005, 2}, {1, 0, 0})) << "a wall's foot";
 }
 
+// A closed crate hanging 3 cm over the lit floor (less than this level's
+// 3.3 cm voxel; its bottom fills the voxel over the floor's): the floor
+// under it looks into the crate's bottom, not through it into the crate's
+// sealed inside.
+TEST(LightReach, TheFloorUnderACrateHangingWithinAVoxelCountsAsReached) {
+  Scene scene = lampInRoom();
+  SceneBuilder b;
+  b.scene() = std::move(scene);
+  b.addRoom("crate", {0.6f, 0.03f, 0.6f}, {1.2f, 0.63f, 1.2f}, b.material({0.5f, 0.5f, 0.5f}));
+  const Built built = build(b.scene());
+  ASSERT_TRUE(built.reach.stats().enabled);
+  EXPECT_FALSE(built.reach.reaches({0.9, 0.3, 0.9}, {0, 1, 0})) << "inside the crate: sealed";
+  EXPECT_TRUE(built.reach.reaches({0.9, 0, 0.9}, {0, 1, 0})) << "the floor under the crate";
+  EXPECT_TRUE(built.reach.reaches({0.9, 0.03, 1.25}, {0, 0, 1})) << "the room side of its wall";
+}
+
 TEST(LightReach, ALampAboveAFlatLevelFloodsFromOutsideItsGrid) {
   SceneBuilder b;
   b.addQuad("floor", {-2, 0, -2}, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2},
