@@ -58,10 +58,11 @@ Expected<std::vector<BakeEmitter>> buildEmitterFormFactors(const Scene& scene,
 /// Simplifies every static object (instance) on its own to about `ratio`
 /// of its faces (objects of <= 4 faces stay as they are) and maps each proxy
 /// face to the patch of the nearest original triangle side facing within 90
-/// degrees of it (any side when none does). Brute force per object with a
-/// bounding-sphere cut: O(proxy faces x object faces). Simplification is
+/// degrees of it (any side when none does; ties to the first side in
+/// triangle order), by Embree closest-point queries over a BVH of each
+/// object's sides: O(proxy faces x log object faces). Simplification is
 /// serial; the mapping runs on `threads` workers, bit-identical for any count.
-/// Errors: kCancelled.
+/// Errors: kCancelled, kInternal (Embree).
 Expected<BakeProxyMesh> buildProxy(const BakeGeometry& geometry, const PatchSet& patches,
                                    double ratio, int threads, const std::atomic<bool>* cancel);
 
