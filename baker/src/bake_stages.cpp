@@ -389,6 +389,33 @@ Expected<std::unique_ptr<RadiositySolver>> solveRadiosity(BakeRun& run, const Lo
   return solver;
 }
 
+namespace {
+
+// No light arrives at a texel whose sample lies in sealed space (a room
+// sealed from every light, a crate's inside): black (buried), and no rays
+// cast. Nor at one whose sample is walled in (under a wall or the crate,
+// which tells nothing) while its square reaches sealed space and no lit
+// space (a floor running under the wall into the room): lit, its light
+// would be filtered into the room. A texel whose sample is lit stays lit
+// even where its square reaches sealed space (a vault running into a
+// wall's sealed core, a leaf into a vase): it is seen from the lit side,
+// where black would show as a blotch; filtering spreads its light up to a
+// texel into the sealed side.
+bool buried(const RadiositySolver& solver, const LoadedLevel& level, const AtlasTexels& atlas,
+            const TexelSample& s) {
+  const LightReachVerdict centre = solver.lightReach(s.position, s.normal);
+  if (centre != LightReachVerdict::kWalledIn) return centre == LightReachVerdict::kUnreached;
+  bool sealed = false;
+  for (const Vec3& corner : texelFootprint(level.geometry, atlas.atlas, s)) {
+    const LightReachVerdict v = solver.lightReach(corner, s.normal);
+    if (v == LightReachVerdict::kReached) return false;
+    sealed = sealed || v == LightReachVerdict::kUnreached;
+  }
+  return sealed;
+}
+
+}  // namespace
+
 Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level,
                                        const RadiositySolver& solver) {
   AtlasTexels out;
@@ -408,15 +435,7 @@ Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level,
       rasterizeTexels(level.geometry, out.atlas, *level.caster, raster_settings);
   if (!texels.ok()) return texels.status();
   out.texels = std::move(texels).value();
-  // No light arrives at a texel in a sealed room: black, and no rays cast.
-  // Nor at one whose square reaches under a wall into such a room (a floor
-  // running under the wall): lit, its light would be filtered into the room.
-  buryTexels(out.texels, [&](const TexelSample& s) {
-    if (!solver.lightReaches(s.position, s.normal)) return true;
-    for (const Vec3& corner : texelFootprint(level.geometry, out.atlas, s))
-      if (!solver.lightReaches(corner, s.normal)) return true;
-    return false;
-  });
+  buryTexels(out.texels, [&](const TexelSample& s) { return buried(solver, level, out, s); });
   return out;
 }
 

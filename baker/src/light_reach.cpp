@@ -217,34 +217,27 @@ LightReach LightReach::build(const BakeGeometry& geometry, const std::vector<Lig
   return r;
 }
 
-bool LightReach::reaches(const glm::dvec3& p, const glm::dvec3& n) const {
-  if (!stats_.enabled) return true;
-  const int verdict = firstFreeAlong(p, n);
-  // Walled in (a room's very corner, the floor along a wall's foot, where
-  // the surfaces fill the voxels in front): nothing to tell, so no guard.
-  return verdict != 0;
-}
-
-// The voxel in front of the surface at q, past q's own voxel (which the
-// surface marks): 1 if light reached it, 0 if not, -1 if it is solid too
-// (another surface within a voxel: what lies beyond it may be across a
-// wall, so it tells nothing).
-int LightReach::firstFreeAlong(const glm::dvec3& q, const glm::dvec3& n) const {
-  // q's own voxel is taken a hair in front of q: a surface on a voxel
-  // boundary fills the voxel in front, and q, rounded to float, may lie
+// The voxel in front of the surface at p, past p's own voxel (which the
+// surface marks). Solid too: another surface within a voxel walls p in (a
+// room's very corner, the floor along a wall's foot) and what lies past it
+// may be across a wall, so it tells nothing.
+LightReachVerdict LightReach::verdict(const glm::dvec3& p, const glm::dvec3& n) const {
+  if (!stats_.enabled) return LightReachVerdict::kReached;
+  // p's own voxel is taken a hair in front of p: a surface on a voxel
+  // boundary fills the voxel in front, and p, rounded to float, may lie
   // just behind it.
   uint32_t x0, y0, z0;
-  if (!cellOf(q + n * (1e-3 * voxel_), &x0, &y0, &z0)) return 1;  // outside the grid: open
+  if (!cellOf(p + n * (1e-3 * voxel_), &x0, &y0, &z0)) return LightReachVerdict::kReached;
   const size_t own = index(x0, y0, z0);
   for (double step = 0.25; step <= 2.0; step += 0.25) {
     uint32_t x, y, z;
-    if (!cellOf(q + n * (step * voxel_), &x, &y, &z)) return 1;
+    if (!cellOf(p + n * (step * voxel_), &x, &y, &z)) return LightReachVerdict::kReached;
     const size_t i = index(x, y, z);
     if (i == own) continue;
-    if (bit(solid_, i)) return -1;
-    return bit(reached_, i) ? 1 : 0;
+    if (bit(solid_, i)) return LightReachVerdict::kWalledIn;
+    return bit(reached_, i) ? LightReachVerdict::kReached : LightReachVerdict::kUnreached;
   }
-  return -1;
+  return LightReachVerdict::kWalledIn;
 }
 
 }  // namespace svit::baker

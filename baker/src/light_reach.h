@@ -25,6 +25,7 @@
 
 #include "light_sources.h"
 #include "svit/baker/bake_geometry.h"
+#include "svit/baker/radiosity.h"
 
 namespace svit::baker {
 
@@ -60,7 +61,11 @@ class LightReach {
   /// when the guard is off, or when that voxel is solid too: another
   /// surface within a voxel walls `p` in and what lies past it may be
   /// across a wall).
-  bool reaches(const glm::dvec3& p, const glm::dvec3& n) const;
+  bool reaches(const glm::dvec3& p, const glm::dvec3& n) const {
+    return verdict(p, n) != LightReachVerdict::kUnreached;
+  }
+  /// The verdict behind `reaches` (kReached when the guard is off).
+  LightReachVerdict verdict(const glm::dvec3& p, const glm::dvec3& n) const;
   const LightReachStats& stats() const { return stats_; }
 
  private:
@@ -72,7 +77,6 @@ class LightReach {
   void flood(std::vector<uint32_t>& frontier);
   void floodInto(std::vector<uint32_t>& frontier, std::vector<uint64_t>& marks) const;
   size_t openSmallPockets(size_t max_voxels);
-  int firstFreeAlong(const glm::dvec3& q, const glm::dvec3& n) const;
 
   LightReachStats stats_;
   glm::dvec3 origin_{0.0};

@@ -54,9 +54,9 @@ bool visitSide(RTCPointQueryFunctionArguments* args) {
   const TriangleSide& side = (*q.sides)[index];
   if (!q.any_side && !(glm::dot(side.normal, q.n) > 0)) return false;
   const BakeGeometry& g = *q.geometry;
-  const double d2 = distance2ToTriangle(q.p, dvec(g.corner(side.triangle, 0)),
-                                        dvec(g.corner(side.triangle, 1)),
-                                        dvec(g.corner(side.triangle, 2)));
+  const double d2 =
+      distance2ToTriangle(q.p, dvec(g.corner(side.triangle, 0)), dvec(g.corner(side.triangle, 1)),
+                          dvec(g.corner(side.triangle, 2)));
   if (!(d2 < q.best || (d2 == q.best && index < q.best_index))) return false;
   q.best = d2;
   q.best_index = index;
@@ -106,10 +106,9 @@ Expected<NearestSideIndex> NearestSideIndex::build(RTCDevice device, const BakeG
   if (index.scene_) rtcCommitScene(index.scene_.get());
   const RTCError code = rtcGetDeviceError(device);
   if (code != RTC_ERROR_NONE || !index.scene_) {
-    return Status(StatusCode::kInternal, "runtime sections: the nearest-side index of " +
-                                             std::to_string(sides.size()) +
-                                             " triangle sides failed (Embree error " +
-                                             std::to_string(int(code)) + ")");
+    return Status(StatusCode::kInternal,
+                  "runtime sections: the nearest-side index of " + std::to_string(sides.size()) +
+                      " triangle sides failed (Embree error " + std::to_string(int(code)) + ")");
   }
   return index;
 }

@@ -287,4 +287,8 @@ bool RadiositySolver::lightReaches(const Vec3& point, const Vec3& normal) const 
   return state_->reach.reaches(dvec(point), dvec(normal));
 }
 
+LightReachVerdict RadiositySolver::lightReach(const Vec3& point, const Vec3& normal) const {
+  return state_->reach.verdict(dvec(point), dvec(normal));
+}
+
 }  // namespace svit::baker

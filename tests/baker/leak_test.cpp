@@ -1,7 +1,8 @@
 // Leaks (issue 22 item 5): every generated level of leak_levels.h is baked
 // as a user would (svit-bake's bakeLevel on the written glTF, with --sun /
 // --sky) and probed as svit-probe does; its dark probes must read below
-// 1e-4 of its lit ones.
+// 1e-4 of its lit ones, and its edge probes (within a texel of where a lit
+// surface runs into sealed space) below half of them.
 
 #include <gtest/gtest.h>
 
@@ -26,6 +27,12 @@ namespace fs = std::filesystem;
 
 /// What a sealed space may read, as a fraction of the lit probes' mean.
 constexpr double kDarkBound = 1e-4;
+/// What it may read within a texel of where a lit surface runs into it
+/// (5 cm under a crate's edge, 2 cm inside a wall the floor runs under):
+/// the texel straddling the boundary keeps the light of its lit sample, as
+/// black would show on the lit side, and bilinear filtering spreads that
+/// light up to a texel into the sealed side.
+constexpr double kEdgeBound = 0.5;
 
 struct LeakFigures {
   double lit_lux = 0;         ///< mean of the lit probes
@@ -131,8 +138,8 @@ TEST_P(Leaks, SealedSpacesAndFloorsUnderWallsAreDark) {
   EXPECT_LT(figures.darkest_share, kDarkBound)
       << level.name << ": dark probe " << figures.brightest_dark << " reads "
       << figures.darkest_share << " of the lit probes' " << figures.lit_lux << " lux";
-  EXPECT_LT(figures.edge_share, kDarkBound)
-      << level.name << ": 2 cm from a wall the floor runs under, the dark side reads "
+  EXPECT_LT(figures.edge_share, kEdgeBound)
+      << level.name << ": within a texel of where the floor runs under a wall or a crate, it reads "
       << figures.edge_share << " of the lit probes' " << figures.lit_lux << " lux";
 }
 

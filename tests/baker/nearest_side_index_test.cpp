@@ -31,8 +31,8 @@ void addTriangle(BakeGeometry& g, const Vec3& a, const Vec3& b, const Vec3& c) {
 
 /// `count` random triangles up to `size` metres across in a 10 m box at
 /// `origin`, each side a candidate for even triangles, the front alone for odd.
-void randomSoup(uint64_t seed, size_t count, double size, const glm::dvec3& origin,
-                BakeGeometry& g, std::vector<TriangleSide>& sides) {
+void randomSoup(uint64_t seed, size_t count, double size, const glm::dvec3& origin, BakeGeometry& g,
+                std::vector<TriangleSide>& sides) {
   Rng rng(seed);
   auto point = [&](double scale) {
     return glm::dvec3(rng.uniform(), rng.uniform(), rng.uniform()) * scale;
@@ -76,8 +76,8 @@ TEST_P(NearestSide, FindsTheSideAScanOfEverySideFinds) {
   ASSERT_TRUE(index.ok()) << index.status().message();
   Rng rng(12);
   for (int q = 0; q < 2000; ++q) {
-    const glm::dvec3 p = origin + glm::dvec3(rng.uniform(), rng.uniform(), rng.uniform()) * 12.0 -
-                         1.0;
+    const glm::dvec3 p =
+        origin + glm::dvec3(rng.uniform(), rng.uniform(), rng.uniform()) * 12.0 - 1.0;
     const glm::dvec3 n(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
     for (bool any_side : {false, true})
       ASSERT_EQ(index->nearest(p, n, any_side), scanNearest(g, sides, p, n, any_side))

@@ -20,6 +20,9 @@
 
 namespace svit::baker {
 
+/// What the leak guard tells of a surface point (RadiositySolver::lightReach).
+enum class LightReachVerdict { kReached, kUnreached, kWalledIn };
+
 struct RadiositySettings {
   uint64_t seed = 1;
   /// Worker threads for ray generation and casting; 0 = all cores. Results
@@ -171,6 +174,11 @@ class RadiositySolver {
   /// side `normal` faces (false in a room sealed from every light and under
   /// a wall; see SolverStats::leak_guard). irradianceAt is 0 where not.
   bool lightReaches(const Vec3& point, const Vec3& normal) const;
+  /// The leak guard's verdict behind lightReaches: kWalledIn where another
+  /// surface within a voxel in front of the point hides what lies beyond
+  /// (a room's corner, the floor under a wall), which lightReaches counts
+  /// as reached.
+  LightReachVerdict lightReach(const Vec3& point, const Vec3& normal) const;
 
   /// Per-triangle front irradiance of a reference solution; from then on the
   /// error series also carries the true relative error.
