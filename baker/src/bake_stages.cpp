@@ -439,6 +439,13 @@ Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level,
   return out;
 }
 
+PageSettings bakePageSettings(const AtlasTexels& atlas) {
+  PageSettings settings;
+  settings.dilation_texels = atlas.settings.padding_texels;
+  settings.edge_aware_filter = true;  // gather noise; never crosses charts or creases
+  return settings;
+}
+
 TexelLightingSettings passLightingSettings(const BakeRun& run, uint32_t pass) {
   TexelLightingSettings settings;
   settings.threads = run.options.threads;
@@ -454,11 +461,8 @@ Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
                                 const LightingPasses& lighting, bool with_reference,
                                 const nlohmann::ordered_json& extra_report) {
   run.clock.endStage("pages");
-  PageSettings page_settings;
-  page_settings.dilation_texels = atlas.settings.padding_texels;
-  page_settings.edge_aware_filter = true;  // gather noise; never crosses charts or creases
   LightmapPages pages = buildLightmapPages(level.geometry, atlas.atlas, atlas.texels,
-                                           lighting.accumulator.mean(), page_settings);
+                                           lighting.accumulator.mean(), bakePageSettings(atlas));
   if (!level.emits_light) {
     for (LightmapImage& page : pages.images) {
       page.comments = "svit: black: the level has no light source to bake (report.json)";

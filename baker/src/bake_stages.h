@@ -19,6 +19,7 @@
 #include "svit/baker/bake.h"
 #include "svit/baker/bake_geometry.h"
 #include "svit/baker/lightmap_atlas.h"
+#include "svit/baker/lightmap_pages.h"
 #include "svit/baker/radiosity.h"
 #include "svit/baker/ray_caster.h"
 #include "svit/baker/texel_lighting.h"
@@ -116,6 +117,9 @@ struct AtlasTexels {
 /// "texels" stages); those no light reaches (solver.lightReaches) are buried.
 Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level,
                                        const RadiositySolver& solver);
+
+/// How the bake's pages are made from its texels (dilation, filter).
+PageSettings bakePageSettings(const AtlasTexels& atlas);
 
 /// The texel lighting settings of the plan's pass `pass` (its seed).
 TexelLightingSettings passLightingSettings(const BakeRun& run, uint32_t pass);

@@ -17,7 +17,9 @@ error-vs-time-runtime.png.
 Baker error: the last entry of report.json's error_vs_time, i.e. after the
 final lighting pass: est_rel_error (the baker's own estimate: spread between
 lighting passes; a bake with a single pass has none, reported as 1) and
-ref_rel_error (texel-wise RMS relative error against the reference). The
+ref_rel_error (texel-wise RMS relative error of the bake's pages against
+the reference's, at its covered texels; before 2026-12, raw texel means
+against the reference's filtered pages, which counted the filter). The
 reference is noisy too: with independent seeds, measured^2 = true^2 +
 ref^2, and the gap between two references is sqrt(2) ref. Both the measured
 error and the error with ref removed in quadrature are tabulated; time to

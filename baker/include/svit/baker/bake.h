@@ -36,7 +36,9 @@ struct BakeOptions {
   uint32_t passes = 0;
   double texels_per_m = 0;  ///< 0: chosen from the level's size (about 256k texels)
   int threads = 0;          ///< 0: all cores
-  /// a previous bake of the same level and settings, for the true error
+  /// a previous bake of the same level and settings, for the true error:
+  /// this bake's pages against its pages at the covered texels, after
+  /// lighting passes 1, 2, 4, 8, ... and the last (a page build each)
   std::string reference_dir;
   int max_page_size = 2048;
   /// --sun / --sky: the JSON of level.json's "sun" or "sky" object, for a
