@@ -17,23 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Texel-wise RMS relative error (luminance) of this bake's pages against
-// the reference's at the covered texels: pages against pages, both filtered
-// and stitched as the runtime shows them (the raw texel means against a
-// filtered reference would count the filter as error).
-double referenceError(const TexelSet& texels, const std::vector<LightmapImage>& mine,
-                      const std::vector<LightmapImage>& reference) {
-  double difference = 0, sum = 0;
-  for (const TexelSample& s : texels.samples) {
-    const double ours = luminanceOf(mine[s.page].texel(int(s.x), int(s.y)));
-    const double theirs = luminanceOf(reference[s.page].texel(int(s.x), int(s.y)));
-    difference += (ours - theirs) * (ours - theirs);
-    sum += theirs;
-  }
-  const double n = double(std::max<size_t>(1, texels.samples.size()));
-  return sum > 0 ? std::sqrt(difference / n) / (sum / n) : 0.0;
-}
-
 // The pages the bake would write from the passes so far, against the
 // reference's (a page build per call, as long as the bake's "pages" stage).
 double pagesReferenceError(const LoadedLevel& level, const AtlasTexels& atlas,
@@ -45,7 +28,8 @@ double pagesReferenceError(const LoadedLevel& level, const AtlasTexels& atlas,
 }
 
 // Passes after which the error against a reference is measured: 1, 2, 4,
-// 8, ... (and the last), so a budgeted bake spends a few page builds on it.
+// 8, ... (and the last, by finishBake), so a budgeted bake spends a few
+// page builds on it.
 bool measuredPass(uint32_t pass) { return ((pass + 1) & pass) == 0; }
 
 // The pages of the --reference bake, checked to be of the same level; none
@@ -128,17 +112,11 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const LoadedLevel& leve
     const double texel_error = out.accumulator.relativeError();
     point.est_rel_error = std::sqrt(solver_error * solver_error + texel_error * texel_error);
     point.rays = solver.stats().rays;
-    point.ref_rel_error = std::numeric_limits<double>::quiet_NaN();
     if (!reference_pages.empty() && measuredPass(pass))
       point.ref_rel_error = pagesReferenceError(level, atlas, out.accumulator, reference_pages);
     out.series.push_back(point);
   }
-  if (!reference_pages.empty() && out.accumulator.passes() > 0 &&
-      !std::isfinite(out.series.back().ref_rel_error)) {
-    out.series.back().ref_rel_error =
-        pagesReferenceError(level, atlas, out.accumulator, reference_pages);
-  }
-  return out;
+  return out;  // finishBake measures the last pass on the pages it writes
 }
 
 // --sun/--sky: parsed as a level file's objects; only for a bare glTF,
@@ -215,7 +193,7 @@ Expected<BakeResult> bakeLevel(const BakeOptions& options,
   Expected<LightingPasses> lighting =
       runLightingPasses(run, **level, **solver, *atlas, *reference_pages);
   if (!lighting.ok()) return lighting.status();
-  return finishBake(run, **level, **solver, *atlas, *lighting, !reference_pages->empty(),
+  return finishBake(run, **level, **solver, *atlas, std::move(*lighting), *reference_pages,
                     nlohmann::ordered_json::object());
 }
 

@@ -439,6 +439,19 @@ Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level,
   return out;
 }
 
+double referenceError(const TexelSet& texels, const std::vector<LightmapImage>& mine,
+                      const std::vector<LightmapImage>& reference) {
+  double difference = 0, sum = 0;
+  for (const TexelSample& s : texels.samples) {
+    const double ours = luminanceOf(mine[s.page].texel(int(s.x), int(s.y)));
+    const double theirs = luminanceOf(reference[s.page].texel(int(s.x), int(s.y)));
+    difference += (ours - theirs) * (ours - theirs);
+    sum += theirs;
+  }
+  const double n = double(std::max<size_t>(1, texels.samples.size()));
+  return sum > 0 ? std::sqrt(difference / n) / (sum / n) : 0.0;
+}
+
 PageSettings bakePageSettings(const AtlasTexels& atlas) {
   PageSettings settings;
   settings.dilation_texels = atlas.settings.padding_texels;
@@ -458,11 +471,17 @@ TexelLightingSettings passLightingSettings(const BakeRun& run, uint32_t pass) {
 
 Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
                                 const RadiositySolver& solver, const AtlasTexels& atlas,
-                                const LightingPasses& lighting, bool with_reference,
+                                LightingPasses lighting,
+                                const std::vector<LightmapImage>& reference_pages,
                                 const nlohmann::ordered_json& extra_report) {
   run.clock.endStage("pages");
   LightmapPages pages = buildLightmapPages(level.geometry, atlas.atlas, atlas.texels,
                                            lighting.accumulator.mean(), bakePageSettings(atlas));
+  const bool with_reference = !reference_pages.empty();
+  if (with_reference && lighting.accumulator.passes() > 0) {
+    lighting.series.back().ref_rel_error =
+        referenceError(atlas.texels, pages.images, reference_pages);
+  }
   if (!level.emits_light) {
     for (LightmapImage& page : pages.images) {
       page.comments = "svit: black: the level has no light source to bake (report.json)";

@@ -114,9 +114,16 @@ struct AtlasTexels {
 };
 
 /// The chart atlas at the plan's density, then its texels ("atlas" and
-/// "texels" stages); those no light reaches (solver.lightReaches) are buried.
+/// "texels" stages); those no light reaches (solver.lightReach) are buried.
 Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level,
                                        const RadiositySolver& solver);
+
+/// Texel-wise RMS relative error (luminance) of pages `mine` against the
+/// `reference` pages at the covered texels: pages against pages, both
+/// filtered and stitched as the runtime shows them (raw texel means against
+/// a filtered reference would count the filter as error).
+double referenceError(const TexelSet& texels, const std::vector<LightmapImage>& mine,
+                      const std::vector<LightmapImage>& reference);
 
 /// How the bake's pages are made from its texels (dilation, filter).
 PageSettings bakePageSettings(const AtlasTexels& atlas);
@@ -136,10 +143,13 @@ struct LightingPasses {
 /// Writes the bake: pages (filtered, stitched, dilated), bake file, the
 /// runtime's sections when the level needs them, and report.json (with
 /// `extra_report` merged in at the top level), into a staging directory
-/// swapped in at OUT ("pages", "runtime", "write" stages).
+/// swapped in at OUT ("pages", "runtime", "write" stages). With
+/// `reference_pages`, the last pass's true error is measured on the pages
+/// written.
 Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
                                 const RadiositySolver& solver, const AtlasTexels& atlas,
-                                const LightingPasses& lighting, bool with_reference,
+                                LightingPasses lighting,
+                                const std::vector<LightmapImage>& reference_pages,
                                 const nlohmann::ordered_json& extra_report);
 
 }  // namespace svit::baker

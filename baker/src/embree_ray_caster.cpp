@@ -13,25 +13,13 @@
 #include <string>
 #include <type_traits>
 
+#include "embree_handles.h"
 #include "ray_rules.h"
 #include "svit/baker/ray_caster.h"
 #include "svit_check.h"
 
 namespace svit::baker {
 namespace {
-
-const char* errorName(RTCError code) {
-  switch (code) {
-    case RTC_ERROR_NONE: return "no error";
-    case RTC_ERROR_UNKNOWN: return "unknown error";
-    case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
-    case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
-    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
-    case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
-    case RTC_ERROR_CANCELLED: return "cancelled";
-  }
-  return "unrecognised error code";
-}
 
 /// The first message Embree's error callback reported. Embree keeps only the
 /// first error code per thread until rtcGetDeviceError reads it; the callback
@@ -43,7 +31,7 @@ class ErrorLog {
     auto* log = static_cast<ErrorLog*>(user);
     const std::lock_guard<std::mutex> lock(log->mutex_);
     if (log->first_.empty())
-      log->first_ = std::string(errorName(code)) + ": " + (message ? message : "");
+      log->first_ = std::string(embreeErrorName(code)) + ": " + (message ? message : "");
   }
   std::string first() const {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -54,15 +42,6 @@ class ErrorLog {
   mutable std::mutex mutex_;
   std::string first_;
 };
-
-struct DeviceRelease {
-  void operator()(RTCDevice device) const { rtcReleaseDevice(device); }
-};
-struct SceneRelease {
-  void operator()(RTCScene scene) const { rtcReleaseScene(scene); }
-};
-using DeviceHandle = std::unique_ptr<std::remove_pointer_t<RTCDevice>, DeviceRelease>;
-using SceneHandle = std::unique_ptr<std::remove_pointer_t<RTCScene>, SceneRelease>;
 
 /// Sets MXCSR flush-to-zero and denormals-are-zero on the calling thread for
 /// its lifetime and restores the caller's MXCSR after. Embree's "Performance
@@ -95,7 +74,7 @@ class EmbreeRayCaster final : public RayCaster {
     device_.reset(rtcNewDevice(nullptr));
     if (!device_) {
       return Status(StatusCode::kInternal, std::string("embree: rtcNewDevice failed: ") +
-                                               errorName(rtcGetDeviceError(nullptr)));
+                                               embreeErrorName(rtcGetDeviceError(nullptr)));
     }
     rtcSetDeviceErrorFunction(device_.get(), &ErrorLog::callback, error_log_.get());
 
@@ -136,7 +115,7 @@ class EmbreeRayCaster final : public RayCaster {
     const RTCError code = rtcGetDeviceError(device_.get());
     if (code != RTC_ERROR_NONE || !scene_) {
       std::string message = error_log_->first();
-      if (message.empty()) message = errorName(code);
+      if (message.empty()) message = embreeErrorName(code);
       return Status(StatusCode::kInternal, "embree: building the scene of " +
                                                std::to_string(geometry_.triangleCount()) +
                                                " triangles failed: " + message);
@@ -209,8 +188,8 @@ class EmbreeRayCaster final : public RayCaster {
   // Declared before the handles so it outlives them: the device may report
   // errors while the scene is released.
   std::unique_ptr<ErrorLog> error_log_ = std::make_unique<ErrorLog>();
-  DeviceHandle device_;
-  SceneHandle scene_;  // released before device_ (reverse declaration order)
+  EmbreeDevice device_;
+  EmbreeScene scene_;  // released before device_ (reverse declaration order)
 };
 
 /// Input Embree would silently drop or misread (man rtcCommitScene: it

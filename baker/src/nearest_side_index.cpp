@@ -106,9 +106,9 @@ Expected<NearestSideIndex> NearestSideIndex::build(RTCDevice device, const BakeG
   if (index.scene_) rtcCommitScene(index.scene_.get());
   const RTCError code = rtcGetDeviceError(device);
   if (code != RTC_ERROR_NONE || !index.scene_) {
-    return Status(StatusCode::kInternal,
-                  "runtime sections: the nearest-side index of " + std::to_string(sides.size()) +
-                      " triangle sides failed (Embree error " + std::to_string(int(code)) + ")");
+    return Status(StatusCode::kInternal, "runtime sections: the nearest-side index of " +
+                                             std::to_string(sides.size()) +
+                                             " triangle sides failed: " + embreeErrorName(code));
   }
   return index;
 }

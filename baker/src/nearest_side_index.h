@@ -7,12 +7,11 @@
 #include <embree3/rtcore.h>
 
 #include <cstdint>
-#include <memory>
-#include <type_traits>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "embree_handles.h"
 #include "svit/baker/bake_geometry.h"
 #include "svit/status.h"
 
@@ -42,12 +41,9 @@ class NearestSideIndex {
   int32_t nearest(const glm::dvec3& p, const glm::dvec3& n, bool any_side) const;
 
  private:
-  struct SceneRelease {
-    void operator()(RTCScene scene) const { rtcReleaseScene(scene); }
-  };
   const BakeGeometry* geometry_ = nullptr;
   const std::vector<TriangleSide>* sides_ = nullptr;
-  std::unique_ptr<std::remove_pointer_t<RTCScene>, SceneRelease> scene_;
+  EmbreeScene scene_;
 };
 
 }  // namespace svit::baker

@@ -10,8 +10,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <memory>
-#include <type_traits>
 #include <unordered_map>
 #include <vector>
 
@@ -146,16 +144,11 @@ Status appendProxyFaces(RTCDevice device, const BakeGeometry& geometry,
   return Status::okStatus();
 }
 
-struct DeviceRelease {
-  void operator()(RTCDevice device) const { rtcReleaseDevice(device); }
-};
-
 }  // namespace
 
 Expected<BakeProxyMesh> buildProxy(const BakeGeometry& geometry, const PatchSet& patches,
                                    double ratio, int threads, const std::atomic<bool>* cancel) {
-  const std::unique_ptr<std::remove_pointer_t<RTCDevice>, DeviceRelease> device(
-      rtcNewDevice(nullptr));
+  const EmbreeDevice device(rtcNewDevice(nullptr));
   if (!device) return Status(StatusCode::kInternal, "runtime sections: rtcNewDevice failed");
   BakeProxyMesh proxy;
   const size_t triangles = geometry.triangleCount();

@@ -283,10 +283,6 @@ SolverStats RadiositySolver::stats() const {
   return out;
 }
 
-bool RadiositySolver::lightReaches(const Vec3& point, const Vec3& normal) const {
-  return state_->reach.reaches(dvec(point), dvec(normal));
-}
-
 LightReachVerdict RadiositySolver::lightReach(const Vec3& point, const Vec3& normal) const {
   return state_->reach.verdict(dvec(point), dvec(normal));
 }

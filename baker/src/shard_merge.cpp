@@ -150,8 +150,8 @@ Expected<BakeResult> mergeShardedBake(const std::string& work_dir, const std::st
   Expected<MergedShards> merged = mergeShards(run, work_dir, *loaded);
   if (!merged.ok()) return merged.status();
   const nlohmann::ordered_json extra = shardedReport(*loaded, *merged);
-  const LightingPasses lighting = lightingFromShards(*loaded, *merged, run);
-  return finishBake(run, *loaded->level, *loaded->solver, loaded->atlas, lighting, false, extra);
+  return finishBake(run, *loaded->level, *loaded->solver, loaded->atlas,
+                    lightingFromShards(*loaded, *merged, run), {}, extra);
 }
 
 }  // namespace svit::baker

@@ -10,17 +10,13 @@
 #include <vector>
 
 #include "double_math.h"
+#include "embree_handles.h"
 #include "nearest_side_index.h"
 #include "random.h"
 #include "svit/baker/bake_geometry.h"
 
 namespace svit::baker {
 namespace {
-
-struct DeviceRelease {
-  void operator()(RTCDevice device) const { rtcReleaseDevice(device); }
-};
-using Device = std::unique_ptr<std::remove_pointer_t<RTCDevice>, DeviceRelease>;
 
 void addTriangle(BakeGeometry& g, const Vec3& a, const Vec3& b, const Vec3& c) {
   g.positions.insert(g.positions.end(), {a, b, c});
@@ -67,7 +63,7 @@ class NearestSide : public testing::TestWithParam<double> {};
 
 TEST_P(NearestSide, FindsTheSideAScanOfEverySideFinds) {
   const glm::dvec3 origin(GetParam());
-  const Device device(rtcNewDevice(nullptr));
+  const EmbreeDevice device(rtcNewDevice(nullptr));
   ASSERT_TRUE(device);
   BakeGeometry g;
   std::vector<TriangleSide> sides;
@@ -89,7 +85,7 @@ TEST_P(NearestSide, FindsTheSideAScanOfEverySideFinds) {
 INSTANTIATE_TEST_SUITE_P(Origins, NearestSide, testing::Values(0.0, 1e4));
 
 TEST(NearestSide, TiesGoToTheLowestIndexAndTheFacingFilterHolds) {
-  const Device device(rtcNewDevice(nullptr));
+  const EmbreeDevice device(rtcNewDevice(nullptr));
   ASSERT_TRUE(device);
   BakeGeometry g;
   for (int copy = 0; copy < 8; ++copy) addTriangle(g, {0, 0, 0}, {1, 0, 0}, {0, 0, 1});

@@ -171,13 +171,11 @@ class RadiositySolver {
   /// irradianceAt may be called from many threads. Not thread-safe itself.
   void prepareQueries() const;
   /// Whether any baked light can arrive at surface point `point` from the
-  /// side `normal` faces (false in a room sealed from every light and under
-  /// a wall; see SolverStats::leak_guard). irradianceAt is 0 where not.
-  bool lightReaches(const Vec3& point, const Vec3& normal) const;
-  /// The leak guard's verdict behind lightReaches: kWalledIn where another
-  /// surface within a voxel in front of the point hides what lies beyond
-  /// (a room's corner, the floor under a wall), which lightReaches counts
-  /// as reached.
+  /// side `normal` faces (kUnreached in a room sealed from every light;
+  /// see SolverStats::leak_guard; irradianceAt is 0 there), or kWalledIn
+  /// where another surface within a voxel in front of the point hides what
+  /// lies beyond (a room's corner, the floor under a wall), which
+  /// irradianceAt counts as reached.
   LightReachVerdict lightReach(const Vec3& point, const Vec3& normal) const;
 
   /// Per-triangle front irradiance of a reference solution; from then on the
