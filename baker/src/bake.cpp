@@ -11,6 +11,7 @@
 #include "bake_output.h"
 #include "bake_stages.h"
 #include "double_math.h"
+#include "lightmap_error.h"
 
 namespace svit::baker {
 namespace {
@@ -27,9 +28,9 @@ double pagesReferenceError(const LoadedLevel& level, const AtlasTexels& atlas,
   return referenceError(atlas.texels, pages.images, reference);
 }
 
-// Passes after which the error against a reference is measured: 1, 2, 4,
-// 8, ... (and the last, by finishBake), so a budgeted bake spends a few
-// page builds on it.
+// Passes after which the error against a reference and the split-half
+// estimate are measured: 1, 2, 4, 8, ... (and the last), so a budgeted
+// bake spends a few page builds on them.
 bool measuredPass(uint32_t pass) { return ((pass + 1) & pass) == 0; }
 
 // The pages of the --reference bake, checked to be of the same level; none
@@ -74,16 +75,17 @@ Status checkReferenceAtlas(const std::vector<LightmapImage>& reference_pages,
 }
 
 // Lighting passes, averaged: each is an independent estimate, so their
-// spread is the lightmap's error estimate. Without a budget the quality
-// sets the pass count; with one, passes continue while time remains.
+// spread is the lightmap's error estimate (lightmap_error.h). Without a
+// budget the quality sets the pass count; with one, passes continue while
+// time remains.
 Expected<LightingPasses> runLightingPasses(BakeRun& run, const LoadedLevel& level,
                                            const RadiositySolver& solver, const AtlasTexels& atlas,
                                            const std::vector<LightmapImage>& reference_pages) {
   const BakePlan& plan = run.plan;
   LightingPasses out;
   out.solver_error = solver.estimatedRelativeError();
-  const double solver_error = out.solver_error;
   out.series = solver.errorSeries();
+  LightmapErrorEstimator estimator(level, atlas, solver);
   const double solver_seconds = solver.stats().seconds;
   for (ErrorPoint& p : out.series) p.ref_rel_error = std::numeric_limits<double>::quiet_NaN();
   out.gather_rays = plan.gather_rays;
@@ -109,14 +111,15 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const LoadedLevel& leve
     pass_seconds = run.clock.elapsed() - pass_start;
     ErrorPoint point;
     point.t_s = solver_seconds + (run.clock.elapsed() - stage_start);
-    const double texel_error = out.accumulator.relativeError();
-    point.est_rel_error = std::sqrt(solver_error * solver_error + texel_error * texel_error);
+    estimator.estimate(out.accumulator, measuredPass(pass), point);
     point.rays = solver.stats().rays;
     if (!reference_pages.empty() && measuredPass(pass))
       point.ref_rel_error = pagesReferenceError(level, atlas, out.accumulator, reference_pages);
     out.series.push_back(point);
   }
-  return out;  // finishBake measures the last pass on the pages it writes
+  if (out.accumulator.passes() > 0 && out.series.back().estimate != ErrorEstimate::kSplitHalfPages)
+    estimator.estimate(out.accumulator, true, out.series.back());
+  return out;  // finishBake measures the last pass's true error on the pages it writes
 }
 
 // --sun/--sky: parsed as a level file's objects; only for a bare glTF,

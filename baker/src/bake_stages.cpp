@@ -60,12 +60,23 @@ nlohmann::ordered_json sectionsJson(const BakeData& data) {
   return out;
 }
 
+const char* estimateName(ErrorEstimate estimate) {
+  switch (estimate) {
+    case ErrorEstimate::kSolverPasses: return "solver_passes";
+    case ErrorEstimate::kSplitHalfPages: return "split_half_pages";
+    case ErrorEstimate::kScaledTexelSpread: return "scaled_texel_spread";
+    case ErrorEstimate::kTexelSpread: return "texel_spread";
+  }
+  return "unknown";
+}
+
 nlohmann::ordered_json seriesJson(const std::vector<ErrorPoint>& series, bool with_reference) {
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (const ErrorPoint& p : series) {
     nlohmann::ordered_json point;
     point["t_s"] = p.t_s;
     point["est_rel_error"] = p.est_rel_error;
+    point["estimate"] = estimateName(p.estimate);
     if (with_reference)
       point["ref_rel_error"] =
           std::isfinite(p.ref_rel_error) ? nlohmann::ordered_json(p.ref_rel_error) : nullptr;
@@ -466,6 +477,7 @@ TexelLightingSettings passLightingSettings(const BakeRun& run, uint32_t pass) {
   settings.area_light_samples = run.plan.area_light_samples;
   settings.sun_samples = run.plan.sun_samples;
   settings.seed = hashIds(run.options.seed, 0x1a7, pass);
+  settings.solution = pass % 2 == 0 ? SolutionHalf::kEven : SolutionHalf::kOdd;
   return settings;
 }
 

@@ -17,7 +17,7 @@
 namespace svit::baker {
 namespace {
 
-constexpr uint32_t kSnapshotVersion = 2;  // 2: leak_guard_max_voxel_m
+constexpr uint32_t kSnapshotVersion = 3;  // 2: leak_guard_max_voxel_m, 3: the odd passes' sums
 
 void putSettings(ByteWriter& w, const RadiositySettings& s) {
   w.put(s.seed);
@@ -139,6 +139,7 @@ void RadiositySolver::State::putShooting(ByteWriter& w) const {
   w.putVector(flatten(s.e_pass));
   w.putVector(flatten(s.e_unshot));
   w.putVector(flatten(s.e_sum));
+  w.putVector(flatten(s.e_sum_odd));
   w.putVector(std::vector<int>(s.pending.begin(), s.pending.end()));
   w.put(uint8_t(s.started));
   w.put(s.pass);
@@ -147,6 +148,8 @@ void RadiositySolver::State::putShooting(ByteWriter& w) const {
   w.putVector(s.light_unshot);
   w.putVector(s.emission_unshot);
   w.put(s.ambient_sum);
+  w.put(s.weight_sum_odd);
+  w.put(s.ambient_sum_odd);
   w.putVector(s.element_s1);
   w.putVector(s.element_s2);
   w.put(s.surface_rays);
@@ -158,6 +161,7 @@ void RadiositySolver::State::getShooting(ByteReader& r) {
   s.e_pass = unflatten(r.getVector<double>());
   s.e_unshot = unflatten(r.getVector<double>());
   s.e_sum = unflatten(r.getVector<double>());
+  s.e_sum_odd = unflatten(r.getVector<double>());
   const std::vector<int> pending_nodes = r.getVector<int>();
   s.pending = std::set<int>(pending_nodes.begin(), pending_nodes.end());
   s.started = r.get<uint8_t>() != 0;
@@ -168,6 +172,8 @@ void RadiositySolver::State::getShooting(ByteReader& r) {
   s.light_unshot = r.getVector<double>();
   s.emission_unshot = r.getVector<double>();
   s.ambient_sum = r.get<glm::dvec3>();
+  s.weight_sum_odd = r.get<double>();
+  s.ambient_sum_odd = r.get<glm::dvec3>();
   s.element_s1 = r.getVector<double>();
   s.element_s2 = r.getVector<double>();
   s.surface_rays = r.get<uint64_t>();
@@ -183,7 +189,8 @@ bool RadiositySolver::State::shootingFits() const {
   const bool pending_ok =
       s.pending.empty() || (*s.pending.begin() >= 0 && size_t(*s.pending.rbegin()) < nodes);
   return s.e_pass.size() == nodes && s.e_unshot.size() == nodes && s.e_sum.size() == nodes &&
-         s.element_s1.size() == sides && s.element_s2.size() == sides && pending_ok &&
+         s.e_sum_odd.size() == nodes && s.element_s1.size() == sides &&
+         s.element_s2.size() == sides && pending_ok &&
          s.light_unshot.size() == (s.started ? s.lights.size() : s.light_unshot.size()) &&
          s.emission_unshot.size() ==
              (s.started ? s.emitting_roots.size() : s.emission_unshot.size());

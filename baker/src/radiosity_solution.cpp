@@ -24,11 +24,31 @@ glm::dvec2 barycentric2d(const float (&t)[3][2], double px, double py, int i0, i
 
 }  // namespace
 
+double RadiositySolver::State::halfWeight(SolutionHalf half) const {
+  switch (distinctHalf(half)) {
+    case SolutionHalf::kOdd: return weight_sum_odd;
+    case SolutionHalf::kEven: return weight_sum - weight_sum_odd;
+    case SolutionHalf::kWhole: break;
+  }
+  return weight_sum;
+}
+
 const std::vector<glm::dvec3>& RadiositySolver::State::currentLevels(
-    std::vector<glm::dvec3>& scratch) const {
-  if (weight_sum <= 0) return e_pass;
+    std::vector<glm::dvec3>& scratch, SolutionHalf half) const {
+  const double weight = halfWeight(half);
+  if (weight <= 0) return e_pass;
   scratch.resize(e_sum.size());
-  for (size_t n = 0; n < e_sum.size(); ++n) scratch[n] = e_sum[n] / weight_sum;
+  switch (distinctHalf(half)) {
+    case SolutionHalf::kOdd:
+      for (size_t n = 0; n < e_sum.size(); ++n) scratch[n] = e_sum_odd[n] / weight;
+      break;
+    case SolutionHalf::kEven:
+      for (size_t n = 0; n < e_sum.size(); ++n) scratch[n] = (e_sum[n] - e_sum_odd[n]) / weight;
+      break;
+    case SolutionHalf::kWhole:
+      for (size_t n = 0; n < e_sum.size(); ++n) scratch[n] = e_sum[n] / weight;
+      break;
+  }
   return scratch;
 }
 
@@ -84,8 +104,15 @@ std::vector<glm::dvec3> RadiositySolver::State::elementMeans(const std::vector<g
   return sums;
 }
 
-glm::dvec3 RadiositySolver::State::answerAmbient() const {
-  return weight_sum > 0 ? ambient_sum / weight_sum : currentAmbient();
+glm::dvec3 RadiositySolver::State::answerAmbient(SolutionHalf half) const {
+  const double weight = halfWeight(half);
+  if (!(weight > 0)) return currentAmbient();
+  switch (distinctHalf(half)) {
+    case SolutionHalf::kOdd: return ambient_sum_odd / weight;
+    case SolutionHalf::kEven: return (ambient_sum - ambient_sum_odd) / weight;
+    case SolutionHalf::kWhole: break;
+  }
+  return ambient_sum / weight;
 }
 
 std::vector<glm::dvec3> RadiositySolver::State::currentMeans() const {
@@ -179,34 +206,46 @@ std::vector<Rgb> RadiositySolver::triangleRadiosity(bool front) const {
   return irradiance;
 }
 
-void RadiositySolver::prepareQueries() const {
+void RadiositySolver::prepareQueries(SolutionHalf half) const {
   const State& s = *state_;
   const ElementTree& tree = *s.tree;
-  if (s.cache_version != s.version) {
-    // Leaf values and vertex -> leaves incidence, rebuilt when the solution changed.
-    std::vector<glm::dvec3> scratch;
-    const std::vector<glm::dvec3>& levels = s.currentLevels(scratch);
-    const glm::dvec3 lit_ambient = s.litLeafAmbient(levels, s.answerAmbient());
-    s.leaf_value.assign(tree.nodes().size(), glm::dvec3(0.0));
-    s.vertex_leaves.assign(tree.vertexCount(), {});
-    s.forEachLeafLevel(levels, [&](const TreeNode& leaf, int n, const glm::dvec3& here) {
-      s.leaf_value[size_t(n)] = luminanceOf(here) > 0 ? here + lit_ambient : here;
+  // Leaf values (per half) and vertex -> leaves incidence, rebuilt when the
+  // solution changed.
+  std::vector<glm::dvec3>& leaf_value = s.leaf_values[size_t(half)];
+  uint64_t& leaf_value_version = s.leaf_values_version[size_t(half)];
+  const bool incidence_stale = s.vertex_leaves_version != s.version;
+  if (leaf_value_version == s.version && !incidence_stale) return;
+  std::vector<glm::dvec3> scratch;
+  const std::vector<glm::dvec3>& levels = s.currentLevels(scratch, half);
+  const glm::dvec3 lit_ambient = s.litLeafAmbient(levels, s.answerAmbient(half));
+  leaf_value.assign(tree.nodes().size(), glm::dvec3(0.0));
+  if (incidence_stale) s.vertex_leaves.assign(tree.vertexCount(), {});
+  s.forEachLeafLevel(levels, [&](const TreeNode& leaf, int n, const glm::dvec3& here) {
+    leaf_value[size_t(n)] = luminanceOf(here) > 0 ? here + lit_ambient : here;
+    if (incidence_stale)
       for (uint32_t vertex : leaf.vertex) s.vertex_leaves[vertex].push_back(n);
-    });
+  });
+  if (incidence_stale) {
     for (auto& list : s.vertex_leaves) std::sort(list.begin(), list.end());
-    s.cache_version = s.version;
+    s.vertex_leaves_version = s.version;
   }
+  leaf_value_version = s.version;
+}
+
+bool RadiositySolver::hasSolutionHalves() const {
+  return state_->distinctHalf(SolutionHalf::kOdd) == SolutionHalf::kOdd;
 }
 
 Rgb RadiositySolver::irradianceAt(uint32_t triangle, bool front, double u, double v,
-                                  InterpolationMode mode) const {
+                                  InterpolationMode mode, SolutionHalf half) const {
   const State& s = *state_;
   const ElementTree& tree = *s.tree;
   const int root = tree.elementRoot(triangle, front);
   if (root < 0) return {0, 0, 0};
   if (!s.reach.reaches(s.pointOn(triangle, u, v), s.sideNormal(triangle, front)))
     return {0, 0, 0};  // sealed from every light: what the element holds came from elsewhere
-  prepareQueries();
+  prepareQueries(half);
+  const std::vector<glm::dvec3>& leaf_value = s.leaf_values[size_t(half)];
   const int leaf = tree.locateLeaf(root, u, v);
   const TreeNode& node = tree.node(leaf);
   const double cos_hard = std::cos(s.settings.hard_edge_rad);
@@ -218,10 +257,10 @@ Rgb RadiositySolver::irradianceAt(uint32_t triangle, bool front, double u, doubl
     for (int other : s.vertex_leaves[vertex]) {
       const TreeNode& o = tree.node(other);
       if (glm::dot(o.normal, node.normal) < cos_hard) continue;
-      sum += o.area_m2 * s.leaf_value[size_t(other)];
+      sum += o.area_m2 * leaf_value[size_t(other)];
       area += o.area_m2;
     }
-    return area > 0 ? sum / area : s.leaf_value[size_t(leaf)];
+    return area > 0 ? sum / area : leaf_value[size_t(leaf)];
   };
   const glm::dvec3 corner[3] = {vertexValue(node.vertex[0]), vertexValue(node.vertex[1]),
                                 vertexValue(node.vertex[2])};
@@ -247,7 +286,7 @@ Rgb RadiositySolver::irradianceAt(uint32_t triangle, bool front, double u, doubl
     const double score = std::min({1.0 - b.x - b.y, b.x, b.y});
     if (score > best_score) {
       best_score = score;
-      best = (1.0 - b.x - b.y) * s.leaf_value[size_t(leaf)] + b.x * corner[k] +
+      best = (1.0 - b.x - b.y) * leaf_value[size_t(leaf)] + b.x * corner[k] +
              b.y * corner[(k + 1) % 3];
     }
   }

@@ -161,6 +161,7 @@ void RadiositySolver::State::growNodeArrays() {
   e_pass.resize(n, glm::dvec3(0.0));
   e_unshot.resize(n, glm::dvec3(0.0));
   e_sum.resize(n, glm::dvec3(0.0));
+  e_sum_odd.resize(n, glm::dvec3(0.0));
 }
 
 void RadiositySolver::State::startPass() {
@@ -214,6 +215,11 @@ void RadiositySolver::State::endPass() {
   for (size_t n = 0; n < e_sum.size(); ++n) e_sum[n] += weight * e_pass[n];
   ambient_sum += weight * ambient;
   weight_sum += weight;
+  if (pass % 2 == 1) {
+    for (size_t n = 0; n < e_sum_odd.size(); ++n) e_sum_odd[n] += weight * e_pass[n];
+    ambient_sum_odd += weight * ambient;
+    weight_sum_odd += weight;
+  }
   const std::vector<glm::dvec3> means = elementMeans(e_pass, ambient);
   for (size_t e = 0; e < means.size(); ++e) {
     const double x = luminanceOf(means[e]);

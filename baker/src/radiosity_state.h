@@ -2,6 +2,7 @@
 // The solver's state, shared by radiosity_solver.cpp (shooting) and
 // radiosity_solution.cpp (reading the solution back); internal.
 
+#include <array>
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -40,10 +41,11 @@ struct RadiositySolver::State {
 
   // Per node, grown with the tree. Irradiance (lux) received at the node's
   // own level: it applies uniformly to every leaf below (lazy push-down).
-  std::vector<glm::dvec3> e_pass;    ///< this pass
-  std::vector<glm::dvec3> e_unshot;  ///< part of e_pass not reflected onwards yet
-  std::vector<glm::dvec3> e_sum;     ///< sum over completed passes of weight * e_pass
-  std::set<int> pending;             ///< nodes with unshot energy (ordered: deterministic)
+  std::vector<glm::dvec3> e_pass;     ///< this pass
+  std::vector<glm::dvec3> e_unshot;   ///< part of e_pass not reflected onwards yet
+  std::vector<glm::dvec3> e_sum;      ///< sum over completed passes of weight * e_pass
+  std::vector<glm::dvec3> e_sum_odd;  ///< the part of e_sum from odd passes (SolutionHalf)
+  std::set<int> pending;              ///< nodes with unshot energy (ordered: deterministic)
   /// Leaves split by the subdivision criterion, in order: replayed on a
   /// fresh tree they rebuild this one node for node (radiosity_snapshot.cpp).
   std::vector<int> subdivided;
@@ -61,6 +63,8 @@ struct RadiositySolver::State {
   // Completed passes.
   double weight_sum = 0;
   glm::dvec3 ambient_sum{0.0};
+  double weight_sum_odd = 0;  ///< the parts of weight_sum and ambient_sum from odd passes
+  glm::dvec3 ambient_sum_odd{0.0};
   std::vector<double> element_s1, element_s2;  ///< per element (triangle side): sum w*x, sum w*x^2
 
   // Scene constants.
@@ -79,11 +83,12 @@ struct RadiositySolver::State {
   std::vector<Rgb> reference;
   uint64_t version = 0;  ///< bumped whenever the solution or tree changes
 
-  // Caches for interpolation, valid for `cache_version`.
-  mutable uint64_t cache_version = ~0ull;
-  /// per node (leaves filled): irradiance incl. ambient
-  mutable std::vector<glm::dvec3> leaf_value;
+  // Caches for interpolation, each valid for the `version` beside it.
+  /// per SolutionHalf, per node (leaves filled): irradiance incl. ambient
+  mutable std::array<std::vector<glm::dvec3>, 3> leaf_values;
+  mutable std::array<uint64_t, 3> leaf_values_version{~0ull, ~0ull, ~0ull};
   mutable std::vector<std::vector<int>> vertex_leaves;
+  mutable uint64_t vertex_leaves_version = ~0ull;
 
   void growNodeArrays();
   void startPass();
@@ -115,8 +120,16 @@ struct RadiositySolver::State {
     const glm::dvec3 n = dvec(geometry->normals[triangle]);
     return front ? n : -n;
   }
-  /// Irradiance per node at the node's own level for the current answer.
-  const std::vector<glm::dvec3>& currentLevels(std::vector<glm::dvec3>& scratch) const;
+  /// `half`, or the whole while the halves are not distinct solutions.
+  SolutionHalf distinctHalf(SolutionHalf half) const {
+    return stats.passes_completed >= 2 ? half : SolutionHalf::kWhole;
+  }
+  /// The weight of the completed passes `half` is made of.
+  double halfWeight(SolutionHalf half) const;
+  /// Irradiance per node at the node's own level for the current answer
+  /// (of `half`).
+  const std::vector<glm::dvec3>& currentLevels(std::vector<glm::dvec3>& scratch,
+                                               SolutionHalf half = SolutionHalf::kWhole) const;
   /// Calls `visit(leaf, leaf index, sum of the levels from its object root
   /// down to it)` for every leaf.
   void forEachLeafLevel(
@@ -128,8 +141,9 @@ struct RadiositySolver::State {
   /// Mean irradiance per element (triangle side) for `levels` + their ambient.
   std::vector<glm::dvec3> elementMeans(const std::vector<glm::dvec3>& levels,
                                        const glm::dvec3& ambient) const;
-  /// Ambient irradiance of the current answer (averaged over passes once any completed).
-  glm::dvec3 answerAmbient() const;
+  /// Ambient irradiance of the current answer (averaged over passes, those
+  /// of `half`, once any completed).
+  glm::dvec3 answerAmbient(SolutionHalf half = SolutionHalf::kWhole) const;
   /// elementMeans of the current answer.
   std::vector<glm::dvec3> currentMeans() const;
   double estimateError(const std::vector<glm::dvec3>& means) const;

@@ -14,6 +14,7 @@
 #include "svit/baker/sharded_bake.h"
 #include "bake_output.h"
 #include "bake_stages.h"
+#include "lightmap_error.h"
 #include "loaded_plan.h"
 #include "work_file.h"
 
@@ -66,7 +67,7 @@ double numberOr(const nlohmann::ordered_json& json, const char* key, double fall
 
 // All shards' sums in texel order, their spreads summed per pass, and their reports.
 struct MergedShards {
-  std::vector<TexelIrradiance> sums;
+  std::vector<TexelIrradiance> sums, odd_sums;
   std::vector<PassSpread> spreads;
   nlohmann::ordered_json reports = nlohmann::ordered_json::array();
   double lighting_seconds = 0;  ///< summed over shards, from their reports
@@ -77,12 +78,16 @@ Expected<MergedShards> mergeShards(BakeRun& run, const std::string& work_dir,
   const WorkPlan& plan = loaded.plan;
   MergedShards out;
   out.sums.resize(plan.texel_count);
+  out.odd_sums.resize(plan.texel_count);
   out.spreads.resize(plan.passes);
   for (uint32_t shard = 0; shard < plan.shards; ++shard) {
     const std::vector<uint32_t> texels = plan.shardTexels(shard);
     Expected<ShardLighting> lighting = readShard(work_dir, loaded, shard, texels.size());
     if (!lighting.ok()) return lighting.status();
-    for (size_t k = 0; k < texels.size(); ++k) out.sums[texels[k]] = lighting->sums[k];
+    for (size_t k = 0; k < texels.size(); ++k) {
+      out.sums[texels[k]] = lighting->sums[k];
+      out.odd_sums[texels[k]] = lighting->odd_sums[k];
+    }
     for (uint32_t p = 0; p < plan.passes; ++p) {
       out.spreads[p].variance_sum += lighting->spreads[p].variance_sum;
       out.spreads[p].mean_sum += lighting->spreads[p].mean_sum;
@@ -98,11 +103,13 @@ Expected<MergedShards> mergeShards(BakeRun& run, const std::string& work_dir,
 
 // The whole bake's LightingPasses from the shards: the same mean; an error
 // series whose times are the solver's plus the shards' lighting time summed
-// (work, not wall time: shards may have run side by side).
+// (work, not wall time: shards may have run side by side), whose last
+// estimate is the split-half (lightmap_error.h), the earlier ones scaled by it.
 LightingPasses lightingFromShards(const LoadedPlan& loaded, MergedShards& merged,
                                   const BakeRun& run) {
   LightingPasses out;
-  out.accumulator = TexelAccumulator(std::move(merged.sums), loaded.plan.passes);
+  out.accumulator =
+      TexelAccumulator(std::move(merged.sums), std::move(merged.odd_sums), loaded.plan.passes);
   out.gather_rays = run.plan.gather_rays;
   out.solver_error = loaded.solver->estimatedRelativeError();
   out.series = loaded.solver->errorSeries();
@@ -111,12 +118,15 @@ LightingPasses lightingFromShards(const LoadedPlan& loaded, MergedShards& merged
   for (uint32_t p = 0; p < loaded.plan.passes; ++p) {
     ErrorPoint point;
     point.t_s = solver_seconds + merged.lighting_seconds * double(p + 1) / loaded.plan.passes;
-    const double texel_error = merged.spreads[p].relativeError(p + 1);
-    point.est_rel_error =
-        std::sqrt(out.solver_error * out.solver_error + texel_error * texel_error);
+    point.est_rel_error = texelSpreadError(merged.spreads[p].relativeError(p + 1), *loaded.solver);
+    point.estimate = ErrorEstimate::kTexelSpread;
     point.rays = loaded.solver->stats().rays;
     out.series.push_back(point);
   }
+  LightmapErrorEstimator estimator(*loaded.level, loaded.atlas, *loaded.solver);
+  estimator.estimate(out.accumulator, true, out.series.back());
+  const size_t two_passes = out.series.size() - loaded.plan.passes + 1;
+  estimator.scaleEarlier(out.series, two_passes);
   return out;
 }
 

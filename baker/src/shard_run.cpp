@@ -53,6 +53,7 @@ Expected<ShardLighting> lightShard(BakeRun& run, const LoadedPlan& loaded, uint3
     out.spreads.push_back(accumulator.spread());
   }
   out.sums = accumulator.sums();
+  out.odd_sums = accumulator.oddSums();
   return out;
 }
 

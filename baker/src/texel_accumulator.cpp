@@ -8,6 +8,29 @@
 #include "double_math.h"
 
 namespace svit::baker {
+namespace {
+
+void addTo(TexelIrradiance& sum, const TexelIrradiance& pass) {
+  sum.direct = {sum.direct.r + pass.direct.r, sum.direct.g + pass.direct.g,
+                sum.direct.b + pass.direct.b};
+  sum.indirect = {sum.indirect.r + pass.indirect.r, sum.indirect.g + pass.indirect.g,
+                  sum.indirect.b + pass.indirect.b};
+}
+
+TexelIrradiance scaled(const TexelIrradiance& t, float k) {
+  return {{t.direct.r * k, t.direct.g * k, t.direct.b * k},
+          {t.indirect.r * k, t.indirect.g * k, t.indirect.b * k}};
+}
+
+// `sums` over `passes` passes, divided by their count.
+std::vector<TexelIrradiance> meanOf(const std::vector<TexelIrradiance>& sums, uint32_t passes) {
+  std::vector<TexelIrradiance> out(sums.size());
+  const float k = passes > 0 ? 1.0f / float(passes) : 0.0f;
+  for (size_t i = 0; i < sums.size(); ++i) out[i] = scaled(sums[i], k);
+  return out;
+}
+
+}  // namespace
 
 double PassSpread::relativeError(uint32_t passes) const {
   if (passes < 2 || texels == 0) return 1.0;
@@ -16,21 +39,21 @@ double PassSpread::relativeError(uint32_t passes) const {
   return mean > 0 ? std::sqrt(variance_sum / n) / mean : 0.0;
 }
 
-TexelAccumulator::TexelAccumulator(std::vector<TexelIrradiance> sums, uint32_t passes)
-    : sum_(std::move(sums)), passes_(passes) {}
+TexelAccumulator::TexelAccumulator(std::vector<TexelIrradiance> sums,
+                                   std::vector<TexelIrradiance> odd_sums, uint32_t passes)
+    : sum_(std::move(sums)), odd_sum_(std::move(odd_sums)), passes_(passes) {}
 
 void TexelAccumulator::add(const std::vector<TexelIrradiance>& pass) {
   if (sum_.empty()) {
     sum_.assign(pass.size(), TexelIrradiance{});
+    odd_sum_.assign(pass.size(), TexelIrradiance{});
     sum_y_.assign(pass.size(), 0.0);
     sum_y2_.assign(pass.size(), 0.0);
   }
+  const bool odd = passes_ % 2 == 1;
   for (size_t i = 0; i < pass.size(); ++i) {
-    sum_[i].direct = {sum_[i].direct.r + pass[i].direct.r, sum_[i].direct.g + pass[i].direct.g,
-                      sum_[i].direct.b + pass[i].direct.b};
-    sum_[i].indirect = {sum_[i].indirect.r + pass[i].indirect.r,
-                        sum_[i].indirect.g + pass[i].indirect.g,
-                        sum_[i].indirect.b + pass[i].indirect.b};
+    addTo(sum_[i], pass[i]);
+    if (odd) addTo(odd_sum_[i], pass[i]);
     const double y = luminanceOf(pass[i].direct) + luminanceOf(pass[i].indirect);
     sum_y_[i] += y;
     sum_y2_[i] += y * y;
@@ -38,13 +61,19 @@ void TexelAccumulator::add(const std::vector<TexelIrradiance>& pass) {
   ++passes_;
 }
 
-std::vector<TexelIrradiance> TexelAccumulator::mean() const {
-  std::vector<TexelIrradiance> out(sum_.size());
-  const float k = passes_ > 0 ? 1.0f / float(passes_) : 0.0f;
-  for (size_t i = 0; i < sum_.size(); ++i) {
-    out[i].direct = {sum_[i].direct.r * k, sum_[i].direct.g * k, sum_[i].direct.b * k};
-    out[i].indirect = {sum_[i].indirect.r * k, sum_[i].indirect.g * k, sum_[i].indirect.b * k};
-  }
+std::vector<TexelIrradiance> TexelAccumulator::mean() const { return meanOf(sum_, passes_); }
+
+std::vector<TexelIrradiance> TexelAccumulator::halfMean(bool odd) const {
+  if (odd) return meanOf(odd_sum_, halfPasses(true));
+  std::vector<TexelIrradiance> even = sum_;
+  for (size_t i = 0; i < even.size(); ++i) addTo(even[i], scaled(odd_sum_[i], -1.0f));
+  return meanOf(even, halfPasses(false));
+}
+
+std::vector<TexelIrradiance> TexelAccumulator::halfDifference() const {
+  std::vector<TexelIrradiance> out = halfMean(false);
+  const float k = passes_ >= 2 ? 1.0f / float(halfPasses(true)) : 0.0f;
+  for (size_t i = 0; i < out.size(); ++i) addTo(out[i], scaled(odd_sum_[i], -k));
   return out;
 }
 

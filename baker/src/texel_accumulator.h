@@ -1,6 +1,7 @@
 #pragma once
 // Running per-texel sums of a bake's lighting passes: their mean is the
-// lightmap, their spread its error estimate. A sharded bake's shards each
+// lightmap; the spread of the passes, or the pages of the even passes
+// against those of the odd ones, its error estimate. A sharded bake's shards each
 // keep one over their texels; the merge puts the sums side by side and gets
 // the same mean, bit for bit, as one bake (sharded_bake.h). Internal.
 
@@ -26,19 +27,27 @@ struct PassSpread {
 class TexelAccumulator {
  public:
   TexelAccumulator() = default;
-  /// The accumulator whose sums over `passes` passes are `sums` (its spread
-  /// unknown: spread() of it is meaningless).
-  TexelAccumulator(std::vector<TexelIrradiance> sums, uint32_t passes);
+  /// The accumulator whose sums over `passes` passes are `sums`, and over
+  /// the odd ones (1, 3, ...) `odd_sums` (its spread unknown: spread() of
+  /// it is meaningless).
+  TexelAccumulator(std::vector<TexelIrradiance> sums, std::vector<TexelIrradiance> odd_sums,
+                   uint32_t passes);
 
   void add(const std::vector<TexelIrradiance>& pass);
   std::vector<TexelIrradiance> mean() const;
+  /// The mean of the odd passes (1, 3, ...), or of the even ones (0, 2, ...).
+  std::vector<TexelIrradiance> halfMean(bool odd) const;
+  /// halfMean(false) - halfMean(true), per texel.
+  std::vector<TexelIrradiance> halfDifference() const;
+  uint32_t halfPasses(bool odd) const { return odd ? passes_ / 2 : passes_ - passes_ / 2; }
   PassSpread spread() const;
   double relativeError() const { return spread().relativeError(passes_); }
   const std::vector<TexelIrradiance>& sums() const { return sum_; }
+  const std::vector<TexelIrradiance>& oddSums() const { return odd_sum_; }
   uint32_t passes() const { return passes_; }
 
  private:
-  std::vector<TexelIrradiance> sum_;
+  std::vector<TexelIrradiance> sum_, odd_sum_;
   std::vector<double> sum_y_, sum_y2_;
   uint32_t passes_ = 0;
 };

@@ -298,7 +298,8 @@ TexelIrradiance sumContributions(const LightingContext& c, TexelRays& t) {
       continue;
     }
     if (!h.front && !geometry.double_sided[h.triangle]) continue;  // black back face
-    const Rgb e = c.solver.irradianceAt(h.triangle, h.front, h.u, h.v, InterpolationMode::kVertex);
+    const Rgb e = c.solver.irradianceAt(h.triangle, h.front, h.u, h.v, InterpolationMode::kVertex,
+                                        c.settings.solution);
     const Rgb& albedo = geometry.albedo[h.triangle];
     // B = rho * E; pi * B/pi
     gathered += glm::dvec3(albedo.r * e.r, albedo.g * e.g, albedo.b * e.b);
@@ -356,7 +357,7 @@ Expected<std::vector<TexelIrradiance>> lightTexelList(
   TexelLights lights;
   collectAnalyticLights(scene, lights);
   collectEmitters(geometry, lights);
-  solver.prepareQueries();
+  solver.prepareQueries(settings.solution);
   const int threads = resolveThreads(settings.threads);
   const LightingContext context{scene, geometry, caster, solver, settings, lights};
 

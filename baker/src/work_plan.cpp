@@ -157,6 +157,7 @@ std::vector<uint8_t> encodeShard(const ShardLighting& s) {
   w.put(s.shards);
   w.put(s.passes);
   w.putVector(s.sums);
+  w.putVector(s.odd_sums);
   w.putVector(s.spreads);
   return w.take();
 }
@@ -168,8 +169,10 @@ Expected<ShardLighting> decodeShard(const std::vector<uint8_t>& payload, const s
   s.shards = r.get<uint32_t>();
   s.passes = r.get<uint32_t>();
   s.sums = r.getVector<TexelIrradiance>();
+  s.odd_sums = r.getVector<TexelIrradiance>();
   s.spreads = r.getVector<PassSpread>();
-  if (!r.atEnd() || s.spreads.size() != s.passes) return notFitting(path, "the shard's texels");
+  if (!r.atEnd() || s.spreads.size() != s.passes || s.odd_sums.size() != s.sums.size())
+    return notFitting(path, "the shard's texels");
   return s;
 }
 

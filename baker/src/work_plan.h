@@ -57,8 +57,9 @@ struct ShardLighting {
   uint32_t shard = 0;
   uint32_t shards = 0;
   uint32_t passes = 0;
-  std::vector<TexelIrradiance> sums;  ///< per texel of the shard, in its order: sum over passes
-  std::vector<PassSpread> spreads;    ///< after each pass, over the shard's texels
+  std::vector<TexelIrradiance> sums;      ///< per texel of the shard, in its order: sum over passes
+  std::vector<TexelIrradiance> odd_sums;  ///< the same over the odd passes (1, 3, ...)
+  std::vector<PassSpread> spreads;        ///< after each pass, over the shard's texels
 };
 
 std::vector<uint8_t> encodeShard(const ShardLighting& shard);

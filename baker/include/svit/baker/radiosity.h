@@ -84,12 +84,25 @@ struct StopRule {
   std::function<bool(const SolverProgress&)> progress;
 };
 
+/// How an ErrorPoint's estimate was made (report.json names it).
+enum class ErrorEstimate {
+  kSolverPasses,  ///< the solver's: spread of its passes per element, and the ambient share
+  /// the lightmap's: pages of the even lighting passes against those of the
+  /// odd ones (each gathering from its own half of the solver's passes)
+  kSplitHalfPages,
+  /// the lightmap's: spread of the texel values over passes, scaled by the
+  /// split-half's ratio to it at the nearest pass that measured both
+  kScaledTexelSpread,
+  kTexelSpread,  ///< the lightmap's: spread of the texel values over passes, unscaled
+};
+
 /// One point of the error-versus-time series (what report.json carries).
 struct ErrorPoint {
   double t_s = 0;              ///< solver wall time so far
-  double est_rel_error = 1.0;  ///< estimate: pass variance and ambient share
+  double est_rel_error = 1.0;  ///< estimate, made as `estimate` says
   double ref_rel_error = std::numeric_limits<double>::quiet_NaN();  ///< with a reference
   uint64_t rays = 0;
+  ErrorEstimate estimate = ErrorEstimate::kSolverPasses;
 };
 
 struct SolverStats {
@@ -120,6 +133,14 @@ struct SolverStats {
   double leak_guard_seconds = 0;
   size_t leak_guard_pockets_opened = 0;  ///< sealed spaces too small to be rooms
 };
+
+/// Which solution a query reads: the whole, or the half made of the
+/// solver's even or odd passes. The halves are independent estimates of the
+/// same answer, so a final gather that reads each in turn puts the
+/// solution's noise into its passes' spread, where the lightmap's error
+/// estimate sees it (bake.cpp); with fewer than two completed passes each
+/// half is the whole.
+enum class SolutionHalf { kWhole, kEven, kOdd };
 
 enum class InterpolationMode {
   kVertex,         ///< linear between vertex radiosities (area-weighted means)
@@ -164,12 +185,19 @@ class RadiositySolver {
   std::vector<Rgb> triangleIrradiance(bool front = true) const;
   /// Mean radiosity (exitance, lm/m2): emission + albedo * irradiance.
   std::vector<Rgb> triangleRadiosity(bool front = true) const;
-  /// Irradiance (lux) at barycentric (u, v) of a triangle side, interpolated.
-  /// Thread-safe after prepareQueries() until the next improve().
-  Rgb irradianceAt(uint32_t triangle, bool front, double u, double v, InterpolationMode mode) const;
-  /// Builds the interpolation caches (leaf values, vertex incidence) so that
-  /// irradianceAt may be called from many threads. Not thread-safe itself.
-  void prepareQueries() const;
+  /// Irradiance (lux) at barycentric (u, v) of a triangle side, interpolated,
+  /// of the solution `half`. Thread-safe after prepareQueries(half) until
+  /// the next improve().
+  Rgb irradianceAt(uint32_t triangle, bool front, double u, double v, InterpolationMode mode,
+                   SolutionHalf half = SolutionHalf::kWhole) const;
+  /// Builds the interpolation caches (leaf values, vertex incidence) of
+  /// `half` so that irradianceAt may be called from many threads. Not
+  /// thread-safe itself.
+  void prepareQueries(SolutionHalf half = SolutionHalf::kWhole) const;
+  /// Whether the two halves are distinct solutions (two or more completed
+  /// passes), so that gathering from them in turn measures the solution's
+  /// noise.
+  bool hasSolutionHalves() const;
   /// Whether any baked light can arrive at surface point `point` from the
   /// side `normal` faces (kUnreached in a room sealed from every light;
   /// see SolverStats::leak_guard; irradianceAt is 0 there), or kWalledIn

@@ -26,6 +26,9 @@ struct TexelLightingSettings {
   /// point/spot lights evaluated per texel; more are sampled by importance
   uint32_t max_point_lights = 16;
   uint32_t gather_rays = 64;  ///< final-gather rays per texel (indirect light and sky)
+  /// the solution the gather reads: a bake's passes read the solver's halves
+  /// in turn (radiosity.h's SolutionHalf)
+  SolutionHalf solution = SolutionHalf::kWhole;
 };
 
 /// Direct and indirect irradiance of one texel, lux per channel.

@@ -1,0 +1,57 @@
+#pragma once
+// The lightmap's error estimate, what report.json's error-versus-time
+// series and its lightmap.est_rel_error carry. Two estimates of the error
+// of the mean of the lighting passes:
+// - the texel spread: each texel's variance over the passes. Cheap (every
+//   pass), but pessimistic where the page filter averages the noise away,
+//   and blind to the radiosity solution's noise when every pass gathers
+//   from the same solution (the solver's own estimate is added then).
+// - the split-half: the pages of the even passes against those of the odd
+//   ones, each filtered as the pages written and gathered from its own
+//   half of the solver's passes (SolutionHalf), so it counts what is left
+//   after the filter and the solution's noise too. One page build a call
+//   (of the halves' difference).
+// Internal.
+
+#include <vector>
+
+#include "svit/baker/radiosity.h"
+#include "bake_stages.h"
+#include "texel_accumulator.h"
+
+namespace svit::baker {
+
+/// The split-half estimate after the passes in `accumulator` (two or more).
+double splitHalfError(const LoadedLevel& level, const AtlasTexels& atlas,
+                      const TexelAccumulator& accumulator, const RadiositySolver& solver);
+
+/// The texel-spread estimate from the texels' relative spread `texel_error`.
+double texelSpreadError(double texel_error, const RadiositySolver& solver);
+
+// The estimates of a bake's passes in order: the split-half where asked,
+// and between, the texel spread scaled by the ratio of the two at the
+// last pass that measured both. The ratio drifts slowly: the gather's
+// noise falls as one over the square root of the pass count in both, the
+// solution's does not fall and only the split-half sees it.
+class LightmapErrorEstimator {
+ public:
+  LightmapErrorEstimator(const LoadedLevel& level, const AtlasTexels& atlas,
+                         const RadiositySolver& solver)
+      : level_(level), atlas_(atlas), solver_(solver) {}
+
+  /// `point`'s estimate after the passes in `accumulator`: the split-half
+  /// when `split_half` and there are two or more passes.
+  void estimate(const TexelAccumulator& accumulator, bool split_half, ErrorPoint& point);
+  /// Scales the unscaled texel-spread estimates of `series` from index
+  /// `first` on (those of two or more passes, made before any split-half)
+  /// by the last split-half's ratio, if one was measured.
+  void scaleEarlier(std::vector<ErrorPoint>& series, size_t first) const;
+
+ private:
+  const LoadedLevel& level_;
+  const AtlasTexels& atlas_;
+  const RadiositySolver& solver_;
+  double ratio_ = 0;  ///< split-half over texel spread at the last split-half; 0: none yet
+};
+
+}  // namespace svit::baker
