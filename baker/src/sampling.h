@@ -70,4 +70,43 @@ inline glm::dvec2 uniformTriangle(double u1, double u2) {
   return {s * (1.0 - u2), s * u2};  // weights of corners 1 and 2
 }
 
+/// Solid angle of the spherical triangle with unit corner directions a, b,
+/// c (Van Oosterom & Strackee 1983: accurate for small triangles too).
+inline double sphericalTriangleArea(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+  const double triple = std::abs(glm::dot(a, glm::cross(b, c)));
+  return 2.0 * std::atan2(triple, 1.0 + glm::dot(a, b) + glm::dot(b, c) + glm::dot(c, a));
+}
+
+/// Uniform direction (pdf 1 / `area`) in the spherical triangle with unit
+/// corner directions a, b, c of solid angle `area` (Arvo 1995, "Stratified
+/// sampling of spherical triangles"): u1 picks the sub-triangle A B C' of
+/// area u1 * area, u2 the point along the arc from B to C'. Stratified in
+/// (u1, u2) as the unit square is.
+inline glm::dvec3 sphericalTriangleDirection(const glm::dvec3& a, const glm::dvec3& b,
+                                             const glm::dvec3& c, double area, double u1,
+                                             double u2) {
+  // Where the arc from `from` towards `to` leaves `from`, as a unit tangent.
+  const auto tangent = [](const glm::dvec3& from, const glm::dvec3& to) {
+    const glm::dvec3 t = to - glm::dot(to, from) * from;
+    const double length = glm::length(t);
+    return length > 0 ? t / length : t;
+  };
+  const double cos_alpha = std::clamp(glm::dot(tangent(a, b), tangent(a, c)), -1.0, 1.0);
+  const double sin_alpha = std::sqrt(std::max(0.0, 1.0 - cos_alpha * cos_alpha));
+  const double alpha = std::acos(cos_alpha);
+  // C' on the arc A C such that A B C' has area u1 * area.
+  const double sub_area = u1 * area;
+  const double s = std::sin(sub_area - alpha), t = std::cos(sub_area - alpha);
+  const double u = t - cos_alpha;
+  const double v = s + sin_alpha * glm::dot(a, b);
+  const double denominator = (v * s + u * t) * sin_alpha;
+  const double q = denominator != 0
+                       ? std::clamp(((v * t - u * s) * cos_alpha - v) / denominator, -1.0, 1.0)
+                       : 1.0;
+  const glm::dvec3 c_sub = q * a + std::sqrt(std::max(0.0, 1.0 - q * q)) * tangent(a, c);
+  // The point on the arc B C' at the cosine that makes the density uniform.
+  const double z = 1.0 - u2 * (1.0 - glm::dot(c_sub, b));
+  return z * b + std::sqrt(std::max(0.0, 1.0 - z * z)) * tangent(b, c_sub);
+}
+
 }  // namespace svit::baker

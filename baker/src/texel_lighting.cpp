@@ -209,6 +209,57 @@ void addDirectionalRays(const LightingContext& c, Rng& rng, TexelRays& t) {
   }
 }
 
+// A point on an emitter triangle for the texel at `p` (normal `n`), and
+// its estimate of the integral of cos_r over the triangle's solid angle
+// (irradiance per unit radiance), 0 when it sees the triangle's back or
+// nothing. By solid angle where the triangle looks large (beside a lamp,
+// where area sampling's 1 / d^2 has unbounded variance: a texel a
+// millimetre from an emitter's edge), by area where it looks small (where
+// solid angles of tiny far triangles lose precision and the two agree).
+struct EmitterSample {
+  glm::dvec3 point{0.0};
+  glm::dvec3 normal{0.0};  ///< of the side seen
+  double cosine_solid_angle = 0;
+};
+
+constexpr double kSolidAngleSamplingSr = 1e-3;
+
+EmitterSample sampleEmitter(const BakeGeometry& geometry, const Emitter& emitter,
+                            const glm::dvec3& p, const glm::dvec3& n, double r1, double r2) {
+  EmitterSample out;
+  const glm::dvec3 c0 = dvec(geometry.corner(emitter.triangle, 0));
+  const glm::dvec3 c1 = dvec(geometry.corner(emitter.triangle, 1));
+  const glm::dvec3 c2 = dvec(geometry.corner(emitter.triangle, 2));
+  out.normal = dvec(geometry.normals[emitter.triangle]);
+  double height = glm::dot(p - c0, out.normal);  // of p above the side it sees
+  if (emitter.double_sided && height < 0) {
+    out.normal = -out.normal;
+    height = -height;
+  }
+  if (!(height > 0)) return out;
+  const glm::dvec3 a = glm::normalize(c0 - p), b = glm::normalize(c1 - p),
+                   c = glm::normalize(c2 - p);
+  const double solid_angle = sphericalTriangleArea(a, b, c);
+  if (solid_angle > kSolidAngleSamplingSr) {
+    const glm::dvec3 w = sphericalTriangleDirection(a, b, c, solid_angle, r1, r2);
+    const double approach = -glm::dot(w, out.normal);
+    if (!(approach > 0)) return out;
+    out.point = p + w * (height / approach);
+    out.cosine_solid_angle = std::max(0.0, glm::dot(n, w)) * solid_angle;
+    return out;
+  }
+  const glm::dvec2 bary = uniformTriangle(r1, r2);
+  out.point = c0 + bary.x * (c1 - c0) + bary.y * (c2 - c0);
+  const glm::dvec3 to_emitter = out.point - p;
+  const double d2 = glm::dot(to_emitter, to_emitter);
+  if (!(d2 > 0)) return out;
+  const glm::dvec3 l = to_emitter / std::sqrt(d2);
+  const double cos_r = glm::dot(n, l), cos_e = -glm::dot(out.normal, l);
+  if (cos_r <= 0 || cos_e <= 0) return out;
+  out.cosine_solid_angle = cos_r * cos_e / d2 * geometry.areas_m2[emitter.triangle];
+  return out;
+}
+
 // Emissive surfaces, picked in proportion to their flux. Points form a 2-D
 // stratified set over all emitters: the first coordinate is stratified
 // along the flux CDF (its remainder inside the chosen emitter places the
@@ -235,27 +286,12 @@ void addEmitterRays(const LightingContext& c, uint32_t texel_triangle, Rng& rng,
     const double probability = (emitter_cdf[i] - low) / emitter_total;
     const double r1 = std::clamp((pick - low) / (emitter_cdf[i] - low), 0.0, 1.0 - 1e-12);
     const double r2 = std::fmod(double(s) * 0.6180339887498949 + shift, 1.0);
-    const glm::dvec2 b = uniformTriangle(r1, r2);
-    const glm::dvec3 c0 = dvec(geometry.corner(emitter.triangle, 0));
-    const glm::dvec3 q = c0 + b.x * (dvec(geometry.corner(emitter.triangle, 1)) - c0) +
-                         b.y * (dvec(geometry.corner(emitter.triangle, 2)) - c0);
-    glm::dvec3 ne = dvec(geometry.normals[emitter.triangle]);
-    const glm::dvec3 to_emitter = q - t.p;
-    const double d2 = glm::dot(to_emitter, to_emitter);
-    if (!(d2 > 0)) continue;
-    const glm::dvec3 l = to_emitter / std::sqrt(d2);
-    const double cos_r = glm::dot(t.n, l);
-    double cos_e = -glm::dot(ne, l);
-    if (emitter.double_sided && cos_e < 0) {
-      cos_e = -cos_e;
-      ne = -ne;
-    }
-    if (cos_r <= 0 || cos_e <= 0) continue;
-    const double area = geometry.areas_m2[emitter.triangle];
+    const EmitterSample sample = sampleEmitter(geometry, emitter, t.p, t.n, r1, r2);
+    if (!(sample.cosine_solid_angle > 0)) continue;
     const glm::dvec3 e =
-        emitter.luminance * (cos_r * cos_e / d2 * area / (probability * double(count)));
-    const Vec3 target =
-        offsetRayOrigin(vec3(q), vec3(ne), cornerMagnitude(geometry, emitter.triangle));
+        emitter.luminance * (sample.cosine_solid_angle / (probability * double(count)));
+    const Vec3 target = offsetRayOrigin(vec3(sample.point), vec3(sample.normal),
+                                        cornerMagnitude(geometry, emitter.triangle));
     t.shadowTo(dvec(target), e);
   }
 }

@@ -15,8 +15,7 @@ namespace {
 // A pass over two texels: direct `a` and indirect 10 `a` in every channel
 // of texel 0, twice that in texel 1.
 std::vector<TexelIrradiance> pass(float a) {
-  return {{{a, a, a}, {10 * a, 10 * a, 10 * a}},
-          {{2 * a, 2 * a, 2 * a}, {20 * a, 20 * a, 20 * a}}};
+  return {{{a, a, a}, {10 * a, 10 * a, 10 * a}}, {{2 * a, 2 * a, 2 * a}, {20 * a, 20 * a, 20 * a}}};
 }
 
 TEST(TexelAccumulator, HalvesAreTheMeansOfTheEvenAndTheOddPasses) {
@@ -41,11 +40,11 @@ TEST(TexelAccumulator, HalvesAreTheMeansOfTheEvenAndTheOddPasses) {
 TEST(TexelAccumulator, UnequalHalvesAndAnAccumulatorRebuiltFromItsSums) {
   TexelAccumulator accumulator;
   accumulator.add(pass(1));
-  accumulator.add(pass(4));  // an odd pass
-  accumulator.add(pass(7));  // an even one
+  accumulator.add(pass(4));                                        // an odd pass
+  accumulator.add(pass(7));                                        // an even one
   EXPECT_FLOAT_EQ(accumulator.halfMean(false)[0].direct.r, 4.0f);  // (1 + 7) / 2
   EXPECT_FLOAT_EQ(accumulator.halfMean(true)[0].direct.r, 4.0f);
-  accumulator.add(pass(10));  // odd
+  accumulator.add(pass(10));                                      // odd
   EXPECT_FLOAT_EQ(accumulator.halfMean(true)[0].direct.r, 7.0f);  // (4 + 10) / 2
   EXPECT_FLOAT_EQ(accumulator.halfMean(true)[1].indirect.g, 140.0f);
 
