@@ -125,7 +125,8 @@ struct TexelRays {
   std::vector<Ray> rays;
   std::vector<Contribution> contributions;
   std::vector<RayHit> hits;
-  std::vector<double> light_cdf;  // many-light sampling
+  std::vector<double> light_cdf;    // many-light sampling
+  std::vector<double> emitter_cdf;  // importance of each emitter at this texel, running sum
   std::vector<glm::dvec3> light_e;
 
   void shadowTo(const glm::dvec3& target, const glm::dvec3& weight) {
@@ -260,7 +261,53 @@ EmitterSample sampleEmitter(const BakeGeometry& geometry, const Emitter& emitter
   return out;
 }
 
-// Emissive surfaces, picked in proportion to their flux. Points form a 2-D
+// Up to this many emitter triangles, each texel weighs them by what they
+// give it (texelEmitterImportance); beyond, by their flux alone.
+constexpr size_t kTexelImportanceEmitters = 64;
+
+// The running sum of each emitter's importance at texel `t`: its solid
+// angle times the cosine toward its middle (at least 0.05 of it, so a
+// grazing strip that lights the texel is still picked), times its
+// luminance; 0 for those it cannot light (behind the texel's horizon or
+// seen from their dark side). Returns the total.
+double texelEmitterImportance(const LightingContext& c, uint32_t texel_triangle, const TexelRays& t,
+                              std::vector<double>& cdf) {
+  const BakeGeometry& geometry = c.geometry;
+  double total = 0;
+  for (size_t i = 0; i < c.lights.emitters.size(); ++i) {
+    const Emitter& emitter = c.lights.emitters[i];
+    double importance = 0;
+    const glm::dvec3 corner[3] = {dvec(geometry.corner(emitter.triangle, 0)),
+                                  dvec(geometry.corner(emitter.triangle, 1)),
+                                  dvec(geometry.corner(emitter.triangle, 2))};
+    const glm::dvec3 normal = dvec(geometry.normals[emitter.triangle]);
+    const double height = glm::dot(t.p - corner[0], normal);
+    const bool lit_side = emitter.double_sided ? height != 0 : height > 0;
+    if (emitter.triangle != texel_triangle && lit_side) {
+      glm::dvec3 to[3];
+      double highest = -1;  // cosine of the corner highest above the texel's horizon
+      for (int k = 0; k < 3; ++k) {
+        to[k] = glm::normalize(corner[k] - t.p);
+        highest = std::max(highest, glm::dot(t.n, to[k]));
+      }
+      if (highest > 0) {
+        double solid_angle = sphericalTriangleArea(to[0], to[1], to[2]);
+        const glm::dvec3 middle = (corner[0] + corner[1] + corner[2]) / 3.0 - t.p;
+        const double d2 = glm::dot(middle, middle);
+        if (solid_angle < kSolidAngleSamplingSr && d2 > 0)  // small: the area's form is exact
+          solid_angle = geometry.areas_m2[emitter.triangle] * std::abs(glm::dot(normal, middle)) /
+                        (d2 * std::sqrt(d2));
+        const double cosine = d2 > 0 ? glm::dot(t.n, middle) / std::sqrt(d2) : 0.0;
+        importance = luminanceOf(emitter.luminance) * solid_angle * std::max(cosine, 0.05);
+      }
+    }
+    cdf[i] = (total += importance);
+  }
+  return total;
+}
+
+// Emissive surfaces, picked in proportion to their importance at the texel
+// (few emitters) or their flux (many). Points form a 2-D
 // stratified set over all emitters: the first coordinate is stratified
 // along the flux CDF (its remainder inside the chosen emitter places the
 // point), the second follows a randomly shifted rank-1 lattice (golden
@@ -270,8 +317,12 @@ void addEmitterRays(const LightingContext& c, uint32_t texel_triangle, Rng& rng,
   const TexelLights& lights = c.lights;
   const BakeGeometry& geometry = c.geometry;
   if (lights.emitters.empty()) return;
-  const std::vector<double>& emitter_cdf = lights.emitter_cdf;
-  const double emitter_total = lights.emitter_total;
+  const bool per_texel = lights.emitters.size() <= kTexelImportanceEmitters;
+  const double emitter_total = per_texel
+                                   ? texelEmitterImportance(c, texel_triangle, t, t.emitter_cdf)
+                                   : lights.emitter_total;
+  if (!(emitter_total > 0)) return;
+  const std::vector<double>& emitter_cdf = per_texel ? t.emitter_cdf : lights.emitter_cdf;
   const uint32_t count = c.settings.area_light_samples;
   const double shift = rng.uniformDouble();
   for (uint32_t s = 0; s < count; ++s) {
@@ -284,6 +335,7 @@ void addEmitterRays(const LightingContext& c, uint32_t texel_triangle, Rng& rng,
     if (emitter.triangle == texel_triangle) continue;
     const double low = i > 0 ? emitter_cdf[i - 1] : 0.0;
     const double probability = (emitter_cdf[i] - low) / emitter_total;
+    if (!(probability > 0)) continue;  // a pick on the edge of an emitter that gives nothing
     const double r1 = std::clamp((pick - low) / (emitter_cdf[i] - low), 0.0, 1.0 - 1e-12);
     const double r2 = std::fmod(double(s) * 0.6180339887498949 + shift, 1.0);
     const EmitterSample sample = sampleEmitter(geometry, emitter, t.p, t.n, r1, r2);
@@ -372,6 +424,8 @@ TexelIrradiance lightTexel(const LightingContext& c, const TexelSample& sample, 
 TexelRays makeScratch(const TexelLights& lights) {
   TexelRays scratch;
   scratch.light_cdf.resize(lights.points.size());
+  if (lights.emitters.size() <= kTexelImportanceEmitters)
+    scratch.emitter_cdf.resize(lights.emitters.size());
   scratch.light_e.resize(lights.points.size());
   return scratch;
 }
