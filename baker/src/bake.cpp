@@ -111,14 +111,14 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const LoadedLevel& leve
     pass_seconds = run.clock.elapsed() - pass_start;
     ErrorPoint point;
     point.t_s = solver_seconds + (run.clock.elapsed() - stage_start);
-    estimator.estimate(out.accumulator, measuredPass(pass), point);
+    estimator.estimate(out.accumulator, out.accumulator.relativeError(), measuredPass(pass), point);
     point.rays = solver.stats().rays;
     if (!reference_pages.empty() && measuredPass(pass))
       point.ref_rel_error = pagesReferenceError(level, atlas, out.accumulator, reference_pages);
     out.series.push_back(point);
   }
   if (out.accumulator.passes() > 0 && out.series.back().estimate != ErrorEstimate::kSplitHalfPages)
-    estimator.estimate(out.accumulator, true, out.series.back());
+    estimator.estimate(out.accumulator, out.accumulator.relativeError(), true, out.series.back());
   return out;  // finishBake measures the last pass's true error on the pages it writes
 }
 

@@ -49,9 +49,9 @@ double texelSpreadError(double texel_error, const RadiositySolver& solver) {
   return std::hypot(texel_error, unseenSolverError(solver));
 }
 
-void LightmapErrorEstimator::estimate(const TexelAccumulator& accumulator, bool split_half,
-                                      ErrorPoint& point) {
-  const double spread = texelSpreadError(accumulator.relativeError(), solver_);
+void LightmapErrorEstimator::estimate(const TexelAccumulator& accumulator, double texel_error,
+                                      bool split_half, ErrorPoint& point) {
+  const double spread = texelSpreadError(texel_error, solver_);
   if (split_half && accumulator.passes() >= 2) {
     point.est_rel_error = splitHalfError(level_, atlas_, accumulator, solver_);
     point.estimate = ErrorEstimate::kSplitHalfPages;

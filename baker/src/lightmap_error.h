@@ -39,9 +39,12 @@ class LightmapErrorEstimator {
                          const RadiositySolver& solver)
       : level_(level), atlas_(atlas), solver_(solver) {}
 
-  /// `point`'s estimate after the passes in `accumulator`: the split-half
-  /// when `split_half` and there are two or more passes.
-  void estimate(const TexelAccumulator& accumulator, bool split_half, ErrorPoint& point);
+  /// `point`'s estimate after the passes in `accumulator`, whose texels'
+  /// relative spread is `texel_error` (TexelAccumulator::relativeError, or
+  /// a sharded bake's merged spreads): the split-half when `split_half` and
+  /// there are two or more passes.
+  void estimate(const TexelAccumulator& accumulator, double texel_error, bool split_half,
+                ErrorPoint& point);
   /// Scales the unscaled texel-spread estimates of `series` from index
   /// `first` on (those of two or more passes, made before any split-half)
   /// by the last split-half's ratio, if one was measured.

@@ -124,7 +124,8 @@ LightingPasses lightingFromShards(const LoadedPlan& loaded, MergedShards& merged
     out.series.push_back(point);
   }
   LightmapErrorEstimator estimator(*loaded.level, loaded.atlas, *loaded.solver);
-  estimator.estimate(out.accumulator, true, out.series.back());
+  estimator.estimate(out.accumulator, merged.spreads.back().relativeError(loaded.plan.passes), true,
+                     out.series.back());
   const size_t two_passes = out.series.size() - loaded.plan.passes + 1;
   estimator.scaleEarlier(out.series, two_passes);
   return out;

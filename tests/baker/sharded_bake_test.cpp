@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "svit/baker/bake.h"
 #include "svit/baker/bake_geometry.h"
 #include "svit/baker/radiosity.h"
@@ -106,6 +108,38 @@ TEST(ShardedBake, MergeOfCornellBoxIsTheWholeBakeByteForByte) {
 
 TEST(ShardedBake, MergeOfHouseIsTheWholeBakeByteForByte) {
   expectMergedEqualsWhole(kHouseLevel, "house");
+}
+
+nlohmann::json lightingPoints(const fs::path& out, size_t passes) {
+  std::ifstream in(out / "report.json");
+  const nlohmann::json series = nlohmann::json::parse(in)["error_vs_time"];
+  return nlohmann::json(std::vector<nlohmann::json>(series.end() - long(passes), series.end()));
+}
+
+// The merge's error estimate (lightmap_error.h): the last pass's split-half
+// is the whole bake's exactly (the same sums); the passes before it, texel
+// spreads scaled by the split-half's ratio (the whole bake's by the ratio
+// at pass 2, the merge's at pass 4), agree within a factor 1.5.
+TEST(ShardedBake, MergedErrorEstimateIsTheWholeBakes) {
+  const fs::path whole = scratch("estimate_whole"), work = scratch("estimate_work"),
+                 out = scratch("estimate_out");
+  BakeOptions options = smallBake(kCornellLevel, whole);
+  options.passes = 4;
+  ASSERT_TRUE(bakeLevel(options, {}, nullptr).ok());
+  options.out_dir = work.string();
+  plan(options, 3);
+  runShards(work, {0, 1, 2});
+  ASSERT_TRUE(merge(work, out).ok());
+  const nlohmann::json a = lightingPoints(whole, 4), b = lightingPoints(out, 4);
+  EXPECT_EQ(b[3]["estimate"], "split_half_pages");
+  EXPECT_EQ(b[3]["est_rel_error"].get<double>(), a[3]["est_rel_error"].get<double>());
+  for (int pass : {1, 2}) {
+    EXPECT_EQ(b[pass]["estimate"], "scaled_texel_spread") << pass;
+    const double ratio =
+        b[pass]["est_rel_error"].get<double>() / a[pass]["est_rel_error"].get<double>();
+    EXPECT_GT(ratio, 1 / 1.5) << pass;
+    EXPECT_LT(ratio, 1.5) << pass;
+  }
 }
 
 // The running test's name: CTest runs tests in parallel, so each keeps its
