@@ -10,16 +10,10 @@
 namespace svit::baker {
 namespace {
 
-// The solution's noise, where the passes' spread cannot see it: frozen
-// into every pass when all gather from the same solution.
-double unseenSolverError(const RadiositySolver& solver) {
-  return solver.hasSolutionHalves() ? 0.0 : solver.estimatedRelativeError();
-}
-
-}  // namespace
-
+// The split-half estimate after the passes in `accumulator` (two or more),
+// the solution's unseen noise `unseen_solver_error` added.
 double splitHalfError(const LoadedLevel& level, const AtlasTexels& atlas,
-                      const TexelAccumulator& accumulator, const RadiositySolver& solver) {
+                      const TexelAccumulator& accumulator, double unseen_solver_error) {
   // The page build is linear (filter weights, dilation and seams depend on
   // the geometry only), so the pages of the halves' difference are the
   // difference of their pages: one build, not two.
@@ -34,7 +28,7 @@ double splitHalfError(const LoadedLevel& level, const AtlasTexels& atlas,
     squares += d * d;
     sum += luminanceOf(mean[i].direct) + luminanceOf(mean[i].indirect);
   }
-  if (!(sum > 0)) return unseenSolverError(solver);
+  if (!(sum > 0)) return unseen_solver_error;
   const double texels = double(atlas.texels.samples.size());
   const double halves = std::sqrt(squares / texels) / (sum / texels);
   // Per-pass noise s: the halves differ by s^2 (1/n_even + 1/n_odd) in
@@ -42,18 +36,26 @@ double splitHalfError(const LoadedLevel& level, const AtlasTexels& atlas,
   // the difference's times sqrt(n_even * n_odd) / n.
   const double n_even = accumulator.halfPasses(false), n_odd = accumulator.halfPasses(true);
   const double n = n_even + n_odd;
-  return std::hypot(halves * std::sqrt(n_even * n_odd) / n, unseenSolverError(solver));
+  return std::hypot(halves * std::sqrt(n_even * n_odd) / n, unseen_solver_error);
 }
 
-double texelSpreadError(double texel_error, const RadiositySolver& solver) {
-  return std::hypot(texel_error, unseenSolverError(solver));
+}  // namespace
+
+LightmapErrorEstimator::LightmapErrorEstimator(const LoadedLevel& level, const AtlasTexels& atlas,
+                                               const RadiositySolver& solver)
+    : level_(level),
+      atlas_(atlas),
+      unseen_solver_error_(solver.hasSolutionHalves() ? 0.0 : solver.estimatedRelativeError()) {}
+
+double LightmapErrorEstimator::texelSpread(double texel_error) const {
+  return std::hypot(texel_error, unseen_solver_error_);
 }
 
 void LightmapErrorEstimator::estimate(const TexelAccumulator& accumulator, double texel_error,
                                       bool split_half, ErrorPoint& point) {
-  const double spread = texelSpreadError(texel_error, solver_);
+  const double spread = texelSpread(texel_error);
   if (split_half && accumulator.passes() >= 2) {
-    point.est_rel_error = splitHalfError(level_, atlas_, accumulator, solver_);
+    point.est_rel_error = splitHalfError(level_, atlas_, accumulator, unseen_solver_error_);
     point.estimate = ErrorEstimate::kSplitHalfPages;
     ratio_ = spread > 0 ? point.est_rel_error / spread : 0.0;
   } else if (ratio_ > 0) {

@@ -21,13 +21,6 @@
 
 namespace svit::baker {
 
-/// The split-half estimate after the passes in `accumulator` (two or more).
-double splitHalfError(const LoadedLevel& level, const AtlasTexels& atlas,
-                      const TexelAccumulator& accumulator, const RadiositySolver& solver);
-
-/// The texel-spread estimate from the texels' relative spread `texel_error`.
-double texelSpreadError(double texel_error, const RadiositySolver& solver);
-
 // The estimates of a bake's passes in order: the split-half where asked,
 // and between, the texel spread scaled by the ratio of the two at the
 // last pass that measured both. The ratio drifts slowly: the gather's
@@ -36,8 +29,10 @@ double texelSpreadError(double texel_error, const RadiositySolver& solver);
 class LightmapErrorEstimator {
  public:
   LightmapErrorEstimator(const LoadedLevel& level, const AtlasTexels& atlas,
-                         const RadiositySolver& solver)
-      : level_(level), atlas_(atlas), solver_(solver) {}
+                         const RadiositySolver& solver);
+
+  /// The texel-spread estimate from the texels' relative spread `texel_error`.
+  double texelSpread(double texel_error) const;
 
   /// `point`'s estimate after the passes in `accumulator`, whose texels'
   /// relative spread is `texel_error` (TexelAccumulator::relativeError, or
@@ -53,7 +48,9 @@ class LightmapErrorEstimator {
  private:
   const LoadedLevel& level_;
   const AtlasTexels& atlas_;
-  const RadiositySolver& solver_;
+  /// The solution's noise where the passes' spread cannot see it (frozen
+  /// into every pass when there are no halves to gather from), else 0.
+  double unseen_solver_error_ = 0;
   double ratio_ = 0;  ///< split-half over texel spread at the last split-half; 0: none yet
 };
 

@@ -115,15 +115,15 @@ LightingPasses lightingFromShards(const LoadedPlan& loaded, MergedShards& merged
   out.series = loaded.solver->errorSeries();
   for (ErrorPoint& p : out.series) p.ref_rel_error = std::numeric_limits<double>::quiet_NaN();
   const double solver_seconds = loaded.solver->stats().seconds;
+  LightmapErrorEstimator estimator(*loaded.level, loaded.atlas, *loaded.solver);
   for (uint32_t p = 0; p < loaded.plan.passes; ++p) {
     ErrorPoint point;
     point.t_s = solver_seconds + merged.lighting_seconds * double(p + 1) / loaded.plan.passes;
-    point.est_rel_error = texelSpreadError(merged.spreads[p].relativeError(p + 1), *loaded.solver);
+    point.est_rel_error = estimator.texelSpread(merged.spreads[p].relativeError(p + 1));
     point.estimate = ErrorEstimate::kTexelSpread;
     point.rays = loaded.solver->stats().rays;
     out.series.push_back(point);
   }
-  LightmapErrorEstimator estimator(*loaded.level, loaded.atlas, *loaded.solver);
   estimator.estimate(out.accumulator, merged.spreads.back().relativeError(loaded.plan.passes), true,
                      out.series.back());
   const size_t two_passes = out.series.size() - loaded.plan.passes + 1;

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <memory>
 #include <vector>
 
 #include "radiosity_test_util.h"
@@ -37,17 +38,21 @@ double green(const RadiositySolver& solver, const Probe& p, SolutionHalf half) {
   return solver.irradianceAt(p.triangle, true, p.u, p.v, InterpolationMode::kVertex, half).g;
 }
 
-RadiositySettings fewRays() {
+// The lit room solved for `passes` passes of few rays (seed 5); the scene
+// outlives the solver that points into it.
+std::unique_ptr<test::Solved> solvedRoom(uint32_t passes) {
+  static const Scene room = roomWithLight(0.6f, {1.0f, 1.8f, 1.5f}, 100.0f);
   RadiositySettings settings;
   settings.first_pass_rays = 20000;
   settings.seed = 5;
-  return settings;
+  auto solved = prepare(room, settings);
+  EXPECT_TRUE(solved->solver && solvePasses(*solved->solver, passes).ok());
+  return solved;
 }
 
 TEST(SolutionHalves, AreTheWholeBeforeTwoPassesCompleted) {
-  const Scene scene = roomWithLight(0.6f, {1.0f, 1.8f, 1.5f}, 100.0f);
-  auto solved = prepare(scene, fewRays());
-  ASSERT_TRUE(solvePasses(*solved->solver, 1).ok());
+  auto solved = solvedRoom(1);
+  ASSERT_TRUE(solved->solver);
   const RadiositySolver& solver = *solved->solver;
   EXPECT_FALSE(solver.hasSolutionHalves());
   for (const Probe& p : probes(solved->geometry)) {
@@ -58,9 +63,8 @@ TEST(SolutionHalves, AreTheWholeBeforeTwoPassesCompleted) {
 }
 
 TEST(SolutionHalves, AreTwoAnswersToTheSameQuestionWhoseMeanIsTheWhole) {
-  const Scene scene = roomWithLight(0.6f, {1.0f, 1.8f, 1.5f}, 100.0f);
-  auto solved = prepare(scene, fewRays());
-  ASSERT_TRUE(solvePasses(*solved->solver, 4).ok());
+  auto solved = solvedRoom(4);
+  ASSERT_TRUE(solved->solver);
   const RadiositySolver& solver = *solved->solver;
   ASSERT_TRUE(solver.hasSolutionHalves());
   size_t differing = 0, count = 0;
