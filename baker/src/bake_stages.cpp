@@ -3,6 +3,7 @@
 
 #include "bake_stages.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -34,6 +35,9 @@ nlohmann::ordered_json sectionsJson(const BakeData& data) {
       {"TUVS",
        {"triangle_uvs",
         std::to_string(data.triangle_uvs.size()) + " static triangles' lightmap coordinates"}},
+      {"BUVS",
+       {"back_uvs", std::to_string(data.back_uvs.size()) +
+                        " double-sided triangles' back lightmap coordinates"}},
       {"PTCH",
        {"patches", std::to_string(data.patches.size()) + " patches the runtime's deltas live on"}},
       {"PELM",
@@ -109,6 +113,14 @@ BakeData lightmapBakeData(const BakeOptions& options, uint64_t level_hash,
     uv.page = atlas.triangle_page[t];
     for (int k = 0; k < 3; ++k) uv.uv[k] = atlas.triangle_uv[t * 3 + size_t(k)];
     data.triangle_uvs.push_back(uv);
+  }
+  for (size_t i = 0; i < atlas.back_triangles.size(); ++i) {
+    const size_t face = atlas.frontCount() + i;
+    BakeBackUv uv;
+    uv.triangle = atlas.back_triangles[i];
+    uv.page = atlas.triangle_page[face];
+    for (int k = 0; k < 3; ++k) uv.uv[k] = atlas.triangle_uv[face * 3 + size_t(k)];
+    data.back_uvs.push_back(uv);
   }
   return data;
 }
@@ -221,6 +233,9 @@ nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
       {"covered_texels", counts.covered},
       {"dilated_texels", counts.dilated},
       {"buried_texels", counts.buried},
+      {"back_faces", in.atlas.back_triangles.size()},
+      {"back_texels", std::count_if(in.texels.samples.begin(), in.texels.samples.end(),
+                                    [&](const TexelSample& s) { return in.atlas.isBack(s.face); })},
       {"lighting_passes", in.lighting.accumulator.passes()},
       {"gather_rays_per_texel", in.lighting.accumulator.passes() * in.lighting.gather_rays}};
   nlohmann::ordered_json warnings = in.scene.warnings;
@@ -506,6 +521,10 @@ Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
   Expected<nlohmann::ordered_json> left_out =
       addRuntimeSections(run, level.scene, level.geometry, *level.caster, solver, data);
   if (!left_out.ok()) return left_out.status();
+  if (data.back_uvs.empty()) {
+    left_out->push_back(
+        {{"section", "back_uvs"}, {"reason", "the level has no double-sided static triangles"}});
+  }
   if (!run.clock.report(1, run.clock.remaining())) return run.cancelled;
   run.clock.endStage("write");
 

@@ -98,6 +98,30 @@ void authoredCharts(const BakeGeometry& geometry, const std::vector<InstanceRang
   }
 }
 
+/// The backs of the double-sided triangles as faces of their own: their
+/// authored UVs on a twin of their page, appended after the authored pages
+/// (only pages that hold a double-sided triangle get one), their charts
+/// numbered after the fronts'.
+void addAuthoredBacks(const BakeGeometry& geometry, LightmapAtlas* atlas) {
+  const size_t count = geometry.triangleCount();
+  std::vector<int> twin(size_t(atlas->page_count), -1);
+  int twins = 0;
+  uint32_t charts = 0;
+  for (size_t t = 0; t < count; ++t) charts = std::max(charts, atlas->triangle_chart[t] + 1);
+  for (size_t t = 0; t < count; ++t) {
+    if (!geometry.double_sided[t]) continue;
+    int& page = twin[atlas->triangle_page[t]];
+    if (page < 0) page = atlas->page_count + twins++;
+    atlas->back_triangles.push_back(uint32_t(t));
+  }
+  for (uint32_t t : atlas->back_triangles) {
+    atlas->triangle_page.push_back(uint32_t(twin[atlas->triangle_page[t]]));
+    for (int k = 0; k < 3; ++k) atlas->triangle_uv.push_back(atlas->triangle_uv[t * 3 + size_t(k)]);
+    atlas->triangle_chart.push_back(charts + atlas->triangle_chart[t]);
+  }
+  atlas->page_count += twins;
+}
+
 Expected<LightmapAtlas> buildAuthored(const Scene& scene, const BakeGeometry& geometry,
                                       const std::vector<InstanceRange>& ranges,
                                       const AtlasSettings& settings) {
@@ -140,10 +164,18 @@ Expected<LightmapAtlas> buildAuthored(const Scene& scene, const BakeGeometry& ge
   atlas.page_width = atlas.page_height = size;
   atlas.page_count = int(page_world_m2.size());
   authoredCharts(geometry, ranges, &atlas);
+  addAuthoredBacks(geometry, &atlas);
   return atlas;
 }
 
 }  // namespace
+
+uint32_t LightmapAtlas::face(uint32_t t, int side) const {
+  if (side == 0) return t;
+  const auto it = std::lower_bound(back_triangles.begin(), back_triangles.end(), t);
+  if (it == back_triangles.end() || *it != t) return t;
+  return uint32_t(frontCount() + size_t(it - back_triangles.begin()));
+}
 
 Expected<LightmapAtlas> buildLightmapAtlas(const Scene& scene, const BakeGeometry& geometry,
                                            const AtlasSettings& settings) {

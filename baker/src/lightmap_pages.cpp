@@ -31,21 +31,27 @@ uint64_t positionKey(const Vec3& p) {
 }  // namespace
 
 std::vector<SeamPoint> findSeamPoints(const BakeGeometry& geometry, const LightmapAtlas& atlas) {
-  // Edges keyed by their welded end positions; an edge whose two triangles
-  // map it to different UVs (or pages) is a seam.
+  // Edges keyed by their welded end positions; an edge whose two faces
+  // (triangle sides) map it to different UVs (or pages) is a seam.
   struct EdgeUse {
-    uint32_t triangle;
+    uint32_t face;
     int k;  // edge from corner k to k+1
     uint64_t a_key, b_key;
   };
   std::map<std::pair<uint64_t, uint64_t>, std::vector<EdgeUse>> edges;  // ordered: deterministic
-  for (uint32_t t = 0; t < geometry.triangleCount(); ++t) {
+  for (uint32_t f = 0; f < atlas.faceCount(); ++f) {
+    const uint32_t t = atlas.faceTriangle(f);
     for (int k = 0; k < 3; ++k) {
       const uint64_t a = positionKey(geometry.corner(t, k)),
                      b = positionKey(geometry.corner(t, (k + 1) % 3));
-      edges[{std::min(a, b), std::max(a, b)}].push_back({t, k, a, b});
+      edges[{std::min(a, b), std::max(a, b)}].push_back({f, k, a, b});
     }
   }
+  // A back's normal points away from its triangle's.
+  const auto normal = [&](uint32_t f) {
+    const Vec3& n = geometry.normals[atlas.faceTriangle(f)];
+    return atlas.isBack(f) ? Vec3{-n.x, -n.y, -n.z} : n;
+  };
   std::vector<SeamPoint> points;
   const double texels = double(std::max(atlas.page_width, atlas.page_height));
   for (const auto& [key, uses] : edges) {
@@ -56,15 +62,14 @@ std::vector<SeamPoint> findSeamPoints(const BakeGeometry& geometry, const Lightm
         const EdgeUse& f = uses[j];
         // Across a crease (or between the two sides of a thin wall) the
         // irradiance really is discontinuous: only smooth seams are stitched.
-        const Vec3& ne = geometry.normals[e.triangle];
-        const Vec3& nf = geometry.normals[f.triangle];
+        const Vec3 ne = normal(e.face), nf = normal(f.face);
         if (ne.x * nf.x + ne.y * nf.y + ne.z * nf.z < kSmoothSeamCos) continue;
-        Vec2 a0 = atlas.triangle_uv[e.triangle * 3 + size_t(e.k)],
-             a1 = atlas.triangle_uv[e.triangle * 3 + size_t((e.k + 1) % 3)];
-        Vec2 b0 = atlas.triangle_uv[f.triangle * 3 + size_t(f.k)],
-             b1 = atlas.triangle_uv[f.triangle * 3 + size_t((f.k + 1) % 3)];
+        Vec2 a0 = atlas.triangle_uv[e.face * 3 + size_t(e.k)],
+             a1 = atlas.triangle_uv[e.face * 3 + size_t((e.k + 1) % 3)];
+        Vec2 b0 = atlas.triangle_uv[f.face * 3 + size_t(f.k)],
+             b1 = atlas.triangle_uv[f.face * 3 + size_t((f.k + 1) % 3)];
         if (f.a_key != e.a_key) std::swap(b0, b1);  // run both the same way along the edge
-        const uint32_t pa = atlas.triangle_page[e.triangle], pb = atlas.triangle_page[f.triangle];
+        const uint32_t pa = atlas.triangle_page[e.face], pb = atlas.triangle_page[f.face];
         const bool same = pa == pb && a0.x == b0.x && a0.y == b0.y && a1.x == b1.x && a1.y == b1.y;
         if (same) continue;
         const double length =
@@ -111,7 +116,7 @@ std::vector<Rgb> filteredIndirect(const LightmapAtlas& atlas, const TexelSet& te
   const int r = settings.filter_radius_texels;
   for (size_t i = 0; i < texels.samples.size(); ++i) {
     const TexelSample& s = texels.samples[i];
-    const uint32_t chart = atlas.triangle_chart[s.triangle];
+    const uint32_t chart = atlas.triangle_chart[s.face];
     double sum[3] = {0, 0, 0}, weight_sum = 0;
     for (int dy = -r; dy <= r; ++dy) {
       for (int dx = -r; dx <= r; ++dx) {
@@ -120,7 +125,7 @@ std::vector<Rgb> filteredIndirect(const LightmapAtlas& atlas, const TexelSet& te
         const int32_t j = texels.sampleAt(s.page, uint32_t(x), uint32_t(y));
         if (j < 0) continue;
         const TexelSample& o = texels.samples[size_t(j)];
-        if (atlas.triangle_chart[o.triangle] != chart) continue;
+        if (atlas.triangle_chart[o.face] != chart) continue;
         const double c =
             s.normal.x * o.normal.x + s.normal.y * o.normal.y + s.normal.z * o.normal.z;
         if (c <= 0) continue;

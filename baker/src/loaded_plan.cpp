@@ -68,7 +68,7 @@ Status readAtlasTexels(const std::string& work_dir, LoadedPlan& out) {
   if (!atlas.ok()) return atlas.status();
   out.atlas = std::move(atlas).value();
   if (out.atlas.texels.samples.size() != out.plan.texel_count ||
-      out.atlas.atlas.triangle_page.size() != out.level->geometry.triangleCount())
+      out.atlas.atlas.frontCount() != out.level->geometry.triangleCount())
     return badInput(path + ": does not fit the plan's level");
   return Status();
 }

@@ -115,16 +115,16 @@ double areaCentroid(const Poly& poly, Pt origin, Pt* centroid) {
   return 0.5 * std::fabs(twice_area);
 }
 
-/// A triangle's UVs in texel units of its page.
+/// A face's UVs (LightmapAtlas: a triangle's front or back) in texel units of its page.
 struct UvTriangle {
   Pt c[3];
   double twice_signed_area = 0;
 };
 
-UvTriangle uvTriangle(const LightmapAtlas& atlas, size_t t) {
+UvTriangle uvTriangle(const LightmapAtlas& atlas, size_t face) {
   UvTriangle tri;
   for (int k = 0; k < 3; ++k) {
-    const Vec2& uv = atlas.triangle_uv[t * 3 + size_t(k)];
+    const Vec2& uv = atlas.triangle_uv[face * 3 + size_t(k)];
     tri.c[k] = {double(uv.x) * atlas.page_width, double(uv.y) * atlas.page_height};
   }
   tri.twice_signed_area = (tri.c[1].x - tri.c[0].x) * (tri.c[2].y - tri.c[0].y) -
@@ -235,7 +235,7 @@ struct BandInput {
   const RayCaster* caster;
   const RasterSettings* settings;
   const std::vector<uint32_t>* band_start;
-  const std::vector<uint32_t>* band_triangles;
+  const std::vector<uint32_t>* band_faces;
   int bands_per_page;
 };
 
@@ -246,15 +246,15 @@ struct BandRows {
   size_t texels = 0;
 };
 
-/// Per texel of a band: the best triangle, its covered area and centroid,
-/// and the sums over all triangles for coverage and the texel-wide centroid.
+/// Per texel of a band: the best face, its covered area and centroid, and
+/// the sums over all faces for coverage and the texel-wide centroid.
 struct BandCoverage {
   std::vector<double> best_area, sum_area, sum_x, sum_y;
-  std::vector<uint32_t> best_triangle;
+  std::vector<uint32_t> best_face;
   std::vector<Pt> best_centroid;
 };
 
-/// Clips every triangle of the band against each texel it overlaps.
+/// Clips every face of the band against each texel it overlaps.
 BandCoverage coverBand(const BandInput& in, size_t band, const BandRows& rows) {
   const LightmapAtlas& atlas = *in.atlas;
   const int w = atlas.page_width;
@@ -265,11 +265,11 @@ BandCoverage coverBand(const BandInput& in, size_t band, const BandRows& rows) {
   c.sum_area.assign(texels, 0.0);
   c.sum_x.assign(texels, 0.0);
   c.sum_y.assign(texels, 0.0);
-  c.best_triangle.assign(texels, RayHit::kNone);
+  c.best_face.assign(texels, RayHit::kNone);
   c.best_centroid.resize(texels);
   for (uint32_t i = first; i < last; ++i) {
-    const uint32_t t = (*in.band_triangles)[i];  // ascending: ties keep the lower index
-    const Poly tri = asPoly(uvTriangle(atlas, t));
+    const uint32_t f = (*in.band_faces)[i];  // ascending: ties keep the lower index
+    const Poly tri = asPoly(uvTriangle(atlas, f));
     for (int y = rows.y_begin; y < rows.y_end; ++y) {
       Poly row;
       clipToRows(tri, &row, y, y + 1);
@@ -294,7 +294,7 @@ BandCoverage coverBand(const BandInput& in, size_t band, const BandRows& rows) {
         c.sum_y[j] += area * centroid.y;
         if (area > c.best_area[j]) {
           c.best_area[j] = area;
-          c.best_triangle[j] = t;
+          c.best_face[j] = f;
           c.best_centroid[j] = centroid;
         }
       }
@@ -303,7 +303,7 @@ BandCoverage coverBand(const BandInput& in, size_t band, const BandRows& rows) {
   return c;
 }
 
-/// One sample per covered texel, on its winning triangle, in (y, x) order.
+/// One sample per covered texel, on its winning face, in (y, x) order.
 std::vector<TexelSample> placeSamples(const BandInput& in, const BandRows& rows,
                                       const BandCoverage& c) {
   const BakeGeometry& geometry = *in.geometry;
@@ -311,9 +311,10 @@ std::vector<TexelSample> placeSamples(const BandInput& in, const BandRows& rows,
   const int w = atlas.page_width;
   std::vector<TexelSample> samples;
   for (size_t j = 0; j < rows.texels; ++j) {
-    if (c.best_triangle[j] == RayHit::kNone) continue;
-    const uint32_t t = c.best_triangle[j];
-    const UvTriangle tri = uvTriangle(atlas, t);
+    if (c.best_face[j] == RayHit::kNone) continue;
+    const uint32_t f = c.best_face[j];
+    const uint32_t t = atlas.faceTriangle(f);
+    const UvTriangle tri = uvTriangle(atlas, f);
     // The centroid of everything covered represents the whole texel (at
     // the texel centre inside a chart, as bilinear lookup assumes); it is
     // used when it lies on the winning triangle, else the winner's own
@@ -331,21 +332,23 @@ std::vector<TexelSample> placeSamples(const BandInput& in, const BandRows& rows,
     s.x = uint32_t(j % size_t(w));
     s.y = uint32_t(rows.y_begin + int(j / size_t(w)));
     s.triangle = t;
+    s.face = f;
     s.u = float(u);
     s.v = float(v);
     s.position = worldPoint(geometry, t, u, v);
-    s.normal = geometry.normals[t];
+    const Vec3& n = geometry.normals[t];
+    s.normal = atlas.isBack(f) ? Vec3{-n.x, -n.y, -n.z} : n;
     s.coverage = float(std::min(1.0, c.sum_area[j]));
     samples.push_back(s);
   }
   return samples;
 }
 
-/// World length of `probe_texels` texels on triangle t: sqrt(world area / UV area) per texel.
-float probeLength(const BandInput& in, uint32_t t) {
-  const double uv_area = 0.5 * std::fabs(uvTriangle(*in.atlas, t).twice_signed_area);
+/// World length of `probe_texels` texels on a face: sqrt(world area / UV area) per texel.
+float probeLength(const BandInput& in, uint32_t face) {
+  const double uv_area = 0.5 * std::fabs(uvTriangle(*in.atlas, face).twice_signed_area);
   return float(in.settings->leak_probe_texels *
-               std::sqrt(double(in.geometry->areas_m2[t]) / uv_area));
+               std::sqrt(double(in.geometry->areas_m2[in.atlas->faceTriangle(face)]) / uv_area));
 }
 
 /// A place a leaking sample may move to.
@@ -379,7 +382,7 @@ LeakCandidates findLeakCandidates(const BandInput& in, const std::vector<TexelSa
     out.leaking[i] = 1;
     const TexelSample& s = pending[i];
     const uint32_t t = s.triangle;
-    const UvTriangle tri = uvTriangle(*in.atlas, t);
+    const UvTriangle tri = uvTriangle(*in.atlas, s.face);
     Poly part;
     clipToBox(asPoly(tri), &part, s.x, s.x + 1.0, s.y, s.y + 1.0);
     Pt centroid;
@@ -425,7 +428,7 @@ std::vector<uint8_t> moveLeakingSamples(const BandInput& in,
   for (const Candidate& c : candidates) {
     const TexelSample& s = pending[c.pending];
     const float magnitude = cornerMagnitude(geometry, s.triangle);
-    appendProbes(c.position, s.normal, magnitude, probeLength(in, s.triangle), &candidate_rays);
+    appendProbes(c.position, s.normal, magnitude, probeLength(in, s.face), &candidate_rays);
     // Both ends offset alike, so the path runs parallel to a flat surface
     // instead of diving into it at the far end.
     Ray path;
@@ -468,7 +471,7 @@ BandTexels resolveLeaks(const BandInput& in, std::vector<TexelSample>& pending) 
   rays.reserve(pending.size() * kProbes);
   for (const TexelSample& s : pending) {
     appendProbes(s.position, s.normal, cornerMagnitude(geometry, s.triangle),
-                 probeLength(in, s.triangle), &rays);
+                 probeLength(in, s.face), &rays);
   }
   std::vector<RayHit> hits(rays.size());
   in.caster->intersect(rays, hits);
@@ -533,22 +536,33 @@ Status validate(const BakeGeometry& geometry, const LightmapAtlas& atlas,
                   "rasterize texels: atlas has " + std::to_string(atlas.page_count) + " pages of " +
                       std::to_string(atlas.page_width) + "x" + std::to_string(atlas.page_height));
   }
-  if (atlas.triangle_page.size() != count || atlas.triangle_uv.size() != count * 3) {
+  const size_t faces = atlas.faceCount();
+  if (faces < atlas.back_triangles.size() || atlas.frontCount() != count ||
+      atlas.triangle_uv.size() != faces * 3 || atlas.triangle_chart.size() != faces) {
     return Status(StatusCode::kInvalidInput,
                   "rasterize texels: atlas covers " + std::to_string(atlas.triangle_page.size()) +
-                      " triangles, bake geometry has " + std::to_string(count));
+                      " faces with " + std::to_string(atlas.back_triangles.size()) +
+                      " backs, bake geometry has " + std::to_string(count) + " triangles");
   }
-  for (size_t t = 0; t < count; ++t) {
-    if (atlas.triangle_page[t] >= uint32_t(atlas.page_count)) {
-      return Status(StatusCode::kInvalidInput, "rasterize texels: triangle " + std::to_string(t) +
+  for (size_t i = 0; i < atlas.back_triangles.size(); ++i) {
+    const uint32_t t = atlas.back_triangles[i];
+    if (t >= count || !geometry.double_sided[t] || (i > 0 && t <= atlas.back_triangles[i - 1])) {
+      return Status(StatusCode::kInvalidInput, "rasterize texels: back face " + std::to_string(i) +
+                                                   " names triangle " + std::to_string(t) +
+                                                   ", not a double-sided triangle after the last");
+    }
+  }
+  for (size_t f = 0; f < faces; ++f) {
+    if (atlas.triangle_page[f] >= uint32_t(atlas.page_count)) {
+      return Status(StatusCode::kInvalidInput, "rasterize texels: face " + std::to_string(f) +
                                                    " is on page " +
-                                                   std::to_string(atlas.triangle_page[t]) + " of " +
+                                                   std::to_string(atlas.triangle_page[f]) + " of " +
                                                    std::to_string(atlas.page_count));
     }
     for (int k = 0; k < 3; ++k) {
-      const Vec2& uv = atlas.triangle_uv[t * 3 + size_t(k)];
+      const Vec2& uv = atlas.triangle_uv[f * 3 + size_t(k)];
       if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) {
-        return Status(StatusCode::kInvalidInput, "rasterize texels: triangle " + std::to_string(t) +
+        return Status(StatusCode::kInvalidInput, "rasterize texels: face " + std::to_string(f) +
                                                      " corner " + std::to_string(k) +
                                                      " has a non-finite UV");
       }
@@ -571,11 +585,11 @@ Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapA
   const int bands_per_page = (h + kBandRows - 1) / kBandRows;
   const size_t bands = size_t(atlas.page_count) * size_t(bands_per_page);
 
-  // Bin triangles into the bands their UV rows overlap (counting sort, in
-  // triangle order, so each band's list is ascending).
+  // Bin faces into the bands their UV rows overlap (counting sort, in
+  // face order, so each band's list is ascending).
   std::vector<uint32_t> band_start(bands + 1, 0);
-  auto bandRange = [&](size_t t, size_t* b0, size_t* b1) {
-    const UvTriangle tri = uvTriangle(atlas, t);
+  auto bandRange = [&](size_t f, size_t* b0, size_t* b1) {
+    const UvTriangle tri = uvTriangle(atlas, f);
     if (tri.twice_signed_area == 0.0) return false;
     const double y0 = std::min({tri.c[0].y, tri.c[1].y, tri.c[2].y}),
                  y1 = std::max({tri.c[0].y, tri.c[1].y, tri.c[2].y});
@@ -584,29 +598,28 @@ Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapA
     if (y1 <= 0.0 || y0 >= h || x1 <= 0.0 || x0 >= w) return false;  // off the page
     int lo, hi;
     texelSpan(y0, y1, h, &lo, &hi);
-    const size_t base = size_t(atlas.triangle_page[t]) * size_t(bands_per_page);
+    const size_t base = size_t(atlas.triangle_page[f]) * size_t(bands_per_page);
     *b0 = base + size_t(lo / kBandRows);
     *b1 = base + size_t(hi / kBandRows) + 1;
     return true;
   };
-  for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+  for (size_t f = 0; f < atlas.faceCount(); ++f) {
     size_t b0, b1;
-    if (!bandRange(t, &b0, &b1)) continue;
+    if (!bandRange(f, &b0, &b1)) continue;
     for (size_t b = b0; b < b1; ++b) ++band_start[b + 1];
   }
   for (size_t b = 0; b < bands; ++b) band_start[b + 1] += band_start[b];
-  std::vector<uint32_t> band_triangles(band_start[bands]);
+  std::vector<uint32_t> band_faces(band_start[bands]);
   {
     std::vector<uint32_t> fill(band_start.begin(), band_start.end() - 1);
-    for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+    for (size_t f = 0; f < atlas.faceCount(); ++f) {
       size_t b0, b1;
-      if (!bandRange(t, &b0, &b1)) continue;
-      for (size_t b = b0; b < b1; ++b) band_triangles[fill[b]++] = uint32_t(t);
+      if (!bandRange(f, &b0, &b1)) continue;
+      for (size_t b = b0; b < b1; ++b) band_faces[fill[b]++] = uint32_t(f);
     }
   }
 
-  BandInput input{&geometry,   &atlas,          &caster,       &settings,
-                  &band_start, &band_triangles, bands_per_page};
+  BandInput input{&geometry, &atlas, &caster, &settings, &band_start, &band_faces, bands_per_page};
   std::vector<BandTexels> band_texels(bands);
   parallelFor(bands, 1, resolveThreads(settings.threads), [&](size_t begin, size_t end) {
     for (size_t b = begin; b < end; ++b) band_texels[b] = rasterizeBand(input, b);
@@ -616,7 +629,7 @@ Expected<TexelSet> rasterizeTexels(const BakeGeometry& geometry, const LightmapA
 
 std::array<Vec3, 4> texelFootprint(const BakeGeometry& geometry, const LightmapAtlas& atlas,
                                    const TexelSample& s) {
-  const UvTriangle tri = uvTriangle(atlas, s.triangle);
+  const UvTriangle tri = uvTriangle(atlas, s.face);
   std::array<Vec3, 4> corners;
   for (int k = 0; k < 4; ++k) {
     double u, v;

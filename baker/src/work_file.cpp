@@ -17,7 +17,8 @@ namespace {
 constexpr char kMagic[8] = {'S', 'V', 'I', 'T', 'W', 'O', 'R', 'K'};
 // Bumped whenever any payload's layout changes: a work file is read only by
 // the build that wrote it (shards and merge run the plan's svit-bake).
-constexpr uint32_t kWorkFormatVersion = 2;  // 2: the odd passes' sums and solution
+// 2: the odd passes' sums and solution; 3: the backs of double-sided triangles
+constexpr uint32_t kWorkFormatVersion = 3;
 // magic, version, kind, plan id, payload bytes, payload checksum
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8 + 8;
 

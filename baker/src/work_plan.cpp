@@ -22,6 +22,7 @@ void putAtlas(ByteWriter& w, const AtlasTexels& a) {
   w.putVector(a.atlas.triangle_page);
   w.putVector(a.atlas.triangle_uv);
   w.putVector(a.atlas.triangle_chart);
+  w.putVector(a.atlas.back_triangles);
 }
 
 void getAtlas(ByteReader& r, AtlasTexels& a) {
@@ -35,6 +36,7 @@ void getAtlas(ByteReader& r, AtlasTexels& a) {
   a.atlas.triangle_page = r.getVector<uint32_t>();
   a.atlas.triangle_uv = r.getVector<Vec2>();
   a.atlas.triangle_chart = r.getVector<uint32_t>();
+  a.atlas.back_triangles = r.getVector<uint32_t>();
 }
 
 // The texel set's lookup points into its samples, and the samples into its pages.
@@ -49,6 +51,22 @@ bool texelsFit(const TexelSet& t) {
     if (s.page >= uint32_t(t.page_count) || s.x >= uint32_t(t.page_width) ||
         s.y >= uint32_t(t.page_height))
       return false;
+  }
+  return true;
+}
+
+// Every face's sample names it and its triangle.
+bool facesFit(const AtlasTexels& a) {
+  const size_t faces = a.atlas.triangle_page.size();
+  if (a.atlas.triangle_uv.size() != faces * 3 || a.atlas.triangle_chart.size() != faces ||
+      a.atlas.back_triangles.size() > faces)
+    return false;
+  const std::vector<uint32_t>& backs = a.atlas.back_triangles;
+  for (size_t i = 0; i < backs.size(); ++i) {  // ascending: LightmapAtlas::face searches them
+    if (backs[i] >= a.atlas.frontCount() || (i > 0 && backs[i] <= backs[i - 1])) return false;
+  }
+  for (const TexelSample& s : a.texels.samples) {
+    if (s.face >= faces || s.triangle != a.atlas.faceTriangle(s.face)) return false;
   }
   return true;
 }
@@ -144,9 +162,7 @@ Expected<AtlasTexels> decodeAtlasTexels(const std::vector<uint8_t>& payload,
   a.texels.page_count = r.get<int32_t>();
   a.texels.samples = r.getVector<TexelSample>();
   a.texels.texel_to_sample = r.getVector<int32_t>();
-  const size_t triangles = a.atlas.triangle_page.size();
-  const bool fits = r.atEnd() && a.atlas.triangle_uv.size() == triangles * 3 &&
-                    a.atlas.triangle_chart.size() == triangles && texelsFit(a.texels);
+  const bool fits = r.atEnd() && facesFit(a) && texelsFit(a.texels);
   if (!fits) return notFitting(path, "the atlas and its texels");
   return a;
 }

@@ -214,6 +214,38 @@ void chartGroup(const Scene& scene, const BakeGeometry& geometry,
   for (uint32_t m = 0; m < xa->meshCount; ++m) out->meshes.push_back(chartedMesh(xa->meshes[m]));
 }
 
+/// The back copies of an instance's double-sided triangles' charts (a
+/// lightmap per side): the faces of `front` whose triangle is double-sided,
+/// with their layout UVs and charts; empty when it has none.
+ChartedMesh backCopy(const BakeGeometry& geometry, const InstanceRange& r,
+                     const ChartedMesh& front) {
+  ChartedMesh back;
+  std::vector<uint32_t> vertex_of(front.xref.size(), kNoChart);
+  for (size_t f = 0; f < front.chart.size(); ++f) {
+    if (!geometry.double_sided[r.first + front.xref[front.indices[f * 3]] / 3]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = front.indices[f * 3 + size_t(k)];
+      if (vertex_of[v] == kNoChart) {
+        vertex_of[v] = uint32_t(back.xref.size());
+        back.xref.push_back(front.xref[v]);
+        back.uv.push_back(front.uv[v * 2 + 0]);
+        back.uv.push_back(front.uv[v * 2 + 1]);
+      }
+      back.indices.push_back(vertex_of[v]);
+    }
+    back.chart.push_back(front.chart[f]);
+  }
+  return back;
+}
+
+/// A UV mesh of the packing atlas: an instance's charts, or the back
+/// copies of its double-sided triangles' charts.
+struct PackedMesh {
+  const ChartedMesh* charted = nullptr;
+  size_t range = 0;  ///< its instance, in the ranges
+  bool back = false;
+};
+
 // ---------------------------------------------------------------- pack
 
 /// Gives the packing atlas every instance's charts as a UV mesh, each chart
@@ -222,9 +254,9 @@ void chartGroup(const Scene& scene, const BakeGeometry& geometry,
 /// must outlive the last AddUvMesh: xatlas takes a declaration equal
 /// (pointers included) to an earlier one for another instance of that mesh.
 Status addUvMeshes(xatlas::Atlas* xa, const Scene& scene, const std::vector<InstanceRange>& ranges,
-                   const std::vector<const ChartedMesh*>& charted) {
-  for (size_t r = 0; r < charted.size(); ++r) {
-    const ChartedMesh& m = *charted[r];
+                   const std::vector<PackedMesh>& packed) {
+  for (const PackedMesh& p : packed) {
+    const ChartedMesh& m = *p.charted;
     xatlas::UvMeshDecl decl;
     decl.vertexUvData = m.uv.data();
     decl.vertexStride = sizeof(float) * 2;
@@ -236,7 +268,7 @@ Status addUvMeshes(xatlas::Atlas* xa, const Scene& scene, const std::vector<Inst
     const xatlas::AddMeshError error = xatlas::AddUvMesh(xa, decl);
     if (error != xatlas::AddMeshError::Success) {
       return Status(StatusCode::kInternal,
-                    instanceLabel(scene, ranges[r].instance) +
+                    instanceLabel(scene, ranges[p.range].instance) +
                         ": xatlas AddUvMesh failed: " + addMeshErrorName(error));
     }
   }
@@ -278,7 +310,7 @@ bool packXatlasCharts(xatlas::Atlas* xa, const AtlasSettings& settings, double t
 /// the page.
 Status readCorner(const xatlas::Atlas& xa, const Scene& scene, const BakeGeometry& geometry,
                   const AtlasSettings& settings, const xatlas::Vertex& v, bool charted, size_t t,
-                  int k, LightmapAtlas& atlas) {
+                  size_t face, int k, LightmapAtlas& atlas) {
   // xatlas places vertices at >= 0 and within the page up to float rounding
   // of its own texel-centre alignment; a hundredth of a texel is far above
   // that rounding and far below anything a bug would produce.
@@ -308,25 +340,25 @@ Status readCorner(const xatlas::Atlas& xa, const Scene& scene, const BakeGeometr
                       ", outside the " + std::to_string(atlas.page_count) + " pages of " +
                       std::to_string(xa.width) + "x" + std::to_string(xa.height));
   }
-  atlas.triangle_uv[t * 3 + size_t(k)] = {float(std::min(1.0, x / xa.width)),
-                                          float(std::min(1.0, y / xa.height))};
+  atlas.triangle_uv[face * 3 + size_t(k)] = {float(std::min(1.0, x / xa.width)),
+                                             float(std::min(1.0, y / xa.height))};
   // All corners of a face share its chart (and the chart's page).
-  atlas.triangle_page[t] = uint32_t(v.atlasIndex);
-  atlas.triangle_chart[t] = uint32_t(v.chartIndex);
+  atlas.triangle_page[face] = uint32_t(v.atlasIndex);
+  atlas.triangle_chart[face] = uint32_t(v.chartIndex);
   return Status();
 }
 
 /// Reads the packed corners back into `atlas` (sized by the caller): packed
-/// vertex j of instance m is output vertex j of its group's layout, whose
-/// xref names the corner.
+/// vertex j of UV mesh m is vertex j of its charted mesh, whose xref names
+/// the corner of its instance; a back copy's is the corner of the back face.
 Status readXatlasCorners(const xatlas::Atlas& xa, const Scene& scene, const BakeGeometry& geometry,
                          const std::vector<InstanceRange>& ranges,
-                         const std::vector<const ChartedMesh*>& charted,
-                         const AtlasSettings& settings, LightmapAtlas& atlas) {
-  std::vector<uint8_t> corner_done(geometry.triangleCount() * 3, 0);
-  for (size_t m = 0; m < ranges.size(); ++m) {
-    const InstanceRange& r = ranges[m];
-    const ChartedMesh& laid = *charted[m];
+                         const std::vector<PackedMesh>& packed, const AtlasSettings& settings,
+                         LightmapAtlas& atlas) {
+  std::vector<uint8_t> corner_done(atlas.faceCount() * 3, 0);
+  for (size_t m = 0; m < packed.size(); ++m) {
+    const InstanceRange& r = ranges[packed[m].range];
+    const ChartedMesh& laid = *packed[m].charted;
     const xatlas::Mesh& out = xa.meshes[m];
     if (out.vertexCount != laid.xref.size() || out.indexCount != laid.indices.size()) {
       return Status(StatusCode::kInternal, instanceLabel(scene, r.instance) + ": xatlas packed " +
@@ -342,18 +374,19 @@ Status readXatlasCorners(const xatlas::Atlas& xa, const Scene& scene, const Bake
                                                  std::to_string((r.end - r.first) * 3));
       }
       const size_t t = r.first + xref / 3;
+      const size_t face = atlas.face(uint32_t(t), packed[m].back ? 1 : 0);
       const int k = int(xref % 3);
       const bool in_chart = laid.chart[i / 3] != kNoChart;
       if (Status s = readCorner(xa, scene, geometry, settings, out.vertexArray[out.indexArray[i]],
-                                in_chart, t, k, atlas);
+                                in_chart, t, face, k, atlas);
           !s.ok())
         return s;
-      corner_done[t * 3 + size_t(k)] = 1;
+      corner_done[face * 3 + size_t(k)] = 1;
     }
   }
   for (size_t c = 0; c < corner_done.size(); ++c) {
     if (!corner_done[c]) {
-      const size_t t = c / 3;
+      const size_t t = atlas.faceTriangle(c / 3);
       return Status(StatusCode::kInternal, instanceLabel(scene, geometry.instance[t]) +
                                                " triangle " +
                                                std::to_string(geometry.mesh_triangle[t]) +
@@ -391,32 +424,44 @@ Expected<LightmapAtlas> buildWithXatlas(const Scene& scene, const BakeGeometry& 
 
   const std::vector<ChartedGroup> groups = chartGroups(scene, geometry, ranges, settings);
   double total_m2 = 0;  // summed in group order: the same for any thread count
-  std::vector<const ChartedMesh*> charted;
+  std::vector<PackedMesh> packed;
   for (const ChartedGroup& group : groups) {
     if (!group.status.ok()) return group.status;
     total_m2 += group.area_m2;
-    for (const ChartedMesh& m : group.meshes) charted.push_back(&m);
+    for (const ChartedMesh& m : group.meshes) packed.push_back({&m, packed.size(), false});
+  }
+  std::vector<ChartedMesh> backs;
+  backs.reserve(ranges.size());  // packed points into it
+  for (size_t r = 0; r < ranges.size(); ++r) {
+    backs.push_back(backCopy(geometry, ranges[r], *packed[r].charted));
+    if (!backs.back().chart.empty()) packed.push_back({&backs.back(), r, true});
+  }
+  LightmapAtlas atlas;
+  for (uint32_t t = 0; t < geometry.triangleCount(); ++t) {
+    if (geometry.double_sided[t]) {
+      atlas.back_triangles.push_back(t);
+      total_m2 += geometry.areas_m2[t];
+    }
   }
   XatlasPtr xa(xatlas::Create());
-  if (Status s = addUvMeshes(xa.get(), scene, ranges, charted); !s.ok()) return s;
+  if (Status s = addUvMeshes(xa.get(), scene, ranges, packed); !s.ok()) return s;
   const bool paged = packXatlasCharts(xa.get(), settings, total_m2);
-  if (xa->width == 0 || xa->height == 0 || xa->meshCount != ranges.size()) {
+  if (xa->width == 0 || xa->height == 0 || xa->meshCount != packed.size()) {
     return Status(StatusCode::kInternal, scene.source_path + ": xatlas produced an empty atlas (" +
                                              std::to_string(xa->width) + "x" +
                                              std::to_string(xa->height) + ", " +
                                              std::to_string(xa->meshCount) + " meshes)");
   }
 
-  LightmapAtlas atlas;
   atlas.authored = false;
   atlas.page_width = int(xa->width);
   atlas.page_height = int(xa->height);
   atlas.page_count = paged ? int(xa->atlasCount) : 1;
-  const size_t count = geometry.triangleCount();
-  atlas.triangle_page.assign(count, 0);
-  atlas.triangle_uv.assign(count * 3, Vec2{});
-  atlas.triangle_chart.assign(count, 0);
-  if (Status s = readXatlasCorners(*xa, scene, geometry, ranges, charted, settings, atlas); !s.ok())
+  const size_t faces = geometry.triangleCount() + atlas.back_triangles.size();
+  atlas.triangle_page.assign(faces, 0);
+  atlas.triangle_uv.assign(faces * 3, Vec2{});
+  atlas.triangle_chart.assign(faces, 0);
+  if (Status s = readXatlasCorners(*xa, scene, geometry, ranges, packed, settings, atlas); !s.ok())
     return s;
   return atlas;
 }

@@ -22,8 +22,6 @@ struct LeakLevel {
   /// wall: must read black too.
   std::vector<ProbePoint> edge;
   std::vector<ProbePoint> lit;  ///< the light the dark ones are measured against
-  /// Why the level still leaks, when it does (the test then skips it).
-  std::string known_leak;
 };
 
 /// Axis-aligned box of six outward quads as one mesh (a slab, a crate).

@@ -409,5 +409,75 @@ TEST(LightmapAtlas, AtlasAndTexelsAreIdenticalForOneAndTwoThreads) {
   EXPECT_EQ(sets[0].texel_to_sample, sets[1].texel_to_sample);
 }
 
+/// A double-sided 2 x 2 m panel over a one-sided 1 x 1 m tile, with
+/// TEXCOORD_1 on both when `authored`.
+Scene panelAndTile(bool authored) {
+  SceneBuilder b;
+  const int one_sided = b.material({0.5f, 0.5f, 0.5f});
+  const int two_sided = b.material({0.5f, 0.5f, 0.5f}, {0, 0, 0}, true);
+  const int panel = b.addQuad("panel", {0, 1, 0}, {0, 1, 2}, {2, 1, 2}, {2, 1, 0}, two_sided);
+  const int tile = b.addQuad("tile", {0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, one_sided);
+  if (authored) {
+    Mesh& p = b.scene().meshes[size_t(panel)];
+    for (const Vec3& q : p.positions) p.uv1.push_back({0.05f + q.x * 0.2f, 0.05f + q.z * 0.2f});
+    Mesh& t = b.scene().meshes[size_t(tile)];
+    for (const Vec3& q : t.positions) t.uv1.push_back({0.6f + q.x * 0.3f, 0.6f + q.z * 0.3f});
+  }
+  return b.scene();
+}
+
+// A lightmap per side: the double-sided panel's back is a face of its own,
+// with texels no front shares (xatlas) or the same UVs on a twin page
+// (authored), its samples on the panel with the normal turned over.
+TEST(LightmapAtlas, DoubleSidedTrianglesGetABackOfTheirOwn) {
+  for (const bool authored : {false, true}) {
+    SCOPED_TRACE(authored ? "authored" : "xatlas");
+    const Scene scene = panelAndTile(authored);
+    const BakeGeometry geometry = flatten(scene);
+    ASSERT_EQ(geometry.triangleCount(), 4u);
+    AtlasSettings settings;
+    settings.texels_per_m = 16;
+    Expected<LightmapAtlas> atlas = buildLightmapAtlas(scene, geometry, settings);
+    ASSERT_TRUE(atlas.ok()) << atlas.status().message();
+    EXPECT_EQ(atlas->authored, authored);
+    EXPECT_EQ(atlas->back_triangles, (std::vector<uint32_t>{0, 1}));
+    ASSERT_EQ(atlas->faceCount(), 6u);
+    EXPECT_EQ(atlas->face(0, 1), 4u);
+    EXPECT_EQ(atlas->face(1, 1), 5u);
+    EXPECT_EQ(atlas->face(2, 1), 2u);  // one-sided: the front serves both
+    EXPECT_EQ(atlas->faceTriangle(5), 1u);
+    for (uint32_t t : {0u, 1u}) {
+      EXPECT_NEAR(texelArea(*atlas, atlas->face(t, 1)), texelArea(*atlas, t),
+                  1e-3 * texelArea(*atlas, t));
+      EXPECT_NE(atlas->triangle_chart[atlas->face(t, 1)], atlas->triangle_chart[t]);
+    }
+    if (authored) {
+      EXPECT_EQ(atlas->page_count, 2);  // the panel's page and its back's twin
+      EXPECT_EQ(atlas->triangle_page[4], 1u);
+      EXPECT_EQ(atlas->triangle_uv[4 * 3 + 1].x, atlas->triangle_uv[0 * 3 + 1].x);
+    } else {
+      ownerRaster(*atlas);  // no two faces share a sub-texel point
+    }
+    Expected<std::unique_ptr<RayCaster>> caster = makeEmbreeCaster(geometry);
+    ASSERT_TRUE(caster.ok()) << caster.status().message();
+    Expected<TexelSet> set = rasterizeTexels(geometry, *atlas, **caster, RasterSettings{});
+    ASSERT_TRUE(set.ok()) << set.status().message();
+    size_t backs = 0, fronts_of_panel = 0;
+    for (const TexelSample& s : set->samples) {
+      EXPECT_EQ(s.triangle, atlas->faceTriangle(s.face));
+      EXPECT_EQ(s.page, atlas->triangle_page[s.face]);
+      if (atlas->isBack(s.face)) {
+        ++backs;
+        EXPECT_EQ(s.normal.y, -1.0f) << "a back sample faces down";
+      } else if (s.triangle < 2) {
+        ++fronts_of_panel;
+        EXPECT_EQ(s.normal.y, 1.0f);
+      }
+    }
+    EXPECT_GE(backs, 900u);  // 4 m2 at 16 texels/m: ~1024 a side (authored: 30 x 30)
+    EXPECT_NEAR(double(backs), double(fronts_of_panel), 0.05 * double(fronts_of_panel));
+  }
+}
+
 }  // namespace
 }  // namespace svit::baker

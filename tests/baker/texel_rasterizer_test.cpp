@@ -221,11 +221,22 @@ TEST(TexelRasterizer, MismatchedAtlasIsRejected) {
   Expected<TexelSet> set = rasterizeTexels(h.geometry, bad, *caster, RasterSettings{});
   ASSERT_FALSE(set.ok());
   EXPECT_EQ(set.status().code(), StatusCode::kInvalidInput);
-  EXPECT_NE(set.status().message().find("triangle 1 is on page 3"), std::string::npos)
+  EXPECT_NE(set.status().message().find("face 1 is on page 3"), std::string::npos)
       << set.status().message();
   bad = h.atlas;
   bad.triangle_uv.pop_back();
   EXPECT_FALSE(rasterizeTexels(h.geometry, bad, *caster, RasterSettings{}).ok());
+  // A back face of a one-sided triangle.
+  bad = h.atlas;
+  bad.back_triangles = {0};
+  bad.triangle_page.push_back(0);
+  bad.triangle_chart.push_back(7);
+  for (int k = 0; k < 3; ++k) bad.triangle_uv.push_back(bad.triangle_uv[size_t(k)]);
+  set = rasterizeTexels(h.geometry, bad, *caster, RasterSettings{});
+  ASSERT_FALSE(set.ok());
+  EXPECT_NE(set.status().message().find("back face 0 names triangle 0, not a double-sided"),
+            std::string::npos)
+      << set.status().message();
 }
 }  // namespace
 }  // namespace svit::baker

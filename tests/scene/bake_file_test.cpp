@@ -140,6 +140,9 @@ BakeData fullBake() {
     uv.uv[2] = {1.0f, 0.7f + float(t)};
     d.triangle_uvs.push_back(uv);
   }
+  // Triangles 1 and 3 are double-sided with back lightmaps of their own.
+  d.back_uvs = {{1, 1, {{0.5f, 0.25f}, {0.75f, 0.25f}, {0.5f, kDenormal}}},
+                {3, 0, {{0.0f, 1.0f}, {1.0f / 3.0f, 0.5f}, {-0.0f, 0.125f}}}};
   d.has_runtime_sections = true;
   for (uint32_t p = 0; p < 3; ++p) {
     BakePatch patch;
@@ -198,6 +201,7 @@ BakeData staticBake() {
   d.emitters.clear();
   d.proxy = {};
   d.probes = {};
+  d.back_uvs.clear();
   return d;
 }
 
@@ -232,6 +236,12 @@ void expectSameBake(const BakeData& a, const BakeData& b) {
     EXPECT_EQ(a.pages[i].height, b.pages[i].height);
     EXPECT_EQ(a.pages[i].file, b.pages[i].file);
     EXPECT_EQ(a.pages[i].texel_hash, b.pages[i].texel_hash);
+  }
+  ASSERT_EQ(a.back_uvs.size(), b.back_uvs.size());
+  for (size_t i = 0; i < a.back_uvs.size(); ++i) {
+    EXPECT_EQ(a.back_uvs[i].triangle, b.back_uvs[i].triangle);
+    EXPECT_EQ(a.back_uvs[i].page, b.back_uvs[i].page);
+    for (int k = 0; k < 3; ++k) expectSame(a.back_uvs[i].uv[k], b.back_uvs[i].uv[k], "back uv");
   }
   ASSERT_EQ(a.triangle_uvs.size(), b.triangle_uvs.size());
   for (size_t i = 0; i < a.triangle_uvs.size(); ++i) {
@@ -309,8 +319,10 @@ TEST_F(BakeFileTest, RoundTripOfEverySectionIsBitwiseEqual) {
   EXPECT_EQ(getU32(bytes, 8), kBakeFileVersion);
   std::vector<std::string> tags;
   for (const SectionAt& section : sectionTable(bytes)) tags.push_back(section.tag);
-  EXPECT_EQ(tags, (std::vector<std::string>{"HEAD", "PAGE", "TUVS", "PTCH", "PELM", "CLST", "EMIT",
-                                            "PRXY", "PROB"}));
+  EXPECT_EQ(tags, (std::vector<std::string>{"HEAD", "PAGE", "TUVS", "BUVS", "PTCH", "PELM", "CLST",
+                                            "EMIT", "PRXY", "PROB"}));
+  EXPECT_EQ(findBackUv(*read, 3)->page, 0u);
+  EXPECT_EQ(findBackUv(*read, 2), nullptr);
   EXPECT_EQ(getU64(bytes, bytes.size() - 8), fnv1a64(bytes.data(), bytes.size() - 8));
 
   // Writing is deterministic: the same data gives the same bytes.
@@ -584,6 +596,18 @@ TEST_F(BakeFileTest, WriterRefusesBadDataAndKeepsThePreviousFile) {
       {"triangle uv page out of range",
        [](BakeData& d) { d.triangle_uvs[3].page = 2; },
        {"TUVS", "triangle 3", "page 2 >= page count 2"}},
+      {"back uv triangle out of range",
+       [](BakeData& d) { d.back_uvs[1].triangle = 4; },
+       {"BUVS", "back 1", "triangle 4 >= triangle count 4"}},
+      {"back uvs not ascending",
+       [](BakeData& d) { d.back_uvs[1].triangle = 1; },
+       {"BUVS", "back 1", "does not follow", "1"}},
+      {"back uv page out of range",
+       [](BakeData& d) { d.back_uvs[0].page = 2; },
+       {"BUVS", "back 0", "page 2 >= page count 2"}},
+      {"NaN back uv",
+       [](BakeData& d) { d.back_uvs[0].uv[1].y = kNan; },
+       {"BUVS", "back 0", "uv 1", "not finite"}},
       {"probe sh size", [](BakeData& d) { d.probes.sh.pop_back(); }, {"PROB", "47", "2 x 1 x 2"}},
       {"NaN radiosity",
        [](BakeData& d) { d.patches[2].radiosity.g = kNan; },

@@ -34,6 +34,14 @@ struct BakeTriangleUv {
   Vec2 uv[3];  ///< page coordinates in [0, 1], v down the rows
 };
 
+/// The lightmap of a double-sided triangle's back, when it has one of its
+/// own (a lightmap per side).
+struct BakeBackUv {
+  uint32_t triangle = 0;  ///< BakeData::triangle_uvs index
+  uint32_t page = 0;
+  Vec2 uv[3];  ///< page coordinates in [0, 1], v down the rows, corners as the front's
+};
+
 /// A patch: a cluster-tree node of bounded area and similar normal, the unit
 /// the runtime tracks radiosity deltas for.
 struct BakePatch {
@@ -87,6 +95,9 @@ struct BakeData {
   uint64_t seed = 0;
   std::vector<BakeLightmapPage> pages;
   std::vector<BakeTriangleUv> triangle_uvs;
+  /// Backs of double-sided triangles with a lightmap of their own, by
+  /// ascending triangle (section BUVS, written when not empty).
+  std::vector<BakeBackUv> back_uvs;
   /// Runtime sections; all empty (and not written) for static-only levels.
   bool has_runtime_sections = false;
   std::vector<BakePatch> patches;
@@ -96,6 +107,10 @@ struct BakeData {
   BakeProxyMesh proxy;
   BakeProbeGrid probes;
 };
+
+/// The back lightmap of `triangle`, or null when its back shares the
+/// front's texels (one-sided, or a bake without per-side lightmaps).
+const BakeBackUv* findBackUv(const BakeData& data, uint32_t triangle);
 
 /// Writes `data` to `path` via `path`.tmp and a rename, so a failure or a
 /// kill leaves any previous file intact. Errors: I/O, inconsistent data

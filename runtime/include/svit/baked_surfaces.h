@@ -24,15 +24,16 @@ struct SurfaceHit {
   Vec3 point;             ///< nearest point on the triangle, world metres
   float w1 = 0, w2 = 0;   ///< barycentric weights of corners 1 and 2
   double distance_m = 0;  ///< from the query point
-  uint32_t page = 0;      ///< lightmap page
-  Vec2 uv;                ///< lightmap page coordinates there
+  uint32_t page = 0;      ///< lightmap page of that side
+  Vec2 uv;                ///< lightmap page coordinates there (the back's own where it has one)
 };
 
 class BakedSurfaces {
  public:
   /// Rebuilds the bake's static triangles in world space from `scene`.
   /// Errors name the bake element: an instance or mesh triangle out of range,
-  /// a dynamic instance in the triangle list.
+  /// a dynamic instance in the triangle list, a back lightmap of a one-sided
+  /// triangle.
   static Expected<BakedSurfaces> build(const Scene& scene, const BakeData& bake);
 
   size_t triangleCount() const { return normals_.size(); }
@@ -54,8 +55,8 @@ class BakedSurfaces {
   std::vector<Vec3> normals_;
   std::vector<float> areas_m2_;
   std::vector<uint8_t> double_sided_;
-  std::vector<uint32_t> page_;
-  std::vector<Vec2> uvs_;  ///< 3 per triangle
+  std::vector<uint32_t> page_;  ///< 2 per triangle: front, back
+  std::vector<Vec2> uvs_;       ///< 6 per triangle: the front's 3, the back's 3
   Aabb bounds_;
 };
 

@@ -129,10 +129,24 @@ struct Tessellation {
   std::vector<std::vector<size_t>> patch_items;
 };
 
+// The lightmap of an element's side: a back's own, where it has one.
+struct SideUv {
+  uint32_t page = 0;
+  const Vec2* uv = nullptr;  ///< 3 corners
+};
+
+SideUv sideUv(const BakeData& bake, uint32_t element) {
+  const uint32_t t = element / 2;
+  const BakeBackUv* back = element % 2 == 1 ? findBackUv(bake, t) : nullptr;
+  if (back) return {back->page, back->uv};
+  return {bake.triangle_uvs[t].page, bake.triangle_uvs[t].uv};
+}
+
 // Appends element `element`'s n x n sub-triangles (of surface triangle `t`,
-// in bake patch `p`) to `tess`.
-void tessellateElement(const BakedSurfaces& surfaces, const BakeTriangleUv& uv, uint32_t p,
+// in bake patch `p`, lightmap `side`) to `tess`.
+void tessellateElement(const BakedSurfaces& surfaces, const SideUv& side, uint32_t p,
                        uint32_t element, uint32_t t, int n, Tessellation& tess) {
+  const Vec2* uv = side.uv;
   const glm::dvec3 a = dvec(surfaces.corner(t, 0)), b = dvec(surfaces.corner(t, 1)),
                    c = dvec(surfaces.corner(t, 2));
   forEachSubTriangle(n, [&](uint32_t slot, const double(&w)[3][2]) {
@@ -140,15 +154,14 @@ void tessellateElement(const BakedSurfaces& surfaces, const BakeTriangleUv& uv, 
     for (int k = 0; k < 3; ++k) {
       item.p[k] = a + w[k][0] * (b - a) + w[k][1] * (c - a);
       item.uv[k] = {
-          float((1 - w[k][0] - w[k][1]) * uv.uv[0].x + w[k][0] * uv.uv[1].x + w[k][1] * uv.uv[2].x),
-          float((1 - w[k][0] - w[k][1]) * uv.uv[0].y + w[k][0] * uv.uv[1].y +
-                w[k][1] * uv.uv[2].y)};
+          float((1 - w[k][0] - w[k][1]) * uv[0].x + w[k][0] * uv[1].x + w[k][1] * uv[2].x),
+          float((1 - w[k][0] - w[k][1]) * uv[0].y + w[k][0] * uv[1].y + w[k][1] * uv[2].y)};
     }
     if (element % 2 == 1) {  // the back side faces the other way: reverse the winding
       std::swap(item.p[1], item.p[2]);
       std::swap(item.uv[1], item.uv[2]);
     }
-    item.page = uv.page;
+    item.page = side.page;
     item.element = element;
     item.slot = slot;
     item.area = surfaces.area(t) / double(n * n);
@@ -168,15 +181,22 @@ Status tessellatePatches(const BakeData& bake, const BakedSurfaces& surfaces, si
     for (uint32_t e = 0; e < patch.element_count; ++e) {
       const uint32_t element = bake.patch_elements[patch.first_element + e];
       const uint32_t t = element / 2;
-      if (t >= surfaces.triangleCount() || bake.triangle_uvs[t].page >= page_count) {
+      if (t >= surfaces.triangleCount()) {
         return Status(StatusCode::kInvalidInput, "bake patch " + std::to_string(p) + ": element " +
                                                      std::to_string(element) + " is out of range");
+      }
+      const SideUv side = sideUv(bake, element);
+      if (side.page >= page_count) {
+        return Status(StatusCode::kInvalidInput,
+                      "bake patch " + std::to_string(p) + ": element " + std::to_string(element) +
+                          " is on lightmap page " + std::to_string(side.page) + " of " +
+                          std::to_string(page_count));
       }
       const int n = tessellation(surfaces.area(t), max_area_m2);
       out.element_n[element] = uint16_t(n);
       out.element_first_slot[element] = uint32_t(out.slots.size());
       out.slots.resize(out.slots.size() + size_t(n * n * 2), kNoReceiver);
-      tessellateElement(surfaces, bake.triangle_uvs[t], p, element, t, n, tess);
+      tessellateElement(surfaces, side, p, element, t, n, tess);
     }
   }
   return Status();

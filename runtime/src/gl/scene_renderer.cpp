@@ -132,6 +132,16 @@ Status checkShadingView(ShadingView view) {
                                                " is not a ShadingView (0, 1 or 2)");
 }
 
+// A side with a lightmap of its own is drawn with the other side culled.
+void setDrawnSides(gl::DrawnSides sides) {
+  if (sides == gl::DrawnSides::kBoth) {
+    glDisable(GL_CULL_FACE);
+    return;
+  }
+  glEnable(GL_CULL_FACE);
+  glCullFace(sides == gl::DrawnSides::kFront ? GL_BACK : GL_FRONT);
+}
+
 }  // namespace
 
 struct SceneRenderer::Impl {
@@ -450,7 +460,12 @@ void SceneRenderer::Impl::drawStatic(const FramePass& pass, const ShadingResourc
   uint32_t bound_material = UINT32_MAX, bound_page = UINT32_MAX;
   float bound_emission_scale = 1.0f;
   glUniform1f(b::kEmissionScale, 1.0f);
+  gl::DrawnSides bound_sides = gl::DrawnSides::kBoth;  // culling off (beginFrame)
   for (const gl::StaticBatch& batch : batches) {
+    if (batch.sides != bound_sides) {
+      setDrawnSides(batch.sides);
+      bound_sides = batch.sides;
+    }
     if (batch.material != bound_material) {
       materials.bind(scene.materials[batch.material]);
       bound_material = batch.material;
@@ -474,6 +489,7 @@ void SceneRenderer::Impl::drawStatic(const FramePass& pass, const ShadingResourc
     glDrawArrays(GL_TRIANGLES, GLint(batch.first_vertex), GLsizei(batch.vertex_count));
     ++stats.draw_calls;
   }
+  setDrawnSides(gl::DrawnSides::kBoth);
 }
 
 // Dynamic objects: probes + baked lights, + runtime lights and deltas.

@@ -114,12 +114,13 @@ std::vector<uint32_t> triangleMaterials(const Scene& scene, const BakeData& bake
   return material;
 }
 
-// The kPatch bake emitter of each emissive triangle, so a dimmed lamp can
-// be drawn dimmed: its own batches. Error: a patch element out of range.
-Expected<std::vector<uint32_t>> triangleEmitters(const Scene& scene, const BakeData& bake,
-                                                 const std::vector<uint32_t>& material) {
+// The kPatch bake emitter of each emissive triangle side (element t * 2 +
+// side), so a dimmed lamp can be drawn dimmed: its own batches. Error: a
+// patch element out of range.
+Expected<std::vector<uint32_t>> elementEmitters(const Scene& scene, const BakeData& bake,
+                                                const std::vector<uint32_t>& material) {
   const size_t triangle_count = bake.triangle_uvs.size();
-  std::vector<uint32_t> emitter(triangle_count, kNoBakeEmitter);
+  std::vector<uint32_t> emitter(triangle_count * 2, kNoBakeEmitter);
   std::vector<uint32_t> patch_emitter(bake.patches.size(), kNoBakeEmitter);
   for (uint32_t e = 0; e < bake.emitters.size(); ++e) {
     const BakeEmitter& be = bake.emitters[e];
@@ -138,32 +139,62 @@ Expected<std::vector<uint32_t>> triangleEmitters(const Scene& scene, const BakeD
       const Material& m = scene.materials[material[element / 2]];
       const bool emits =
           m.emissive_luminance.r > 0 || m.emissive_luminance.g > 0 || m.emissive_luminance.b > 0;
-      // The front side's emitter wins over the back's.
-      if (emits && (element % 2 == 0 || emitter[element / 2] == kNoBakeEmitter))
-        emitter[element / 2] = patch_emitter[p];
+      if (emits) emitter[element] = patch_emitter[p];
     }
   }
   return emitter;
 }
 
-// Batches: triangles ordered by (material, page, emitter), bake order
+// One draw of a triangle: the sides it shows, with that lightmap and emitter.
+struct DrawnTriangle {
+  uint32_t triangle = 0;
+  DrawnSides sides = DrawnSides::kBoth;
+  uint32_t page = 0;
+  const Vec2* uv = nullptr;  ///< 3 lightmap corners
+  uint32_t emitter = kNoBakeEmitter;
+};
+
+// Each triangle once (both sides), or twice where its back has a lightmap
+// of its own; drawn both sides, the front side's emitter wins over the back's.
+std::vector<DrawnTriangle> drawnTriangles(const BakeData& bake,
+                                          const std::vector<uint32_t>& element_emitter) {
+  std::vector<DrawnTriangle> drawn;
+  drawn.reserve(bake.triangle_uvs.size() + bake.back_uvs.size());
+  for (uint32_t t = 0; t < bake.triangle_uvs.size(); ++t) {
+    const BakeTriangleUv& uv = bake.triangle_uvs[t];
+    const uint32_t front = element_emitter[t * 2], back = element_emitter[t * 2 + 1];
+    const BakeBackUv* back_uv = findBackUv(bake, t);
+    if (!back_uv) {
+      drawn.push_back(
+          {t, DrawnSides::kBoth, uv.page, uv.uv, front != kNoBakeEmitter ? front : back});
+      continue;
+    }
+    drawn.push_back({t, DrawnSides::kFront, uv.page, uv.uv, front});
+    drawn.push_back({t, DrawnSides::kBack, back_uv->page, back_uv->uv, back});
+  }
+  return drawn;
+}
+
+// Batches: draws ordered by (sides, material, page, emitter), bake order
 // within; their vertices appended to out.
 void appendBatches(const Scene& scene, const BakeData& bake, const BakedSurfaces& surfaces,
-                   const std::vector<uint32_t>& material, const std::vector<uint32_t>& emitter,
+                   const std::vector<uint32_t>& material,
+                   const std::vector<uint32_t>& element_emitter,
                    const std::vector<glm::vec3>& corner_normal, StaticMesh& out) {
-  const size_t triangle_count = bake.triangle_uvs.size();
-  std::vector<uint32_t> order(triangle_count);
-  std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
-    return std::tie(material[x], bake.triangle_uvs[x].page, emitter[x]) <
-           std::tie(material[y], bake.triangle_uvs[y].page, emitter[y]);
+  std::vector<DrawnTriangle> drawn = drawnTriangles(bake, element_emitter);
+  std::stable_sort(drawn.begin(), drawn.end(), [&](const DrawnTriangle& x, const DrawnTriangle& y) {
+    return std::tie(x.sides, material[x.triangle], x.page, x.emitter) <
+           std::tie(y.sides, material[y.triangle], y.page, y.emitter);
   });
-  out.vertices.reserve(triangle_count * 3);
-  for (uint32_t t : order) {
+  out.vertices.reserve(drawn.size() * 3);
+  for (const DrawnTriangle& d : drawn) {
+    const uint32_t t = d.triangle;
     const BakeTriangleUv& uv = bake.triangle_uvs[t];
-    if (out.batches.empty() || out.batches.back().material != material[t] ||
-        out.batches.back().page != uv.page || out.batches.back().emitter != emitter[t]) {
-      out.batches.push_back({material[t], uv.page, emitter[t], uint32_t(out.vertices.size()), 0});
+    const StaticBatch* last = out.batches.empty() ? nullptr : &out.batches.back();
+    if (!last || last->sides != d.sides || last->material != material[t] || last->page != d.page ||
+        last->emitter != d.emitter) {
+      out.batches.push_back(
+          {d.sides, material[t], d.page, d.emitter, uint32_t(out.vertices.size()), 0});
     }
     const Mesh& mesh = scene.meshes[size_t(scene.instances[uv.instance].mesh)];
     for (int k = 0; k < 3; ++k) {
@@ -175,7 +206,7 @@ void appendBatches(const Scene& scene, const BakeData& bake, const BakedSurfaces
       v.normal[0] = n.x, v.normal[1] = n.y, v.normal[2] = n.z;
       if (!mesh.uv0.empty()) v.uv0[0] = mesh.uv0[index].x, v.uv0[1] = mesh.uv0[index].y;
       if (!mesh.uv1.empty()) v.uv1[0] = mesh.uv1[index].x, v.uv1[1] = mesh.uv1[index].y;
-      v.uv_lightmap[0] = uv.uv[k].x, v.uv_lightmap[1] = uv.uv[k].y;
+      v.uv_lightmap[0] = d.uv[k].x, v.uv_lightmap[1] = d.uv[k].y;
       v.delta_element[0] = t * 2;
       v.delta_element[1] = t * 2 + 1;
       out.vertices.push_back(v);
@@ -195,7 +226,7 @@ Expected<StaticMesh> buildStaticMesh(const Scene& scene, const BakeData& bake) {
   out.bounds = surfaces->bounds();
   std::vector<glm::vec3> corner_normal;
   const std::vector<uint32_t> material = triangleMaterials(scene, bake, *surfaces, corner_normal);
-  Expected<std::vector<uint32_t>> emitter = triangleEmitters(scene, bake, material);
+  Expected<std::vector<uint32_t>> emitter = elementEmitters(scene, bake, material);
   if (!emitter.ok()) return emitter.status();
   appendBatches(scene, bake, *surfaces, material, *emitter, corner_normal, out);
   return out;

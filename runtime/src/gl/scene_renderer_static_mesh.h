@@ -34,14 +34,22 @@ static_assert(sizeof(StaticVertex) == 56, "lit_static.vert reads this layout");
 /// StaticBatch::emitter of triangles that belong to no emitting patch.
 inline constexpr uint32_t kNoBakeEmitter = 0xffffffffu;
 
-/// Consecutive vertices sharing a material, a lightmap page and a bake emitter.
+/// Which sides of its triangles a batch draws. A double-sided triangle with
+/// a back lightmap of its own (BakeData::back_uvs) is drawn twice, its front
+/// with the front's texels, back faces culled, and its back with the back's,
+/// front faces culled; every other triangle once, both sides.
+enum class DrawnSides : uint8_t { kBoth, kFront, kBack };
+
+/// Consecutive vertices sharing drawn sides, a material, a lightmap page and
+/// a bake emitter.
 struct StaticBatch {
+  DrawnSides sides = DrawnSides::kBoth;
   uint32_t material = 0;  ///< Scene::materials index
   uint32_t page = 0;      ///< BakeData::pages index
   /// BakeData::emitters index of the kPatch emitter whose patch holds the
-  /// triangles (their front side; the back where only it emits), when the
-  /// material emits; else kNoBakeEmitter. The renderer scales their drawn
-  /// emission by that emitter's scale.
+  /// drawn side of the triangles (for kBoth their front; the back where only
+  /// it emits), when the material emits; else kNoBakeEmitter. The renderer
+  /// scales their drawn emission by that emitter's scale.
   uint32_t emitter = kNoBakeEmitter;
   uint32_t first_vertex = 0;
   uint32_t vertex_count = 0;

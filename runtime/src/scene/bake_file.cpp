@@ -4,7 +4,8 @@
 //   section_count x { u32 tag (four ASCII chars in file order), u64 payload bytes, payload }
 //   u64 FNV-1a 64 of every preceding byte
 // HEAD, PAGE and TUVS are always present; PTCH, PELM, CLST, EMIT, PRXY and
-// PROB all together or not at all (BakeData::has_runtime_sections). Readers
+// PROB all together or not at all (BakeData::has_runtime_sections); BUVS
+// when some double-sided triangle has a back lightmap. Readers
 // skip unknown tags, so a version can gain sections without a bump; a known
 // section's payload layout is fixed per version. The payloads are described
 // beside their encoders below.
@@ -57,10 +58,12 @@ constexpr uint32_t kClst = makeTag("CLST");
 constexpr uint32_t kEmit = makeTag("EMIT");
 constexpr uint32_t kPrxy = makeTag("PRXY");
 constexpr uint32_t kProb = makeTag("PROB");
+constexpr uint32_t kBuvs = makeTag("BUVS");
 
 // Fixed sizes of the per-element records (bytes), used to bound counts.
 constexpr uint64_t kPageMinBytes = 4 + 4 + 8 + 4;  // width, height, hash, name length
 constexpr uint64_t kTriangleUvBytes = 4 * 3 + 6 * 4;
+constexpr uint64_t kBackUvBytes = 4 * 2 + 6 * 4;
 constexpr uint64_t kPatchBytes = 16 * 4 + 2 * 4;       // 16 floats, first, count
 constexpr uint64_t kClusterBytes = 4 * 4 + 7 * 4;      // 4 ints, bounds, area
 constexpr uint64_t kEmitterMinBytes = 4 + 4 + 12 + 4;  // kind, index, flux, count
@@ -119,6 +122,16 @@ void encodeTriangleUvs(ByteWriter& w, const BakeData& d) {
   for (const BakeTriangleUv& uv : d.triangle_uvs) {
     w.u32(uv.instance);
     w.u32(uv.mesh_triangle);
+    w.u32(uv.page);
+    for (const Vec2& c : uv.uv) w.vec2(c);
+  }
+}
+
+// u32 count, then per back: u32 triangle, u32 page, 3 x (f32 u, f32 v).
+void encodeBackUvs(ByteWriter& w, const BakeData& d) {
+  w.u32(uint32_t(d.back_uvs.size()));
+  for (const BakeBackUv& uv : d.back_uvs) {
+    w.u32(uv.triangle);
     w.u32(uv.page);
     for (const Vec2& c : uv.uv) w.vec2(c);
   }
@@ -207,10 +220,11 @@ std::vector<uint8_t> encode(const BakeData& d) {
   ByteWriter w;
   w.raw(kMagic, sizeof kMagic);
   w.u32(kBakeFileVersion);
-  w.u32(d.has_runtime_sections ? 9 : 3);
+  w.u32((d.has_runtime_sections ? 9 : 3) + (d.back_uvs.empty() ? 0 : 1));
   section(w, kHead, [&] { encodeHead(w, d); });
   section(w, kPage, [&] { encodePages(w, d); });
   section(w, kTuvs, [&] { encodeTriangleUvs(w, d); });
+  if (!d.back_uvs.empty()) section(w, kBuvs, [&] { encodeBackUvs(w, d); });
   if (d.has_runtime_sections) {
     section(w, kPtch, [&] { encodePatches(w, d); });
     section(w, kPelm, [&] { encodeU32s(w, d.patch_elements); });
@@ -252,6 +266,17 @@ void decodeTriangleUvs(ByteReader& r, BakeData& d) {
   for (BakeTriangleUv& uv : d.triangle_uvs) {
     uv.instance = r.u32();
     uv.mesh_triangle = r.u32();
+    uv.page = r.u32();
+    for (Vec2& c : uv.uv) c = r.vec2();
+  }
+}
+
+void decodeBackUvs(ByteReader& r, BakeData& d) {
+  const uint32_t n = r.u32();
+  if (!r.needArray(n, kBackUvBytes)) return;
+  d.back_uvs.resize(n);
+  for (BakeBackUv& uv : d.back_uvs) {
+    uv.triangle = r.u32();
     uv.page = r.u32();
     for (Vec2& c : uv.uv) c = r.vec2();
   }
@@ -339,10 +364,11 @@ struct SectionRef {
 
 std::string osError(int error) { return std::generic_category().message(error); }
 
-constexpr int kKnownSectionCount = 9;
-constexpr int kRequiredSectionCount = 3;  // HEAD, PAGE, TUVS; the rest are the runtime sections
+constexpr int kKnownSectionCount = 10;
+constexpr int kRequiredSectionCount = 3;  // HEAD, PAGE, TUVS
+constexpr int kRuntimeSectionEnd = 9;     // the runtime sections follow them, then BUVS
 constexpr uint32_t kKnown[kKnownSectionCount] = {kHead, kPage, kTuvs, kPtch, kPelm,
-                                                 kClst, kEmit, kPrxy, kProb};
+                                                 kClst, kEmit, kPrxy, kProb, kBuvs};
 
 // A short prefix of the magic is a cut file; anything else is not ours.
 Status checkMagic(const uint8_t* bytes, size_t size, const std::string& path) {
@@ -425,10 +451,10 @@ Status findKnownSections(const std::vector<SectionRef>& sections, const std::str
     if (!found[k]) return invalid(path, "missing required section " + tagName(kKnown[k]));
   }
   int runtime_present = 0;
-  for (int k = kRequiredSectionCount; k < kKnownSectionCount; ++k)
+  for (int k = kRequiredSectionCount; k < kRuntimeSectionEnd; ++k)
     runtime_present += found[k] != nullptr;
   if (runtime_present != 0 && runtime_present != 6) {
-    for (int k = kRequiredSectionCount; k < kKnownSectionCount; ++k) {
+    for (int k = kRequiredSectionCount; k < kRuntimeSectionEnd; ++k) {
       if (!found[k]) {
         return invalid(path, "runtime sections incomplete: " + num(int32_t(runtime_present)) +
                                  " of 6 present, " + tagName(kKnown[k]) + " missing");
@@ -463,6 +489,9 @@ Status parseSections(const uint8_t* bytes, const SectionRef* const (&found)[kKno
   if (Status s = parse(0, decodeHead); !s.ok()) return s;
   if (Status s = parse(1, decodePages); !s.ok()) return s;
   if (Status s = parse(2, decodeTriangleUvs); !s.ok()) return s;
+  if (found[kRuntimeSectionEnd]) {
+    if (Status s = parse(kRuntimeSectionEnd, decodeBackUvs); !s.ok()) return s;
+  }
   if (data.has_runtime_sections) {
     if (Status s = parse(3, decodePatches); !s.ok()) return s;
     if (Status s = parse(4, [](ByteReader& r, BakeData& d) { decodeU32s(r, d.patch_elements); });
@@ -497,6 +526,13 @@ Expected<BakeData> decodeBakeFile(const uint8_t* bytes, size_t size, const std::
 }
 
 }  // namespace bakeio
+
+const BakeBackUv* findBackUv(const BakeData& data, uint32_t triangle) {
+  const auto it =
+      std::lower_bound(data.back_uvs.begin(), data.back_uvs.end(), triangle,
+                       [](const BakeBackUv& uv, uint32_t t) { return uv.triangle < t; });
+  return it != data.back_uvs.end() && it->triangle == triangle ? &*it : nullptr;
+}
 
 uint64_t fnv1a64(const void* data, size_t bytes, uint64_t seed) {
   constexpr uint64_t kPrime = 0x100000001b3ull;  // FNV-1a 64 prime

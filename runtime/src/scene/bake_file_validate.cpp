@@ -71,6 +71,34 @@ Status checkCount(const std::string& path, const char* section, const char* what
   return Status();
 }
 
+// Backs by ascending triangle (findBackUv searches them), each on a page.
+Status validateBackUvs(const BakeData& d, const std::string& path) {
+  if (Status s = checkCount(path, "BUVS", "backs", d.back_uvs.size()); !s.ok()) return s;
+  for (size_t i = 0; i < d.back_uvs.size(); ++i) {
+    const BakeBackUv& uv = d.back_uvs[i];
+    const std::string where = "section BUVS back " + num(uint64_t(i)) + ": ";
+    if (uv.triangle >= d.triangle_uvs.size()) {
+      return invalid(path, where + "triangle " + num(uv.triangle) + " >= triangle count " +
+                               num(uint64_t(d.triangle_uvs.size())));
+    }
+    if (i > 0 && uv.triangle <= d.back_uvs[i - 1].triangle) {
+      return invalid(path, where + "triangle " + num(uv.triangle) +
+                               " does not follow the previous back's " +
+                               num(d.back_uvs[i - 1].triangle));
+    }
+    if (uv.page >= d.pages.size()) {
+      return invalid(
+          path, where + "page " + num(uv.page) + " >= page count " + num(uint64_t(d.pages.size())));
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (!finite(uv.uv[k]))
+        return invalid(
+            path, where + "uv " + std::to_string(k) + " " + vecText(uv.uv[k]) + " is not finite");
+    }
+  }
+  return Status();
+}
+
 Status validateStatic(const BakeData& d, const std::string& path) {
   if (Status s = checkCount(path, "PAGE", "pages", d.pages.size()); !s.ok()) return s;
   if (Status s = checkCount(path, "TUVS", "triangles", d.triangle_uvs.size()); !s.ok()) return s;
@@ -103,7 +131,7 @@ Status validateStatic(const BakeData& d, const std::string& path) {
             path, where + "uv " + std::to_string(k) + " " + vecText(uv.uv[k]) + " is not finite");
     }
   }
-  return Status();
+  return validateBackUvs(d, path);
 }
 
 Status validateRuntimeAbsent(const BakeData& d, const std::string& path) {

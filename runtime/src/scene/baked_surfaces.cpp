@@ -77,7 +77,6 @@ Expected<BakedSurfaces> BakedSurfaces::build(const Scene& scene, const BakeData&
                        std::min(s.bounds_.min.z, q.z)};
       s.bounds_.max = {std::max(s.bounds_.max.x, q.x), std::max(s.bounds_.max.y, q.y),
                        std::max(s.bounds_.max.z, q.z)};
-      s.uvs_.push_back(uv.uv[k]);
     }
     // Normal from the transformed corners, as the baker takes it (mirroring
     // transforms keep counter-clockwise fronts in world space).
@@ -87,7 +86,16 @@ Expected<BakedSurfaces> BakedSurfaces::build(const Scene& scene, const BakeData&
     s.areas_m2_.push_back(float(0.5 * length));
     s.double_sided_.push_back(
         scene.materials[mesh.triangle_material[uv.mesh_triangle]].double_sided ? 1 : 0);
+    // A back without texels of its own reads its front's.
+    const BakeBackUv* back = findBackUv(bake, uint32_t(t));
+    if (back && !s.double_sided_.back()) {
+      return Status(StatusCode::kInvalidInput,
+                    where + ": has a back lightmap (section BUVS) but is one-sided in the level");
+    }
     s.page_.push_back(uv.page);
+    s.page_.push_back(back ? back->page : uv.page);
+    for (const Vec2& c : uv.uv) s.uvs_.push_back(c);
+    for (const Vec2& c : back ? back->uv : uv.uv) s.uvs_.push_back(c);
   }
   return s;
 }
@@ -118,8 +126,8 @@ std::optional<SurfaceHit> BakedSurfaces::nearest(const Vec3& point, const Vec3& 
     hit.w1 = float(w.x);
     hit.w2 = float(w.y);
     hit.distance_m = d;
-    hit.page = page_[t];
-    const Vec2* uv = &uvs_[size_t(t) * 3];
+    hit.page = page_[size_t(t) * 2 + size_t(side)];
+    const Vec2* uv = &uvs_[(size_t(t) * 2 + size_t(side)) * 3];
     hit.uv = {float((1 - w.x - w.y) * uv[0].x + w.x * uv[1].x + w.y * uv[2].x),
               float((1 - w.x - w.y) * uv[0].y + w.x * uv[1].y + w.y * uv[2].y)};
     best = hit;

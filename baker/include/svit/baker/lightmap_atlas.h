@@ -24,16 +24,34 @@ struct AtlasSettings {
 };
 
 /// Where every static triangle (BakeGeometry order) lies in the lightmap.
+/// The lightmap's faces are the triangles' fronts, face t for triangle t,
+/// then the backs of the double-sided ones (a lightmap per side: each side
+/// of a partition between a lit and a dark room gets its own light), face
+/// triangleCount() + i for back_triangles[i]. The per-face arrays hold the
+/// fronts first, then the backs.
 struct LightmapAtlas {
   int page_width = 0;
   int page_height = 0;
   int page_count = 0;
   bool authored = false;                ///< true: from TEXCOORD_1, false: xatlas
-  std::vector<uint32_t> triangle_page;  ///< per triangle
-  /// 3 per triangle, page coordinates in [0, 1] (u right, v down the rows)
+  std::vector<uint32_t> triangle_page;  ///< per face
+  /// 3 per face, page coordinates in [0, 1] (u right, v down the rows)
   std::vector<Vec2> triangle_uv;
-  /// per triangle: chart id (unique across pages); seams are chart borders
+  /// per face: chart id (unique across pages); seams are chart borders
   std::vector<uint32_t> triangle_chart;
+  /// The double-sided triangles, ascending, whose backs are faces of their own.
+  std::vector<uint32_t> back_triangles;
+
+  size_t faceCount() const { return triangle_page.size(); }
+  size_t frontCount() const { return triangle_page.size() - back_triangles.size(); }
+  /// The triangle that face `f` is a side of.
+  uint32_t faceTriangle(size_t f) const {
+    return f < frontCount() ? uint32_t(f) : back_triangles[f - frontCount()];
+  }
+  bool isBack(size_t f) const { return f >= frontCount(); }
+  /// The face of side `side` (0 front, 1 back) of triangle t: its front
+  /// when the back has no face of its own.
+  uint32_t face(uint32_t t, int side) const;
 };
 
 /// Builds the atlas. Instances of one mesh get their own texels.
@@ -41,11 +59,16 @@ struct LightmapAtlas {
 ///   [0, 1]. Authored UVs of different meshes share one layout (a level
 ///   unwrapped together), so instance i goes to the first page that does not
 ///   hold another instance of its mesh; the page is square, sized from
-///   texels_per_m and the area the page holds, at most max_page_size.
+///   texels_per_m and the area the page holds, at most max_page_size. The
+///   backs of double-sided triangles keep their authored UVs on a twin of
+///   their page (appended after the authored pages; only pages holding a
+///   double-sided triangle get one).
 /// - Otherwise xatlas charts every static instance's world-space triangles
 ///   separately (so instances never share texels) at texels_per_m with
 ///   `padding_texels`, into as many pages of at most max_page_size as needed.
 ///   Charting runs on `threads` workers; the atlas is the same for any number.
+///   The backs of double-sided triangles are copies of their fronts' charts,
+///   packed with the rest.
 /// Errors: xatlas failure, max_page_size < 16, texels_per_m not > 0.
 /// Thread-safe: yes (calls share only xatlas's print setting, set once).
 Expected<LightmapAtlas> buildLightmapAtlas(const Scene& scene, const BakeGeometry& geometry,
@@ -56,9 +79,10 @@ struct TexelSample {
   uint32_t page = 0;
   uint32_t x = 0, y = 0;  ///< texel column and row
   uint32_t triangle = 0;  ///< the covering triangle with most area in the texel
+  uint32_t face = 0;      ///< its face (LightmapAtlas): the triangle, or its back
   float u = 0, v = 0;     ///< barycentrics of the sample point in that triangle
   Vec3 position;          ///< world sample point (moved off walls when needed), metres
-  Vec3 normal;            ///< world unit geometric normal of `triangle`
+  Vec3 normal;            ///< world unit geometric normal of `face` (a back's points away)
   float coverage = 0;     ///< fraction of the texel's area covered by triangles, (0, 1]
 };
 
