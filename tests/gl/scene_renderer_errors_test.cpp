@@ -1,6 +1,7 @@
 // SceneRenderer errors: no GL context, a missing lightmap page, a bake of
-// other geometry, settings out of range, PNG output without a frame or to a
-// path that cannot be written. Label `gl` (xvfb-run).
+// other geometry, a back lightmap of a one-sided triangle, settings out of
+// range, PNG output without a frame or to a path that cannot be written.
+// Label `gl` (xvfb-run).
 
 #include <gtest/gtest.h>
 
@@ -53,6 +54,22 @@ TEST(SceneRenderer, BakeOfOtherGeometryIsAnError) {
   EXPECT_NE(renderer.status().message().find("static triangles"), std::string::npos)
       << renderer.status().message();
   EXPECT_NE(renderer.status().message().find("bake.svit"), std::string::npos)
+      << renderer.status().message();
+}
+
+TEST(SceneRenderer, BackLightmapOfAOneSidedTriangleIsAnError) {
+  const BakedLevel& level = bakedLevel(cornellLevel());  // no double-sided triangle
+  BakeData bake = level.bake;
+  ASSERT_TRUE(bake.back_uvs.empty());
+  bake.back_uvs.push_back({5, 0, {{0.1f, 0.1f}, {0.2f, 0.1f}, {0.1f, 0.2f}}});
+  test::GlTestContext context;
+  SVIT_REQUIRE_GL(context);
+  Expected<std::unique_ptr<SceneRenderer>> renderer =
+      SceneRenderer::create(level.scene, bake, level.dir, nullptr);
+  ASSERT_FALSE(renderer.ok());
+  EXPECT_EQ(renderer.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(renderer.status().message().find("bake triangle 5: has a back lightmap"),
+            std::string::npos)
       << renderer.status().message();
 }
 

@@ -71,6 +71,21 @@ Status checkCount(const std::string& path, const char* section, const char* what
   return Status();
 }
 
+// A lightmap triangle: on a page, its 3 UVs finite.
+Status checkLightmapCorners(const BakeData& d, const std::string& path, const std::string& where,
+                            uint32_t page, const Vec2 (&uv)[3]) {
+  if (page >= d.pages.size()) {
+    return invalid(path,
+                   where + "page " + num(page) + " >= page count " + num(uint64_t(d.pages.size())));
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (!finite(uv[k]))
+      return invalid(path,
+                     where + "uv " + std::to_string(k) + " " + vecText(uv[k]) + " is not finite");
+  }
+  return Status();
+}
+
 // Backs by ascending triangle (findBackUv searches them), each on a page.
 Status validateBackUvs(const BakeData& d, const std::string& path) {
   if (Status s = checkCount(path, "BUVS", "backs", d.back_uvs.size()); !s.ok()) return s;
@@ -86,15 +101,7 @@ Status validateBackUvs(const BakeData& d, const std::string& path) {
                                " does not follow the previous back's " +
                                num(d.back_uvs[i - 1].triangle));
     }
-    if (uv.page >= d.pages.size()) {
-      return invalid(
-          path, where + "page " + num(uv.page) + " >= page count " + num(uint64_t(d.pages.size())));
-    }
-    for (int k = 0; k < 3; ++k) {
-      if (!finite(uv.uv[k]))
-        return invalid(
-            path, where + "uv " + std::to_string(k) + " " + vecText(uv.uv[k]) + " is not finite");
-    }
+    if (Status s = checkLightmapCorners(d, path, where, uv.page, uv.uv); !s.ok()) return s;
   }
   return Status();
 }
@@ -121,15 +128,7 @@ Status validateStatic(const BakeData& d, const std::string& path) {
   for (size_t t = 0; t < d.triangle_uvs.size(); ++t) {
     const BakeTriangleUv& uv = d.triangle_uvs[t];
     const std::string where = "section TUVS triangle " + num(uint64_t(t)) + ": ";
-    if (uv.page >= d.pages.size()) {
-      return invalid(
-          path, where + "page " + num(uv.page) + " >= page count " + num(uint64_t(d.pages.size())));
-    }
-    for (int k = 0; k < 3; ++k) {
-      if (!finite(uv.uv[k]))
-        return invalid(
-            path, where + "uv " + std::to_string(k) + " " + vecText(uv.uv[k]) + " is not finite");
-    }
+    if (Status s = checkLightmapCorners(d, path, where, uv.page, uv.uv); !s.ok()) return s;
   }
   return validateBackUvs(d, path);
 }
