@@ -9,8 +9,10 @@
 //    PackCharts that only lays the charts out so that xatlas writes their
 //    parameterization to its output), groups in parallel;
 // 2. pack: every group's charts as UV meshes of one more atlas (AddUvMesh,
-//    each chart its own material), packed with padding and bilinear
-//    footprints into the pages, keeping each chart's shape.
+//    each chart its own material), and a copy of the charts of every
+//    double-sided triangle for its back (a lightmap per side), packed with
+//    padding and bilinear footprints into the pages, keeping each chart's
+//    shape.
 
 #include "xatlas_unwrap.h"
 
