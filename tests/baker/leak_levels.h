@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "svit/baked_surfaces.h"
+#include "svit/baker/bake.h"
 #include "test_scenes.h"
 
 namespace svit::test {
@@ -23,6 +24,22 @@ struct LeakLevel {
   std::vector<ProbePoint> edge;
   std::vector<ProbePoint> lit;  ///< the light the dark ones are measured against
 };
+
+/// How a leak level is baked (seed 7, quality 0.5, 4 passes, 10 texels/m,
+/// its sun and sky), from its glTF at `gltf` into `out_dir`.
+inline baker::BakeOptions leakBakeOptions(const LeakLevel& level, const std::string& gltf,
+                                          const std::string& out_dir) {
+  baker::BakeOptions options;
+  options.level_path = gltf;
+  options.out_dir = out_dir;
+  options.seed = 7;
+  options.quality = 0.5;
+  options.passes = 4;
+  options.texels_per_m = 10;
+  options.sun_json = level.sun_json;
+  options.sky_json = level.sky_json;
+  return options;
+}
 
 /// Axis-aligned box of six outward quads as one mesh (a slab, a crate).
 inline std::vector<Vec3> boxCorners(Vec3 lo, Vec3 hi) {

@@ -78,15 +78,7 @@ LeakFigures bakeAndProbe(const test::LeakLevel& level) {
   writePoints(dir / "dark.txt", level.dark);
   writePoints(dir / "lit.txt", level.lit);
   writePoints(dir / "edge.txt", level.edge);
-  BakeOptions options;
-  options.level_path = gltf;
-  options.out_dir = (dir / "out").string();
-  options.seed = 7;
-  options.quality = 0.5;
-  options.passes = 4;
-  options.texels_per_m = 10;
-  options.sun_json = level.sun_json;
-  options.sky_json = level.sky_json;
+  const BakeOptions options = test::leakBakeOptions(level, gltf, (dir / "out").string());
   Expected<BakeResult> baked = bakeLevel(options, {}, nullptr);
   EXPECT_TRUE(baked.ok()) << baked.status().message();
   if (!baked.ok()) return {};

@@ -53,13 +53,7 @@ PartitionViews renderPartition() {
   fs::create_directories(dir);
   const std::string gltf = (dir / "level.gltf").string();
   EXPECT_TRUE(writeGltf(level.scene, gltf).ok());
-  baker::BakeOptions options;
-  options.level_path = gltf;
-  options.out_dir = (dir / "out").string();
-  options.seed = 7;
-  options.quality = 0.5;
-  options.passes = 4;
-  options.texels_per_m = 10;
+  const baker::BakeOptions options = test::leakBakeOptions(level, gltf, (dir / "out").string());
   EXPECT_TRUE(baker::bakeLevel(options, {}, nullptr).ok());
   Expected<BakeData> bake = readBakeFile(options.out_dir + "/bake.svit");
   Expected<Scene> scene = loadLevel(gltf);
@@ -84,6 +78,9 @@ PartitionViews renderPartition() {
     EXPECT_TRUE((*renderer)->render(camera, ShadingView::kBakedOnly).ok());
     (side < 0 ? views.lit : views.dark) =
         middleMean((*renderer)->readRadiance(), settings.width, settings.height);
+    const fs::path png = fs::temp_directory_path() / (side < 0 ? "svit_partition_lit_side.png"
+                                                               : "svit_partition_dark_side.png");
+    EXPECT_TRUE((*renderer)->writePng(png.string()).ok());
   }
   return views;
 }
