@@ -1,7 +1,8 @@
 #version 450 core
 // Static geometry: radiance = albedo x (lightmap irradiance + runtime delta
 // (per runtime patch, svit_runtime_delta.frag, or the runtime's lightmap-space
-// delta map) + runtime lights' direct irradiance) / pi + emission, the
+// delta map) + runtime lights' direct irradiance + the masked baked lights'
+// direct irradiance, shadow mask x caster map) / pi + emission, the
 // emission scaled as its bake emitter is (a lamp dimmed or off).
 // Albedo = base colour factor x base colour texture (sRGB-decoded by the
 // texture format). Single-sided surfaces are black from behind; the
@@ -41,8 +42,25 @@ layout(location = 15) uniform float u_emissive_rotation;
 layout(location = 16) uniform ivec2 u_material_flags;  // (double sided, alpha mask)
 layout(location = 17) uniform float u_alpha_cutoff;
 layout(location = 24) uniform float u_emission_scale;  // the lamp's dimmer (SceneRenderer::setBakedEmitterScale)
+// Masked baked lights (BakeShadowMasks): lights [begin, end) of the lights
+// buffer, their static visibility in this page's mask layers.
+layout(binding = 9) uniform usampler2DArray u_shadow_mask;
+layout(location = 25) uniform int u_masked_begin;
+layout(location = 26) uniform int u_masked_end;
 
 vec3 svitDirectIrradiance(vec3 p, vec3 n);
+struct GpuLight {
+  vec4 position;
+  vec4 direction;
+  vec4 intensity;
+  vec4 shadow;
+  vec4 shadow_texel;
+  mat4 shadow_from_world;
+};
+layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
+vec3 svitUnshadowedIrradiance(GpuLight light, vec3 p, vec3 n, out float distance_m);
+float svitShadowVisibility(GpuLight light, vec3 p, vec3 n, float distance_m, float phi);
+float svitPixelNoise();
 vec3 svitDisplay(vec3 radiance);
 vec3 svitDeltaFalseColour(vec3 delta, vec3 under);
 vec4 svitRuntimeDelta(uint element, vec2 corner_weights);
@@ -58,6 +76,41 @@ vec2 transformUv(vec2 uv, vec4 scale_offset, float rotation) {
   vec2 s = uv * scale_offset.xy;
   float c = cos(rotation), n = sin(rotation);
   return scale_offset.zw + vec2(c * s.x + n * s.y, -n * s.x + c * s.y);
+}
+
+// A masked light's static visibility at lightmap coordinates uv: bilinear
+// over the four texels around, each counted only where its channel names
+// this light (owner); what another light of the channel owns reads 0.
+float maskVisibility(vec2 uv, int channel, int owner) {
+  ivec2 size = textureSize(u_shadow_mask, 0).xy;
+  vec2 f = uv * vec2(size) - 0.5;
+  ivec2 base = ivec2(floor(f));
+  vec2 a = f - vec2(base);
+  float taps[4];
+  for (int k = 0; k < 4; ++k) {
+    ivec2 at = clamp(base + ivec2(k & 1, k >> 1), ivec2(0), size - 1);
+    uint v = texelFetch(u_shadow_mask, ivec3(at, channel / 4), 0)[channel % 4];
+    taps[k] = int(v >> 8) == owner ? float(v & 255u) / 255.0 : 0.0;
+  }
+  return mix(mix(taps[0], taps[1], a.x), mix(taps[2], taps[3], a.x), a.y);
+}
+
+// The masked lights' direct light: unshadowed x static mask x what their
+// caster maps (dynamic objects only) let through; dimmers are in the
+// lights' intensities.
+vec3 maskedIrradiance(vec3 p, vec3 n, vec2 uv) {
+  vec3 sum = vec3(0.0);
+  float phi = svitPixelNoise() * 6.28318530718;
+  for (int i = u_masked_begin; i < u_masked_end; ++i) {
+    GpuLight light = lights[i];
+    float distance_m;
+    vec3 e = svitUnshadowedIrradiance(light, p, n, distance_m);
+    if (max(e.r, max(e.g, e.b)) <= 0.0) continue;
+    float mask = maskVisibility(uv, int(light.shadow_texel.z), int(light.shadow_texel.w));
+    if (mask <= 0.0) continue;
+    sum += e * (mask * svitShadowVisibility(light, p, n, distance_m, phi));
+  }
+  return sum;
 }
 
 void main() {
@@ -89,6 +142,7 @@ void main() {
   }
   vec3 change = irradiance * delta.w + delta.rgb;
   if (u_view == 2) {
+    if (u_masked_end > u_masked_begin) irradiance += maskedIrradiance(v_position, n, v_uv_lightmap);
     o_colour = vec4(svitDeltaFalseColour(change, svitDisplay(base.rgb * irradiance / kPi + emission)), 1.0);
     o_radiance = vec4(o_colour.rgb, kSurfaceKind);
     return;
@@ -96,6 +150,7 @@ void main() {
   if (u_view == 1) irradiance += change + svitDirectIrradiance(v_position, n);
   // A delta may overshoot the baked value (a shadow deeper than the light).
   irradiance = max(irradiance, vec3(0.0));
+  if (u_masked_end > u_masked_begin) irradiance += maskedIrradiance(v_position, n, v_uv_lightmap);
   o_radiance = vec4(base.rgb * irradiance / kPi + emission, kSurfaceKind);
   o_colour = vec4(svitDisplay(o_radiance.rgb), 1.0);
 }

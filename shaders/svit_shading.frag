@@ -13,7 +13,8 @@ struct GpuLight {
   vec4 direction;     // xyz unit travel direction; w: cos(outer cone)
   vec4 intensity;     // rgb candela (point, spot) or lux (directional); w: cos(inner cone)
   vec4 shadow;        // x: 0 none, 1 cube, 2 face; y: layer; z, w: near, far (cube)
-  vec4 shadow_texel;  // x: texel size per metre of distance; y: texel size (m, orthographic)
+  vec4 shadow_texel;  // x: texel size per metre of distance; y: texel size (m, orthographic);
+                      // z, w: a masked light's mask channel and owner (lit_static.frag)
   mat4 shadow_from_world;
 };
 
@@ -51,9 +52,11 @@ float svitShadowFace(GpuLight light, vec3 p, float phi) {
   vec4 clip = light.shadow_from_world * vec4(p, 1.0);
   if (clip.w <= 0.0) return 1.0;
   vec3 ndc = clip.xyz / clip.w;
-  if (abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0 || ndc.z > 1.0) return 1.0;  // outside the map: unshadowed
+  if (abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0) return 1.0;  // outside the map: unshadowed
   vec2 uv = ndc.xy * 0.5 + 0.5;
-  float ref = ndc.z * 0.5 + 0.5;
+  // Beyond the far plane compares as at it: a caster map (fitted to the
+  // dynamic objects) still shadows what lies behind them.
+  float ref = min(ndc.z * 0.5 + 0.5, 1.0);
   int taps = max(u_shadow_taps, 1);
   float lit = 0.0;
   for (int i = 0; i < taps; ++i) {
@@ -69,7 +72,7 @@ float svitShadowCube(GpuLight light, vec3 d, float phi) {
   float major = max(a.x, max(a.y, a.z));
   float n = light.shadow.z, f = light.shadow.w;
   // The depth a 90-degree face with planes n, f stores at eye depth `major`.
-  float ref = 0.5 * ((f + n) / (f - n) - 2.0 * f * n / ((f - n) * major)) + 0.5;
+  float ref = min(0.5 * ((f + n) / (f - n) - 2.0 * f * n / ((f - n) * major)) + 0.5, 1.0);
   vec3 axis = d / max(length(d), 1e-30);
   vec3 t1 = normalize(cross(axis, abs(axis.y) < 0.99 ? vec3(0, 1, 0) : vec3(1, 0, 0)));
   vec3 t2 = cross(axis, t1);
@@ -83,44 +86,53 @@ float svitShadowCube(GpuLight light, vec3 d, float phi) {
   return lit / float(taps);
 }
 
+// Light `light`'s irradiance (lux) at p with unit normal n, unshadowed:
+// inverse square, Lambert cosine, the glTF spot cone as the baker lights it
+// (t^2 between the cone cosines), no range cut-off (the baker ignores range
+// too). `distance_m`: to the light (0 for directional lights).
+vec3 svitUnshadowedIrradiance(GpuLight light, vec3 p, vec3 n, out float distance_m) {
+  int type = int(light.position.w);
+  vec3 l;
+  vec3 e;
+  distance_m = 0.0;
+  if (type == 2) {
+    l = -light.direction.xyz;
+    e = light.intensity.rgb;
+  } else {
+    vec3 v = light.position.xyz - p;
+    float d2 = max(dot(v, v), 1e-12);
+    distance_m = sqrt(d2);
+    l = v / distance_m;
+    e = light.intensity.rgb / d2;
+    if (type == 1) {
+      float c = dot(light.direction.xyz, -l);
+      float t = clamp((c - light.direction.w) / max(light.intensity.w - light.direction.w, 1e-6), 0.0, 1.0);
+      e *= t * t;
+    }
+  }
+  return e * max(dot(n, l), 0.0);
+}
+
+// What of `light` its depth map lets through to p (1 without a map), the
+// PCF pattern rotated by phi (radians).
+float svitShadowVisibility(GpuLight light, vec3 p, vec3 n, float distance_m, float phi) {
+  int kind = int(light.shadow.x);
+  if (kind == 0) return 1.0;
+  float texel_m = light.shadow_texel.x * distance_m + light.shadow_texel.y;
+  vec3 q = p + n * (kNormalOffsetTexels * texel_m);
+  return kind == 1 ? svitShadowCube(light, q - light.position.xyz, phi) : svitShadowFace(light, q, phi);
+}
+
 // Irradiance (lux) at world point p with unit normal n from the lights in
-// [begin, end): inverse square, Lambert cosine, the glTF spot cone as the
-// baker lights it (t^2 between the cone cosines), no range cut-off (the
-// baker ignores range too), shadows where the light has a map, the PCF
-// pattern rotated by phi (radians).
+// [begin, end), shadowed where the light has a map.
 vec3 svitDirectIrradianceRange(vec3 p, vec3 n, int begin, int end, float phi) {
   vec3 sum = vec3(0.0);
   for (int i = begin; i < end; ++i) {
     GpuLight light = lights[i];
-    int type = int(light.position.w);
-    vec3 l;
-    vec3 e;
-    float distance_m = 0.0;
-    if (type == 2) {
-      l = -light.direction.xyz;
-      e = light.intensity.rgb;
-    } else {
-      vec3 v = light.position.xyz - p;
-      float d2 = max(dot(v, v), 1e-12);
-      distance_m = sqrt(d2);
-      l = v / distance_m;
-      e = light.intensity.rgb / d2;
-      if (type == 1) {
-        float c = dot(light.direction.xyz, -l);
-        float t = clamp((c - light.direction.w) / max(light.intensity.w - light.direction.w, 1e-6), 0.0, 1.0);
-        e *= t * t;
-      }
-    }
-    float cos_theta = dot(n, l);
-    if (cos_theta <= 0.0 || max(e.r, max(e.g, e.b)) <= 0.0) continue;
-    float visible = 1.0;
-    int kind = int(light.shadow.x);
-    if (kind != 0) {
-      float texel_m = light.shadow_texel.x * distance_m + light.shadow_texel.y;
-      vec3 q = p + n * (kNormalOffsetTexels * texel_m);
-      visible = kind == 1 ? svitShadowCube(light, q - light.position.xyz, phi) : svitShadowFace(light, q, phi);
-    }
-    sum += e * (cos_theta * visible);
+    float distance_m;
+    vec3 e = svitUnshadowedIrradiance(light, p, n, distance_m);
+    if (max(e.r, max(e.g, e.b)) <= 0.0) continue;
+    sum += e * svitShadowVisibility(light, p, n, distance_m, phi);
   }
   return sum;
 }

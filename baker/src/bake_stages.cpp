@@ -11,6 +11,7 @@
 #include "svit/bake_file.h"
 #include "svit/baker/lightmap_pages.h"
 #include "svit/baker/runtime_sections.h"
+#include "svit/baker/shadow_masks.h"
 #include "svit/level.h"
 #include "svit/lightmap_image.h"
 #include "bake_output.h"
@@ -52,6 +53,10 @@ nlohmann::ordered_json sectionsJson(const BakeData& data) {
        {"proxy", std::to_string(data.proxy.indices.size() / 3) +
                      " LOD-proxy triangles the index maps draw"}},
       {"PROB", {"probes", std::to_string(probes) + " irradiance probes for dynamic objects"}},
+      {"SMSK",
+       {"shadow_masks", std::to_string(data.masks.lights.size()) +
+                            " masked lights' static visibility per lightmap texel over " +
+                            std::to_string(data.masks.channels) + " channels"}},
   };
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (const BakeSectionSize& section : bakeSectionSizes(data)) {
@@ -148,6 +153,66 @@ Expected<nlohmann::ordered_json> addRuntimeSections(BakeRun& run, const Scene& s
     }
   }
   return left_out;
+}
+
+// The report's account of one masked light: its emitter, channel, texels
+// and bytes (a channel of every page, shared with the lights beside it).
+nlohmann::ordered_json maskedLightJson(const Scene& scene, const BakeData& data, size_t k) {
+  const BakeMaskedLight& light = data.masks.lights[k];
+  const BakeEmitter& emitter = data.emitters[light.emitter];
+  size_t texels = 0, page_texels = 0;
+  for (size_t p = 0; p < data.pages.size(); ++p) {
+    texels += maskTexelsOf(data.masks, k, p);
+    page_texels += size_t(data.pages[p].width) * data.pages[p].height;
+  }
+  return {{"light", emitter.kind == BakeEmitter::Kind::kSun ? std::string("sun")
+                                                            : scene.lights[emitter.index].name},
+          {"emitter", light.emitter},
+          {"channel", light.channel},
+          {"texels", texels},
+          {"channel_bytes", page_texels * sizeof(uint16_t)}};
+}
+
+// Shadow masks for a level with dynamic objects (shadow_masks.h), into
+// `data`; returns the report's "shadow_masks" object.
+Expected<nlohmann::ordered_json> addShadowMasks(BakeRun& run, const LoadedLevel& level,
+                                                const AtlasTexels& atlas, BakeData& data,
+                                                nlohmann::ordered_json& left_out) {
+  const MaskChoice choice = chooseMaskedLights(level.scene, run.options.shadow_masks);
+  nlohmann::ordered_json json;
+  nlohmann::ordered_json unmasked = nlohmann::ordered_json::array();
+  for (const UnmaskedLight& u : choice.unmasked)
+    unmasked.push_back({{"light", u.light}, {"reason", u.reason}});
+  if (choice.masked.count() == 0 || !data.has_runtime_sections) {
+    left_out.push_back({{"section", "shadow_masks"}, {"reason", choice.none_reason}});
+    json["lights"] = nlohmann::ordered_json::array();
+    json["unmasked"] = unmasked;
+    return json;
+  }
+  ShadowMaskSettings settings;
+  settings.seed = hashIds(run.options.seed, 0x5ad0);
+  settings.threads = run.options.threads;
+  settings.sun_samples = std::max(16u, run.plan.sun_samples);
+  settings.pages = bakePageSettings(atlas);
+  const double start = run.clock.elapsed();
+  Expected<BakeShadowMasks> masks =
+      buildShadowMasks(level.scene, level.geometry, *level.caster, atlas.atlas, atlas.texels,
+                       choice.masked, data.emitters, settings, run.cancel);
+  if (!masks.ok()) return run.orCancelled(masks.status());
+  data.masks = std::move(*masks);
+  nlohmann::ordered_json lights = nlohmann::ordered_json::array();
+  for (size_t k = 0; k < data.masks.lights.size(); ++k)
+    lights.push_back(maskedLightJson(level.scene, data, k));
+  uint64_t bytes = 0;
+  for (const std::vector<uint16_t>& page : data.masks.pages)
+    bytes += page.size() * sizeof(uint16_t);
+  json["lights"] = lights;
+  json["unmasked"] = unmasked;
+  json["channels"] = data.masks.channels;
+  json["layers"] = data.masks.layers();
+  json["bytes"] = bytes;
+  json["seconds"] = run.clock.elapsed() - start;
+  return json;
 }
 
 // Lightmap texels written by the pass (valid 1) and by dilation (valid 2).
@@ -485,8 +550,9 @@ PageSettings bakePageSettings(const AtlasTexels& atlas) {
   return settings;
 }
 
-TexelLightingSettings passLightingSettings(const BakeRun& run, uint32_t pass) {
+TexelLightingSettings passLightingSettings(const BakeRun& run, const Scene& scene, uint32_t pass) {
   TexelLightingSettings settings;
+  settings.masked = chooseMaskedLights(scene, run.options.shadow_masks).masked;
   settings.threads = run.options.threads;
   settings.gather_rays = run.plan.gather_rays;
   settings.area_light_samples = run.plan.area_light_samples;
@@ -525,6 +591,8 @@ Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
     left_out->push_back(
         {{"section", "back_uvs"}, {"reason", "the level has no double-sided static triangles"}});
   }
+  Expected<nlohmann::ordered_json> masks = addShadowMasks(run, level, atlas, data, *left_out);
+  if (!masks.ok()) return masks.status();
   if (!run.clock.report(1, run.clock.remaining())) return run.cancelled;
   run.clock.endStage("write");
 
@@ -532,6 +600,7 @@ Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
       reportJson(run, ReportInputs{level.scene, level.level_hash, level.degenerate, solver,
                                    atlas.settings, atlas.atlas, atlas.texels, pages, lighting, data,
                                    *left_out, with_reference});
+  json["shadow_masks"] = *masks;
   for (const auto& [key, value] : extra_report.items()) json[key] = value;
   return writeBake(run, pages, data, lighting.series, json);
 }

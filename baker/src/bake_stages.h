@@ -128,8 +128,9 @@ double referenceError(const TexelSet& texels, const std::vector<LightmapImage>& 
 /// How the bake's pages are made from its texels (dilation, filter).
 PageSettings bakePageSettings(const AtlasTexels& atlas);
 
-/// The texel lighting settings of the plan's pass `pass` (its seed).
-TexelLightingSettings passLightingSettings(const BakeRun& run, uint32_t pass);
+/// The texel lighting settings of the plan's pass `pass` (its seed, and
+/// the lights whose shadow masks hold their direct light).
+TexelLightingSettings passLightingSettings(const BakeRun& run, const Scene& scene, uint32_t pass);
 
 // What the lighting passes leave: their running mean and the error series
 // (the solver's points, then one per pass).

@@ -7,6 +7,7 @@
 
 #include "svit/bake_file.h"
 #include "svit/baked_surfaces.h"
+#include "svit/masked_lights.h"
 #include "svit/level.h"
 #include "svit/lightmap_image.h"
 
@@ -47,6 +48,9 @@ Expected<std::vector<ProbeResult>> probeBake(const std::string& out_dir,
     return Status(surfaces.status().code(), bake_path + ": " + surfaces.status().message());
   Expected<std::vector<LightmapImage>> pages = readLightmapPages(*bake, out_dir);
   if (!pages.ok()) return pages.status();
+  Expected<MaskedLightField> masked = MaskedLightField::create(*scene, *bake);
+  if (!masked.ok())
+    return Status(masked.status().code(), out_dir + "/" + masked.status().message());
   const double cos_limit = 0.5;  // 60 degrees
   std::vector<ProbeResult> results;
   for (const ProbePoint& point : points) {
@@ -60,6 +64,13 @@ Expected<std::vector<ProbeResult>> probeBake(const std::string& out_dir,
     }
     ProbeResult result;
     result.irradiance = (*pages)[hit->page].sampleBilinear(hit->uv);
+    if (!masked->empty()) {  // the lightmap leaves the masked lights' direct light to shading
+      const Vec3& n = surfaces->normal(hit->triangle);
+      const Vec3 side = hit->side == 0 ? n : Vec3{-n.x, -n.y, -n.z};
+      const Rgb m = masked->bakedIrradiance(hit->point, side, hit->page, hit->uv);
+      result.irradiance = {result.irradiance.r + m.r, result.irradiance.g + m.g,
+                           result.irradiance.b + m.b};
+    }
     result.surface_point = hit->point;
     result.distance_m = hit->distance_m;
     result.triangle = hit->triangle;

@@ -62,28 +62,41 @@ struct TexelLights {
   double emitter_total = 0;
 };
 
-void collectAnalyticLights(const Scene& scene, TexelLights& lights) {
-  for (const Light& light : scene.lights) {
-    if (light.dynamic) continue;  // runtime lights are lit at run time
-    const glm::dvec3 intensity = dvec(light.color) * double(light.intensity);
+bool isMasked(const MaskedLights& masked, uint32_t light) {
+  return std::find(masked.lights.begin(), masked.lights.end(), light) != masked.lights.end();
+}
+
+PointLight pointLightOf(const Light& light) {
+  PointLight p;
+  p.position = dvec(light.position);
+  p.intensity = dvec(light.color) * double(light.intensity);
+  p.spot = light.type == LightType::kSpot;
+  p.axis = glm::normalize(dvec(light.direction));
+  p.cos_inner = std::cos(double(light.inner_cone_rad));
+  p.cos_outer = std::cos(double(light.outer_cone_rad));
+  return p;
+}
+
+DirectionalLight sunOf(const Sun& sun) {
+  return {-glm::normalize(dvec(sun.direction_to_sun)),
+          dvec(sun.color) * double(sun.illuminance_lux), std::cos(double(sun.angular_radius_rad))};
+}
+
+// The static lights the lightmap's direct light sums: all but the masked
+// ones (their shadow masks hold their direct light).
+void collectAnalyticLights(const Scene& scene, const MaskedLights& masked, TexelLights& lights) {
+  for (uint32_t i = 0; i < scene.lights.size(); ++i) {
+    const Light& light = scene.lights[i];
+    if (light.dynamic || isMasked(masked, i)) continue;  // runtime lights are lit at run time
     if (light.type == LightType::kDirectional) {
-      lights.directionals.push_back({glm::normalize(dvec(light.direction)), intensity, 1.0});
+      lights.directionals.push_back({glm::normalize(dvec(light.direction)),
+                                     dvec(light.color) * double(light.intensity), 1.0});
     } else {
-      PointLight p;
-      p.position = dvec(light.position);
-      p.intensity = intensity;
-      p.spot = light.type == LightType::kSpot;
-      p.axis = glm::normalize(dvec(light.direction));
-      p.cos_inner = std::cos(double(light.inner_cone_rad));
-      p.cos_outer = std::cos(double(light.outer_cone_rad));
-      lights.points.push_back(p);
+      lights.points.push_back(pointLightOf(light));
     }
   }
-  if (scene.sun.enabled && scene.sun.illuminance_lux > 0) {
-    lights.directionals.push_back({-glm::normalize(dvec(scene.sun.direction_to_sun)),
-                                   dvec(scene.sun.color) * double(scene.sun.illuminance_lux),
-                                   std::cos(double(scene.sun.angular_radius_rad))});
-  }
+  if (scene.sun.enabled && scene.sun.illuminance_lux > 0 && !masked.sun)
+    lights.directionals.push_back(sunOf(scene.sun));
 }
 
 void collectEmitters(const BakeGeometry& geometry, TexelLights& lights) {
@@ -189,25 +202,28 @@ void addPointLightRays(const LightingContext& c, Rng& rng, TexelRays& t) {
 
 // Directional lights and the sun's disk (uniform radiance over the cone:
 // E = E_sun * (solid angle / (pi sin^2 a)) * mean(cos * visible)).
-void addDirectionalRays(const LightingContext& c, Rng& rng, TexelRays& t) {
-  for (const DirectionalLight& light : c.lights.directionals) {
-    const glm::dvec3 toward = -light.travel;
-    if (light.cos_radius >= 1.0) {
-      const double cos_r = glm::dot(t.n, toward);
-      if (cos_r > 0) t.shadowAlong(toward, light.illuminance * cos_r);
-      continue;
-    }
-    const double sin2 = 1.0 - light.cos_radius * light.cos_radius;
-    const double scale = 2.0 * kPi * (1.0 - light.cos_radius) / (kPi * sin2);
-    const uint32_t count = c.settings.sun_samples;
-    for (uint32_t s = 0; s < count; ++s) {
-      const double cos_theta =
-          1.0 - (double(s) + rng.uniformDouble()) / double(count) * (1.0 - light.cos_radius);
-      const glm::dvec3 d = directionAt(toward, cos_theta, rng.uniformDouble());
-      const double cos_r = glm::dot(t.n, d);
-      if (cos_r > 0) t.shadowAlong(d, light.illuminance * (scale * cos_r / double(count)));
-    }
+void addDirectionalLightRays(const DirectionalLight& light, uint32_t disk_samples, Rng& rng,
+                             TexelRays& t) {
+  const glm::dvec3 toward = -light.travel;
+  if (light.cos_radius >= 1.0) {
+    const double cos_r = glm::dot(t.n, toward);
+    if (cos_r > 0) t.shadowAlong(toward, light.illuminance * cos_r);
+    return;
   }
+  const double sin2 = 1.0 - light.cos_radius * light.cos_radius;
+  const double scale = 2.0 * kPi * (1.0 - light.cos_radius) / (kPi * sin2);
+  for (uint32_t s = 0; s < disk_samples; ++s) {
+    const double cos_theta =
+        1.0 - (double(s) + rng.uniformDouble()) / double(disk_samples) * (1.0 - light.cos_radius);
+    const glm::dvec3 d = directionAt(toward, cos_theta, rng.uniformDouble());
+    const double cos_r = glm::dot(t.n, d);
+    if (cos_r > 0) t.shadowAlong(d, light.illuminance * (scale * cos_r / double(disk_samples)));
+  }
+}
+
+void addDirectionalRays(const LightingContext& c, Rng& rng, TexelRays& t) {
+  for (const DirectionalLight& light : c.lights.directionals)
+    addDirectionalLightRays(light, c.settings.sun_samples, rng, t);
 }
 
 // A point on an emitter triangle for the texel at `p` (normal `n`), and
@@ -445,7 +461,7 @@ Expected<std::vector<TexelIrradiance>> lightTexelList(
     }
   }
   TexelLights lights;
-  collectAnalyticLights(scene, lights);
+  collectAnalyticLights(scene, settings.masked, lights);
   collectEmitters(geometry, lights);
   solver.prepareQueries(settings.solution);
   const int threads = resolveThreads(settings.threads);
@@ -476,7 +492,7 @@ std::vector<uint32_t> texelRayCounts(const Scene& scene, const BakeGeometry& geo
                                      const TexelSet& texels,
                                      const TexelLightingSettings& settings) {
   TexelLights lights;
-  collectAnalyticLights(scene, lights);
+  collectAnalyticLights(scene, settings.masked, lights);
   collectEmitters(geometry, lights);
   const LightingContext context{scene, geometry, caster, solver, settings, lights};
   std::vector<uint32_t> counts(texels.samples.size());
@@ -488,6 +504,109 @@ std::vector<uint32_t> texelRayCounts(const Scene& scene, const BakeGeometry& geo
     }
   });
   return counts;
+}
+
+namespace {
+
+// A masked light as maskVisibility casts it.
+struct MaskedLightRays {
+  bool directional = false;
+  PointLight point;
+  DirectionalLight sun_or_directional;
+};
+
+// masked.lights in order, then the sun.
+std::vector<MaskedLightRays> maskedLightRays(const Scene& scene, const MaskedLights& masked) {
+  std::vector<MaskedLightRays> out;
+  for (uint32_t i : masked.lights) {
+    const Light& light = scene.lights[i];
+    MaskedLightRays m;
+    m.directional = light.type == LightType::kDirectional;
+    if (m.directional) {
+      m.sun_or_directional = {glm::normalize(dvec(light.direction)),
+                              dvec(light.color) * double(light.intensity), 1.0};
+    } else {
+      m.point = pointLightOf(light);
+    }
+    out.push_back(m);
+  }
+  if (masked.sun) {
+    MaskedLightRays m;
+    m.directional = true;
+    m.sun_or_directional = sunOf(scene.sun);
+    out.push_back(m);
+  }
+  return out;
+}
+
+// One texel's visibility of each masked light: its rays' unshadowed
+// irradiance that arrives over all of it, 0 where none has any.
+void texelVisibility(const RayCaster& caster, const std::vector<MaskedLightRays>& lights,
+                     uint32_t disk_samples, Rng& rng, TexelRays& t, float* visibility) {
+  t.rays.clear();
+  t.contributions.clear();
+  std::vector<size_t> ends;
+  ends.reserve(lights.size());
+  for (const MaskedLightRays& light : lights) {
+    if (light.directional) {
+      addDirectionalLightRays(light.sun_or_directional, disk_samples, rng, t);
+    } else {
+      const glm::dvec3 e = pointIrradiance(light.point, t.p, t.n);
+      if (luminanceOf(e) > 0) t.shadowTo(light.point.position, e);
+    }
+    ends.push_back(t.rays.size());
+  }
+  t.hits.resize(t.rays.size());
+  caster.intersect(t.rays, t.hits);
+  size_t begin = 0;
+  for (size_t k = 0; k < lights.size(); ++k) {
+    double seen = 0, total = 0;
+    for (size_t r = begin; r < ends[k]; ++r) {
+      const double w = luminanceOf(t.contributions[r].weight);
+      total += w;
+      if (!t.hits[r].hit()) seen += w;
+    }
+    visibility[k] = total > 0 ? float(seen / total) : 0.0f;
+    begin = ends[k];
+  }
+}
+
+}  // namespace
+
+Expected<std::vector<float>> maskVisibility(const Scene& scene, const BakeGeometry& geometry,
+                                            const RayCaster& caster, const TexelSet& texels,
+                                            const TexelLightingSettings& settings,
+                                            const std::atomic<bool>* cancel) {
+  for (uint32_t i : settings.masked.lights) {
+    if (i >= scene.lights.size() || scene.lights[i].dynamic) {
+      return Status(StatusCode::kInvalidInput,
+                    "shadow masks: light " + std::to_string(i) + " is not a static light");
+    }
+  }
+  const std::vector<MaskedLightRays> lights = maskedLightRays(scene, settings.masked);
+  const size_t count = lights.size();
+  std::vector<float> out(texels.samples.size() * count, 0.0f);
+  const auto visibilityRange = [&](size_t begin, size_t end) {
+    TexelRays t;
+    for (size_t j = begin; j < end; ++j) {
+      const TexelSample& sample = texels.samples[j];
+      Rng rng(hashIds(settings.seed, 0x5ad0, j));
+      t.p = dvec(sample.position);
+      t.n = dvec(sample.normal);
+      t.origin = offsetRayOrigin(sample.position, sample.normal,
+                                 cornerMagnitude(geometry, sample.triangle));
+      t.o = dvec(t.origin);
+      texelVisibility(caster, lights, settings.sun_samples, rng, t, &out[j * count]);
+    }
+  };
+  const size_t block = 16384;  // cancellation is checked between blocks
+  for (size_t begin = 0; begin < texels.samples.size(); begin += block) {
+    const size_t end = std::min(texels.samples.size(), begin + block);
+    parallelFor(end - begin, 64, resolveThreads(settings.threads),
+                [&](size_t b, size_t e) { visibilityRange(begin + b, begin + e); });
+    if (cancel && cancel->load()) return Status(StatusCode::kCancelled, "shadow masks: cancelled");
+  }
+  return out;
 }
 
 Expected<std::vector<TexelIrradiance>> lightTexels(

@@ -33,7 +33,7 @@ void usage(FILE* out) {
       out,
       "usage: svit-bake LEVEL -o OUT [--seed N] [--time SECONDS | --passes P] [--quality Q]\n"
       "                 [--texels-per-m T] [--threads N] [--reference REF_OUT]\n"
-      "                 [--sun JSON] [--sky JSON] [--quiet]\n"
+      "                 [--sun JSON] [--sky JSON] [--no-shadow-masks] [--quiet]\n"
       "       svit-bake plan LEVEL -o WORK --shards N [--passes P] [the options above]\n"
       "       svit-bake shard WORK I [--threads N] [--quiet]\n"
       "       svit-bake merge WORK -o OUT [--threads N] [--quiet]\n"
@@ -52,6 +52,9 @@ void usage(FILE* out) {
       "  --sky JSON       its sky, e.g. '{\"model\": \"uniform\", \"zenith_luminance\": [3000, "
       "3000, 3000]}';\n"
       "                   with either, OUT/level.json is the level baked (walk that one)\n"
+      "  --no-shadow-masks  keep the baked lights' direct light in the lightmap even\n"
+      "                   with dynamic objects (their shadows from those lights are then\n"
+      "                   per runtime patch, not per pixel)\n"
       "  --quiet          print nothing but errors\n"
       "Ctrl-C or SIGTERM cancels (exit 3) and leaves OUT as it was; a kill or a full\n"
       "disk leaves it the previous bake or the whole new one.\n"
@@ -142,6 +145,8 @@ int parseOptions(int argc, char** argv, int first, svit::baker::BakeOptions& opt
       (arg == "--reference" ? options.reference_dir
        : arg == "--sun"     ? options.sun_json
                             : options.sky_json) = argv[++i];
+    } else if (arg == "--no-shadow-masks") {
+      options.shadow_masks = false;
     } else if (arg == "--quiet") {
       quiet = true;
     } else if (!arg.empty() && arg[0] == '-') {
@@ -166,6 +171,8 @@ int checkCommand(const std::vector<std::string>& positional, svit::baker::BakeOp
   if (command.verb.empty() || command.verb == "plan") {
     options.level_path = positional[0];
     if (command.verb == "plan" && command.shards == 0) return badUsage("plan needs --shards N");
+    if (command.verb == "plan" && !options.shadow_masks)
+      return badUsage("--no-shadow-masks is for whole bakes only: a plan's shards always mask");
     const svit::Status s = command.verb == "plan"
                                ? svit::baker::validatePlanOptions(options, command.shards)
                                : svit::baker::validateBakeOptions(options);

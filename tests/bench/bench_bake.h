@@ -22,9 +22,10 @@ namespace svit::test {
 // a time budget makes it machine-dependent) unless a bake with the same
 // stamp is there.
 inline BakedLevel bakeOnce(const std::string& level, const std::string& dir, double quality,
-                           uint64_t seed = 7, double time_s = 0) {
+                           uint64_t seed = 7, double time_s = 0, bool shadow_masks = true) {
   std::ostringstream stamp;
-  stamp << level << " quality " << quality << " seed " << seed << " time " << time_s;
+  stamp << level << " quality " << quality << " seed " << seed << " time " << time_s
+        << (shadow_masks ? "" : " no-shadow-masks");
   std::ifstream old(dir + "/stamp");
   const std::string previous((std::istreambuf_iterator<char>(old)),
                              std::istreambuf_iterator<char>());
@@ -35,6 +36,7 @@ inline BakedLevel bakeOnce(const std::string& level, const std::string& dir, dou
     options.quality = quality;
     options.seed = seed;
     if (time_s > 0) options.time_budget_s = time_s;
+    options.shadow_masks = shadow_masks;
     const auto t0 = std::chrono::steady_clock::now();
     Expected<baker::BakeResult> result = baker::bakeLevel(options, nullptr, nullptr);
     SVIT_SETUP_CHECK(result.ok(), result.status().message());

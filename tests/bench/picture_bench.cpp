@@ -8,7 +8,7 @@
 // times. Runtime lights are switched off (neither bake has them).
 // usage: bench_picture --level LEVEL.json --work DIR --json OUT [--frames 90] [--samples 32]
 //        [--reference-frames 0,10,30] [--quality 0.1] [--time 8] [--width 320 --height 180]
-//        [--exposure 1] [--png-prefix P]
+//        [--exposure 1] [--png-prefix P] [--shadow-masks 0|1]
 // Runs under xvfb-run; bakes go to DIR and are reused while their stamp matches.
 
 #include <algorithm>
@@ -46,6 +46,7 @@ struct Options {
   std::set<int> reference_frames{0, 10, 30};
   double quality = 0.1, time_s = 8;
   float exposure = 1;
+  bool shadow_masks = true;  ///< --shadow-masks 0: the base bake without (before issue 21)
 };
 
 double msSince(Clock::time_point t0) {
@@ -120,6 +121,8 @@ bool parseArgs(int argc, char** argv, Options& o) {
       o.quality = std::atof(v.c_str());
     else if (arg == "--time")
       o.time_s = std::atof(v.c_str());
+    else if (arg == "--shadow-masks")
+      o.shadow_masks = v != "0";
     else if (arg == "--exposure")
       o.exposure = float(std::atof(v.c_str()));
     else
@@ -159,7 +162,8 @@ int main(int argc, char** argv) {
   }
   const std::string gl = checkGlContext()->renderer;
   std::filesystem::create_directories(o.work);
-  const BakedLevel base = bakeOnce(o.level, o.work + "/base", o.quality, 7, o.time_s);
+  const BakedLevel base =
+      bakeOnce(o.level, o.work + "/base", o.quality, 7, o.time_s, o.shadow_masks);
 
   SceneRendererSettings settings;
   settings.width = o.width;
@@ -236,6 +240,7 @@ int main(int argc, char** argv) {
                         {"samples_per_frame", o.samples},
                         {"bake_quality", o.quality},
                         {"bake_time_s", o.time_s},
+                        {"shadow_masks", o.shadow_masks},
                         {"create_ms", create_ms},
                         {"first_frame_ms", first_frame_ms},
                         {"mean_frame_ms", sum_ms / double(frames.size())},

@@ -18,8 +18,8 @@ TEST(RuntimePatches, SubTrianglesAreFoundFromBarycentrics) {
   Expected<std::vector<LightmapImage>> pages = readLightmapPages(level.bake, level.dir);
   ASSERT_TRUE(pages.ok());
   const double max_area = 0.01;
-  Expected<gl::RuntimePatches> built =
-      gl::buildRuntimePatches(level.scene, level.bake, *surfaces, *pages, max_area, 0.1);
+  Expected<gl::RuntimePatches> built = gl::buildRuntimePatches(
+      level.scene, level.bake, *surfaces, *pages, MaskedLightField(), max_area, 0.1);
   ASSERT_TRUE(built.ok()) << built.status().message();
   const gl::RuntimePatches& p = *built;
   for (const gl::Receiver& r : p.receivers) EXPECT_LE(r.area_m2, max_area * 1.001);

@@ -59,6 +59,20 @@ std::string cornellStaticLevel() {
   return writeLevel("cornell_static", R"({"gltf": ")" + cornellGltf() + R"("})");
 }
 
+// The Cornell box with a baked point lamp (2 cd under the ceiling, off
+// centre, as bright there as the ceiling lamp), the tall box dynamic or
+// not, the point lamp present or not.
+std::string cornellPointLampLevel(bool box_dynamic, bool with_lamp = true) {
+  const std::string name =
+      std::string("cornell_point_lamp") + (box_dynamic ? "_box" : "") + (with_lamp ? "" : "_unlit");
+  const std::string lamp =
+      R"({"name": "point_lamp", "type": "point", "position": [-0.3, 1.3, 0.3], "color": [1, 1, 1],
+          "intensity_cd": 2})";
+  return writeLevel(name, R"({"gltf": ")" + cornellGltf() + R"(", )" +
+                              (box_dynamic ? R"("dynamic": ["tallBox"], )" : "") +
+                              R"("lights": [)" + (with_lamp ? lamp : "") + "]}");
+}
+
 // The tall box moved 25 cm and turned 30 degrees (the sample level's path key).
 constexpr Vec3 kMovedTranslation{0.25f, 0, 0.1f};
 constexpr Quat kMovedRotation{0, 0.2588190f, 0, 0.9659258f};
@@ -330,6 +344,103 @@ TEST(RuntimePicture, CornellLampOffIsBlackAndDimmedIsHalf) {
                     .ok());
     EXPECT_LE(residue, 0.02) << "lamp at " << scale;
   }
+}
+
+// The box moved in the light of a baked point lamp: with its shadow mask,
+// the box's shadow from the lamp is shaded per pixel from its caster map;
+// without (--no-shadow-masks), per runtime patch. The masked walk settles
+// to at most half the patch-only walk's error (above the noise floor).
+TEST(RuntimePicture, PointLampShadowOfTheMovedBoxIsPerPixel) {
+  test::GlTestContext context;
+  SVIT_REQUIRE_GL(context);
+  const Camera camera = cornellFrontCamera();
+  const std::string work = (fs::temp_directory_path() / "svit_scene_renderer_test").string();
+  const std::string moved =
+      test::writeLevelWithNodeStatic(cornellPointLampLevel(true), "tallBox", kMovedTranslation,
+                                     kMovedRotation, work, "cornell_point_lamp_moved");
+  const LinearFrame reference = bakedPicture(bakedLevel(moved, kReferenceBake), camera);
+  const Bounds bounds = noiseFloor(moved, reference, camera);
+  const Mat4 pose = placeAt(kMovedTranslation, kMovedRotation);
+  const Walk masked = walkAgainst(bakedLevel(cornellPointLampLevel(true), kRuntimeBake), "tallBox",
+                                  pose, reference, camera, "svit_picture_point_lamp_masked");
+  TestBake patch_only = kRuntimeBake;
+  patch_only.shadow_masks = false;
+  const Walk patches = walkAgainst(bakedLevel(cornellPointLampLevel(true), patch_only), "tallBox",
+                                   pose, reference, camera, "svit_picture_point_lamp_patches");
+  ASSERT_FALSE(masked.frames.empty());
+  ASSERT_FALSE(patches.frames.empty());
+  const double settled = masked.frames.back().static_rel_rms;
+  const double patch_settled = patches.frames.back().static_rel_rms;
+  std::printf("settled static error: masked %.4f, patch-only %.4f, noise floor %.4f\n", settled,
+              patch_settled, bounds.noise_floor);
+  EXPECT_LE(settled, std::max(0.5 * patch_settled, std::sqrt(2.0) * bounds.noise_floor));
+  expectConverges(masked, bounds);
+}
+
+// A lamp's light as the runtime shows it at 1, 0 and 0.5 (nothing moving).
+struct DimmedFrames {
+  LinearFrame on, off, half;
+};
+
+DimmedFrames dimmedFrames(const BakedLevel& level, uint32_t lamp, const Camera& camera) {
+  DimmedFrames out;
+  Viewer v = makeViewer(level, 0);
+  if (!v.renderer) return out;
+  auto frameAt = [&](float scale) {
+    EXPECT_TRUE(v.runtime->setBakedEmitterScale(lamp, scale).ok());
+    EXPECT_TRUE(v.renderer->setBakedEmitterScale(lamp, scale).ok());
+    v.runtime->update(0);
+    EXPECT_TRUE(v.renderer->render(camera, ShadingView::kRuntime).ok());
+    return readLinearFrame(*v.renderer);
+  };
+  out.on = frameAt(1);
+  out.off = frameAt(0);
+  out.half = frameAt(0.5f);
+  return out;
+}
+
+uint32_t pointLampEmitter(const BakeData& bake) {
+  for (uint32_t e = 0; e < bake.emitters.size(); ++e)
+    if (bake.emitters[e].kind == BakeEmitter::Kind::kLight) return e;
+  return kInvalidId;
+}
+
+// A masked lamp switched off leaves nothing of its direct light (per
+// pixel) and its bounce goes as the runtime's patch deltas take it: the
+// picture is the bake of the level without the lamp to within the
+// runtime's bounce error, no worse than the lightmap factor of a bake
+// without masks; dimmed to 0.5 (nothing moving) it is exactly halfway
+// between on and off, per pixel.
+TEST(RuntimePicture, MaskedLampOffLeavesNoDirectResidueAndDimmedIsHalfway) {
+  test::GlTestContext context;
+  SVIT_REQUIRE_GL(context);
+  const Camera camera = cornellFrontCamera();
+  const BakedLevel& level = bakedLevel(cornellPointLampLevel(true), kRuntimeBake);
+  ASSERT_EQ(level.bake.masks.lights.size(), 1u);
+  const DimmedFrames masked = dimmedFrames(level, level.bake.masks.lights[0].emitter, camera);
+  TestBake patch_only = kRuntimeBake;
+  patch_only.shadow_masks = false;
+  const BakedLevel& unmasked_level = bakedLevel(cornellPointLampLevel(true), patch_only);
+  const DimmedFrames unmasked =
+      dimmedFrames(unmasked_level, pointLampEmitter(unmasked_level.bake), camera);
+  LinearFrame halfway = masked.on;
+  for (size_t i = 0; i < halfway.rgb.size(); ++i)
+    halfway.rgb[i] = 0.5f * (masked.on.rgb[i] + masked.off.rgb[i]);
+  const double on_mean = test::meanLuminance(masked.on, SurfaceKind::kStatic);
+  const double half_residue = comparePictures(masked.half, halfway).static_rms / on_mean;
+  const LinearFrame unlit =
+      bakedPicture(bakedLevel(cornellPointLampLevel(true, false), kRuntimeBake), camera);
+  const double off_error = comparePictures(masked.off, unlit).static_rel_rms;
+  const double unmasked_off_error = comparePictures(unmasked.off, unlit).static_rel_rms;
+  std::printf(
+      "lamp off against the unlit bake: %.4f masked, %.4f lightmap factor (no masks); at 0.5: "
+      "RMS %.5f of the lit mean from halfway\n",
+      off_error, unmasked_off_error, half_residue);
+  EXPECT_TRUE(
+      test::writeComparisonPng(pngPath("svit_picture_masked_lamp_off.png"), masked.off, unlit, 1)
+          .ok());
+  EXPECT_LE(half_residue, 0.005);
+  EXPECT_LE(off_error, unmasked_off_error);
 }
 
 }  // namespace

@@ -52,8 +52,10 @@ struct TestBake {
   uint64_t seed = 1;
   double quality = 1;
   uint32_t passes = 1;
+  bool shadow_masks = true;  ///< BakeOptions::shadow_masks
   bool operator<(const TestBake& o) const {
-    return std::tie(seed, quality, passes) < std::tie(o.seed, o.quality, o.passes);
+    return std::tie(seed, quality, passes, shadow_masks) <
+           std::tie(o.seed, o.quality, o.passes, o.shadow_masks);
   }
 };
 
@@ -69,7 +71,7 @@ inline const BakedLevel& bakedLevel(const std::string& level_path, const TestBak
   const uint64_t hash = hashLevel(level.scene);
   const std::string name = hex(hash) + "-s" + std::to_string(how.seed) + "-q" +
                            std::to_string(int(how.quality * 1000)) + "-p" +
-                           std::to_string(how.passes);
+                           std::to_string(how.passes) + (how.shadow_masks ? "-masks" : "-nomasks");
   level.dir = (fs::temp_directory_path() / "svit_scene_renderer_test" / name).string();
   Expected<BakeData> bake = readBakeFile(level.dir + "/bake.svit");
   if (!bake.ok() || bake->level_hash != hash) {
@@ -80,6 +82,7 @@ inline const BakedLevel& bakedLevel(const std::string& level_path, const TestBak
     options.quality = how.quality;
     options.passes = how.passes;
     options.seed = how.seed;
+    options.shadow_masks = how.shadow_masks;
     Expected<baker::BakeResult> result = baker::bakeLevel(options, nullptr, nullptr);
     EXPECT_TRUE(result.ok()) << result.status().message();
     bake = readBakeFile(level.dir + "/bake.svit");

@@ -1,7 +1,7 @@
-// bake.svit: round trip of every section (bitwise), static-only files, and
-// every validation path of the reader (truncation, corruption, magic,
-// version, huge counts, bad indices) and of the writer (bad data refused,
-// previous file untouched, no .tmp left).
+// bake.svit: round trip of every section (bitwise; shadow masks on their
+// own bake), static-only files, and every validation path of the reader
+// (truncation, corruption, magic, version, huge counts, bad indices) and of
+// the writer (bad data refused, previous file untouched, no .tmp left).
 //
 // The tests that corrupt a file on purpose find sections with their own
 // small parser of the documented layout ("SVITBAKE", u32 version, u32
@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -205,6 +206,97 @@ BakeData staticBake() {
   return d;
 }
 
+// Index of a texel's value in a mask page (BakeShadowMasks::pages order:
+// layer, row, texel, the 4 channels of the layer).
+size_t maskIndex(const BakeLightmapPage& page, uint32_t x, uint32_t y, uint32_t channel) {
+  const size_t layer = channel / 4;
+  return ((layer * page.height + y) * page.width + x) * 4 + channel % 4;
+}
+
+// fullBake() plus shadow masks: 3 more point lights (emitters 3..5) and 5
+// masked lights over 2 channels. Channel 0 holds emitters 0, 3, 4 (owners
+// 1, 2, 3), lighting the left, middle and right thirds of each page;
+// channel 1 the sun (emitter 1, owner 1) over the top half and emitter 5
+// (owner 2, a cellar lamp) over the bottom half. Some texels no light of a
+// channel reaches (owner 0); channels 2 and 3 of the one layer are unused (0).
+BakeData maskedBake() {
+  BakeData d = fullBake();
+  for (uint32_t light = 1; light <= 3; ++light) {
+    BakeEmitter lamp;
+    lamp.kind = BakeEmitter::Kind::kLight;
+    lamp.index = light;
+    lamp.flux = {50, 50, 50};
+    lamp.patches = {light - 1};
+    lamp.factors = {0.5f};
+    d.emitters.push_back(lamp);
+  }
+  d.masks.lights = {{0, 0, 1}, {1, 1, 1}, {3, 0, 2}, {4, 0, 3}, {5, 1, 2}};
+  d.masks.channels = 2;
+  for (const BakeLightmapPage& page : d.pages) {
+    std::vector<uint16_t> values(size_t(d.masks.layers()) * page.width * page.height * 4, 0);
+    for (uint32_t y = 0; y < page.height; ++y) {
+      for (uint32_t x = 0; x < page.width; ++x) {
+        const uint32_t visibility = (x * 7 + y * 3) & 255;  // 0..255, both ends hit
+        const uint32_t third = x * 3 / page.width;          // owner - 1 in channel 0
+        const bool dark = (x + y) % 5 == 0;                 // no channel-0 light reaches it
+        values[maskIndex(page, x, y, 0)] =
+            uint16_t(dark ? visibility : (third + 1) << 8 | visibility);
+        const uint32_t half_owner = y < page.height / 2 ? 1 : 2;
+        values[maskIndex(page, x, y, 1)] = uint16_t(half_owner << 8 | (255 - visibility));
+      }
+    }
+    d.masks.pages.push_back(std::move(values));
+  }
+  return d;
+}
+
+// An SMSK payload by the documented layout: u32 light count, {u32 emitter,
+// u32 channel, u32 owner}..., u32 channels, u32 page count, {u64 value
+// count, u16 values}...
+std::vector<uint8_t> shadowMaskPayload(const BakeShadowMasks& masks) {
+  std::vector<uint8_t> b;
+  auto u32 = [&](uint32_t v) {
+    for (int i = 0; i < 4; ++i) b.push_back(uint8_t(v >> (8 * i)));
+  };
+  u32(uint32_t(masks.lights.size()));
+  for (const BakeMaskedLight& light : masks.lights) {
+    u32(light.emitter);
+    u32(light.channel);
+    u32(light.owner);
+  }
+  u32(masks.channels);
+  u32(uint32_t(masks.pages.size()));
+  for (const std::vector<uint16_t>& page : masks.pages) {
+    u32(uint32_t(page.size()));
+    u32(uint32_t(uint64_t(page.size()) >> 32));
+    for (uint16_t v : page) {
+      b.push_back(uint8_t(v));
+      b.push_back(uint8_t(v >> 8));
+    }
+  }
+  return b;
+}
+
+// Puts `payload` in the file's SMSK section (appended as the last section
+// when there is none), fixing the section size, count and checksum.
+void replaceShadowMasks(std::vector<uint8_t>& b, const std::vector<uint8_t>& payload) {
+  for (const SectionAt& s : sectionTable(b)) {
+    if (s.tag != "SMSK") continue;
+    b.erase(b.begin() + std::ptrdiff_t(s.payload),
+            b.begin() + std::ptrdiff_t(s.payload + size_t(s.size)));
+    b.insert(b.begin() + std::ptrdiff_t(s.payload), payload.begin(), payload.end());
+    putU64(b, s.header + 4, payload.size());
+    fixChecksum(b);
+    return;
+  }
+  std::vector<uint8_t> section = {'S', 'M', 'S', 'K', 0, 0, 0, 0, 0, 0, 0, 0};
+  putU64(section, 4, payload.size());
+  section.insert(section.end(), payload.begin(), payload.end());
+  b.insert(b.end() - 8, section.begin(), section.end());
+  putU32(b, 12, getU32(b, 12) + 1);
+  fixChecksum(b);
+}
+
 uint32_t bits(float v) { return std::bit_cast<uint32_t>(v); }
 
 // Bitwise equality of floats (so -0 vs 0 and denormals count), exact for the rest.
@@ -300,6 +392,17 @@ void expectSameBake(const BakeData& a, const BakeData& b) {
   ASSERT_EQ(a.probes.sh.size(), b.probes.sh.size());
   for (size_t i = 0; i < a.probes.sh.size(); ++i)
     expectSameFloat(a.probes.sh[i], b.probes.sh[i], "sh");
+  ASSERT_EQ(a.masks.lights.size(), b.masks.lights.size());
+  for (size_t i = 0; i < a.masks.lights.size(); ++i) {
+    const std::string w = "masked light " + std::to_string(i);
+    EXPECT_EQ(a.masks.lights[i].emitter, b.masks.lights[i].emitter) << w;
+    EXPECT_EQ(a.masks.lights[i].channel, b.masks.lights[i].channel) << w;
+    EXPECT_EQ(a.masks.lights[i].owner, b.masks.lights[i].owner) << w;
+  }
+  EXPECT_EQ(a.masks.channels, b.masks.channels);
+  ASSERT_EQ(a.masks.pages.size(), b.masks.pages.size());
+  for (size_t p = 0; p < a.masks.pages.size(); ++p)
+    EXPECT_TRUE(a.masks.pages[p] == b.masks.pages[p]) << "mask page " << p << " differs";
 }
 
 TEST_F(BakeFileTest, RoundTripOfEverySectionIsBitwiseEqual) {
@@ -328,6 +431,42 @@ TEST_F(BakeFileTest, RoundTripOfEverySectionIsBitwiseEqual) {
   // Writing is deterministic: the same data gives the same bytes.
   ASSERT_TRUE(writeBakeFile(*read, path("again.svit")).ok());
   EXPECT_EQ(readBytes(path("again.svit")), bytes);
+}
+
+TEST_F(BakeFileTest, ShadowMasksRoundTripBitwiseAsTheLastSection) {
+  const BakeData written = maskedBake();
+  const std::string file = path("bake.svit");
+  const Status s = writeBakeFile(written, file);
+  ASSERT_TRUE(s.ok()) << describe(s);
+  Expected<BakeData> read = readBakeFile(file);
+  ASSERT_TRUE(read.ok()) << describe(read.status());
+  expectSameBake(written, *read);
+
+  // SMSK follows the runtime sections, and its payload is the documented layout.
+  const std::vector<uint8_t> bytes = readBytes(file);
+  std::vector<std::string> tags;
+  for (const SectionAt& section : sectionTable(bytes)) tags.push_back(section.tag);
+  EXPECT_EQ(tags, (std::vector<std::string>{"HEAD", "PAGE", "TUVS", "BUVS", "PTCH", "PELM", "CLST",
+                                            "EMIT", "PRXY", "PROB", "SMSK"}));
+  const SectionAt smsk = findSection(bytes, "SMSK");
+  const std::vector<uint8_t> want = shadowMaskPayload(written.masks);
+  ASSERT_EQ(smsk.size, want.size());
+  EXPECT_TRUE(std::equal(want.begin(), want.end(), bytes.begin() + std::ptrdiff_t(smsk.payload)));
+  // 4 + 5 x 12 + 4 + 4 + (8 + 256 x 128 x 4 x 2) + (8 + 64 x 64 x 4 x 2) bytes.
+  EXPECT_EQ(smsk.size, 72u + 8u + 262144u + 8u + 32768u);
+  const std::vector<BakeSectionSize> sizes = bakeSectionSizes(written);
+  ASSERT_FALSE(sizes.empty());
+  EXPECT_EQ(sizes.back().tag, "SMSK");
+  EXPECT_EQ(sizes.back().bytes, smsk.size);
+
+  // Deterministic, and a bake that masks no light writes no SMSK.
+  ASSERT_TRUE(writeBakeFile(*read, path("again.svit")).ok());
+  EXPECT_EQ(readBytes(path("again.svit")), bytes);
+  BakeData unmasked = written;
+  unmasked.masks = {};
+  ASSERT_TRUE(writeBakeFile(unmasked, path("unmasked.svit")).ok());
+  for (const SectionAt& section : sectionTable(readBytes(path("unmasked.svit"))))
+    EXPECT_NE(section.tag, "SMSK");
 }
 
 TEST_F(BakeFileTest, StaticOnlyBakeWritesNoRuntimeSections) {
@@ -495,6 +634,36 @@ TEST_F(BakeFileTest, HugeCountIsAnErrorNotAnAllocation) {
   EXPECT_TRUE(messageHas(s, {"truncated: section CLST needs 281474976710655 bytes"}));
 }
 
+TEST_F(BakeFileTest, HugeShadowMaskCountIsAnErrorNotAnAllocation) {
+  ASSERT_TRUE(writeBakeFile(maskedBake(), path("good.svit")).ok());
+  const std::vector<uint8_t> good = readBytes(path("good.svit"));
+  const size_t smsk = findSection(good, "SMSK").payload;
+  const size_t page_count_at = smsk + 4 + 5 * 12 + 4;
+  struct Field {
+    const char* what;
+    size_t at;
+    bool is_u64;
+  };
+  const Field fields[] = {{"light count", smsk, false},
+                          {"page count", page_count_at, false},
+                          {"page 0 value count", page_count_at + 4, true},
+                          {"page 1 value count", page_count_at + 4 + 8 + 256 * 128 * 4 * 2, true}};
+  for (const Field& field : fields) {
+    SCOPED_TRACE(field.what);
+    std::vector<uint8_t> bytes = good;
+    if (field.is_u64) {
+      putU64(bytes, field.at, 0x7fffffffffffffffull);
+    } else {
+      putU32(bytes, field.at, 0xffffffffu);
+    }
+    fixChecksum(bytes);
+    writeBytes(path("huge.svit"), bytes);
+    const Status s = readBakeFile(path("huge.svit")).status();
+    EXPECT_EQ(s.code(), StatusCode::kInvalidInput) << describe(s);
+    EXPECT_TRUE(messageHas(s, {"huge.svit", "truncated: section SMSK"}));
+  }
+}
+
 TEST_F(BakeFileTest, ReaderValidatesIndicesInTheFile) {
   ASSERT_TRUE(writeBakeFile(fullBake(), path("good.svit")).ok());
   const std::vector<uint8_t> good = readBytes(path("good.svit"));
@@ -636,6 +805,103 @@ TEST_F(BakeFileTest, WriterRefusesBadDataAndKeepsThePreviousFile) {
     for (const std::string& part : c.message) EXPECT_TRUE(messageHas(s, {part}));
     EXPECT_EQ(readBytes(file), before) << "the previous file changed";
     EXPECT_FALSE(fs::exists(file + ".tmp"));
+  }
+}
+
+// One broken shadow-mask invariant per case. The writer must refuse it,
+// naming SMSK and the offending element, and leave the previous file
+// byte-identical; the reader must refuse a good file whose SMSK payload
+// (re-encoded from the broken masks, checksum fixed) says the same.
+TEST_F(BakeFileTest, BadShadowMasksAreRefusedByWriterAndReader) {
+  const std::string file = path("bake.svit");
+  ASSERT_TRUE(writeBakeFile(maskedBake(), file).ok());
+  const std::vector<uint8_t> before = readBytes(file);
+  struct Case {
+    const char* what;
+    void (*breakIt)(BakeData&);
+    std::vector<std::string> message;
+  };
+  const Case cases[] = {
+      {"masks without runtime sections",
+       [](BakeData& d) {
+         const BakeShadowMasks masks = d.masks;
+         d = staticBake();
+         d.masks = masks;
+       },
+       {"SMSK", "has_runtime_sections is false", "masks.lights holds 5"}},
+      {"emitter out of range",
+       [](BakeData& d) { d.masks.lights[2].emitter = 9; },
+       {"section SMSK light 2: emitter 9 is out of range (6 emitters)"}},
+      {"emitter is a patch",
+       [](BakeData& d) { d.masks.lights[1].emitter = 2; },
+       {"SMSK light 1", "emitter 2 is a patch", "not a light or the sun"}},
+      {"emitter masked twice",
+       [](BakeData& d) { d.masks.lights[3].emitter = 0; },
+       {"SMSK light 3", "emitter 0 is already masked by light 0"}},
+      {"channel out of range",
+       [](BakeData& d) { d.masks.lights[4].channel = 2; },
+       {"SMSK light 4", "channel 2 >= channel count 2"}},
+      {"owner 0", [](BakeData& d) { d.masks.lights[0].owner = 0; }, {"SMSK light 0", "owner 0"}},
+      {"owner above 255",
+       [](BakeData& d) { d.masks.lights[2].owner = 256; },
+       {"SMSK light 2", "owner 256 is not in 1..255"}},
+      {"two lights with one (channel, owner)",
+       [](BakeData& d) { d.masks.lights[3].owner = 2; },
+       {"SMSK light 3", "channel 0 owner 2 is already light 2's"}},
+      {"too many channels",
+       [](BakeData& d) { d.masks.channels = 300; },
+       {"SMSK", "300 channels exceed the limit of 256"}},
+      {"mask page missing",
+       [](BakeData& d) { d.masks.pages.pop_back(); },
+       {"SMSK", "1 mask pages for 2 lightmap pages"}},
+      {"mask page short",
+       [](BakeData& d) { d.masks.pages[1].pop_back(); },
+       {"SMSK page 1", "16383 values", "1 layers of 64 x 64", "= 16384"}},
+      {"texel owner unknown",
+       [](BakeData& d) { d.masks.pages[1][maskIndex(d.pages[1], 5, 3, 1)] = 7 << 8 | 9; },
+       {"SMSK page 1", "texel (5, 3) channel 1", "value 1801 has owner 7"}},
+      {"texel owner of another channel's light",
+       [](BakeData& d) { d.masks.pages[0][maskIndex(d.pages[0], 200, 100, 1)] = 3 << 8; },
+       {"SMSK page 0", "texel (200, 100) channel 1", "owner 3"}},
+      {"texel owner in an unused channel",
+       [](BakeData& d) { d.masks.pages[0][maskIndex(d.pages[0], 0, 127, 3)] = 1 << 8 | 255; },
+       {"SMSK page 0", "layer 0 texel (0, 127) channel 3", "owner 1"}},
+      {"no lights but channels",
+       [](BakeData& d) {
+         d.masks.lights.clear();
+         d.masks.pages.clear();
+       },
+       {"SMSK", "no masked lights but 2 channels"}},
+      {"no lights but pages",
+       [](BakeData& d) {
+         d.masks.lights.clear();
+         d.masks.channels = 0;
+       },
+       {"SMSK", "no masked lights but 2 mask pages"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    BakeData data = maskedBake();
+    c.breakIt(data);
+    const Status s = writeBakeFile(data, file);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidInput) << describe(s);
+    EXPECT_TRUE(messageHas(s, {"bake.svit"}));
+    for (const std::string& part : c.message) EXPECT_TRUE(messageHas(s, {part}));
+    EXPECT_EQ(readBytes(file), before) << "the previous file changed";
+    EXPECT_FALSE(fs::exists(file + ".tmp"));
+
+    // The same data as a file: everything but the masks written, then the
+    // broken masks spliced in as SMSK.
+    BakeData unmasked = data;
+    unmasked.masks = {};
+    ASSERT_TRUE(writeBakeFile(unmasked, path("bad.svit")).ok());
+    std::vector<uint8_t> bytes = readBytes(path("bad.svit"));
+    replaceShadowMasks(bytes, shadowMaskPayload(data.masks));
+    writeBytes(path("bad.svit"), bytes);
+    const Status r = readBakeFile(path("bad.svit")).status();
+    EXPECT_EQ(r.code(), StatusCode::kInvalidInput) << describe(r);
+    EXPECT_TRUE(messageHas(r, {"bad.svit"}));
+    for (const std::string& part : c.message) EXPECT_TRUE(messageHas(r, {part}));
   }
 }
 

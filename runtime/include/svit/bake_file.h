@@ -74,6 +74,32 @@ struct BakeEmitter {
   std::vector<float> factors;     ///< share of the emitter's flux each receives, same length
 };
 
+/// A baked light (point, spot, directional or the sun) whose direct light
+/// the lightmap leaves out: the runtime shades it per pixel as its
+/// unshadowed irradiance x this mask (its visibility from the static level,
+/// per lightmap texel) x its dimmer x the dynamic objects' shadow.
+struct BakeMaskedLight {
+  uint32_t emitter = 0;  ///< BakeData::emitters index (a kLight or the kSun)
+  uint32_t channel = 0;  ///< mask channel: layer channel / 4, component channel % 4
+  uint32_t owner = 0;    ///< its id in that channel's texels, 1..255 (0 marks no light)
+};
+
+/// Shadow masks (section SMSK; only for levels with dynamic objects): the
+/// static visibility of the masked lights per lightmap texel, in the
+/// lightmap's atlas, dilated and seamed as the lightmap is. A texel's
+/// channel holds (owner << 8) | visibility (0..255 for 0..1) of the one
+/// light of that channel that reaches it, owner 0 where none does; lights
+/// that share a channel never reach the same texel, so any number of
+/// lights may overlap (each overlap costs a channel, not a cap).
+struct BakeShadowMasks {
+  std::vector<BakeMaskedLight> lights;
+  uint32_t channels = 0;
+  /// per lightmap page: layers() x height x width x 4 values, layer
+  /// slowest, then rows, then texels, then the 4 channels of a layer
+  std::vector<std::vector<uint16_t>> pages;
+  uint32_t layers() const { return (channels + 3) / 4; }
+};
+
 /// Simplified static geometry the runtime renders index maps from.
 struct BakeProxyMesh {
   std::vector<Vec3> positions;       ///< world, metres
@@ -106,6 +132,8 @@ struct BakeData {
   std::vector<BakeEmitter> emitters;
   BakeProxyMesh proxy;
   BakeProbeGrid probes;
+  /// Empty (and not written) when the bake masks no light.
+  BakeShadowMasks masks;
 };
 
 /// The back lightmap of `triangle`, or null when its back shares the

@@ -22,6 +22,9 @@ class DeltaAccumulator {
   const std::vector<glm::dvec3>& firstFlux() const { return first_flux_; }
   /// runtime lights' direct flux, lm
   const std::vector<glm::dvec3>& directFlux() const { return direct_flux_; }
+  /// masked baked lights' share of firstFlux (Emitter::masked), lm: their
+  /// direct light, which static surfaces shade per pixel
+  const std::vector<glm::dvec3>& maskedFlux() const { return masked_flux_; }
   /// Counts every setting of an Emitter::current.
   uint64_t revisions() const { return revisions_; }
 
@@ -36,7 +39,7 @@ class DeltaAccumulator {
            const std::function<DeltaTerms(const Emitter&)>& terms_of);
 
  private:
-  std::vector<glm::dvec3> first_flux_, direct_flux_;
+  std::vector<glm::dvec3> first_flux_, direct_flux_, masked_flux_;
   uint64_t revisions_ = 0;
 };
 

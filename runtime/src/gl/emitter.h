@@ -82,6 +82,10 @@ struct Emitter {
   /// Baked emitters and bright patches: their delta is current minus
   /// baseline (the static level's shares), so they need both.
   bool needs_baseline = false;
+  /// A baked light or the sun with a shadow mask (BakeData::masks): static
+  /// surfaces shade its direct light per pixel, so its first-round delta
+  /// there is left out of what they show (it still bounces).
+  bool masked = false;
   /// Made because a bounce had delta to shoot through its group.
   bool bounce_requested = false;
   glm::dvec3 flux{0.0};  ///< lm: the flux its shares distribute (patches: baseline B x A)

@@ -52,6 +52,8 @@ void addBakedLights(EmitterSet& set, const EmitterContext& c) {
     e.index = i;
     e.bake_emitter = i;
     e.needs_baseline = true;
+    e.masked = std::any_of(bake.masks.lights.begin(), bake.masks.lights.end(),
+                           [&](const BakeMaskedLight& m) { return m.emitter == i; });
     e.flux = dvec(be.flux);  // until its samples give the exact lobe's flux
     initBakeShares(e, c);
     set.emitters.push_back(std::move(e));

@@ -7,7 +7,9 @@
 // by one lamp goes exactly black with the lamp off and exactly half as
 // bright dimmed to 0.5, at the lightmap's resolution; bounced light is
 // split between emitters as their direct light is. Additive patch deltas
-// would leave the lightmap's detail inside each patch as a residue.
+// would leave the lightmap's detail inside each patch as a residue. A
+// masked emitter's direct light is not in the lightmap (shading scales it
+// per pixel): on the lightmap it weighs only through its bounce.
 
 #include <cstdint>
 #include <vector>
@@ -39,7 +41,8 @@ class LightScale {
   double ofReceiver(uint32_t receiver) const {
     return receiver < receiver_scale_.size() ? receiver_scale_[receiver] : 1.0;
   }
-  /// The area mean over a static group, or 1 while as baked.
+  /// The area mean over a static group of the factor on all its baked
+  /// light (lightmap and masked lights), or 1 while as baked.
   double ofGroup(uint32_t group) const {
     return group < group_scale_.size() ? group_scale_[group] : 1.0;
   }

@@ -20,11 +20,14 @@ rt::DeltaTerms Runtime::Impl::deltaTerms(const Emitter& e) const {
     case EmitterKind::kSun:
     case EmitterKind::kSky: {
       // Baked light is in the lightmap, scaled there by the light scale:
-      // what objects change of it is a delta, at the emitter's scale.
+      // what objects change of it is a delta, at the emitter's scale. A
+      // masked emitter's direct light is shaded per pixel and its bounce is
+      // smooth: its dimming is a delta too (current at its scale less the
+      // baseline as baked), which the bounce carries into its bounce.
       if (!e.has_baseline || !e.hasCurrent()) break;
       const double scale = light_scale.emitterScale(e.bake_emitter);
       t.on_current = e.flux * scale;
-      t.on_baseline = -e.flux * scale;
+      t.on_baseline = -e.flux * (e.masked ? 1.0 : scale);
       break;
     }
     case EmitterKind::kStaticPatch: {

@@ -180,6 +180,18 @@ struct Runtime::Impl {
   void settleImportance(const std::vector<rt::RefreshDecision>& refreshed);
   std::vector<rt::RefreshCandidate> refreshCandidates();
 
+  // Masked lights' direct light as shading shows it (runtime_masked.cpp).
+  /// Every masked light's direct light at a static surface point (on the
+  /// side `hit` names): baked
+  /// mask x unshadowed irradiance x its scale x whether a dynamic object's
+  /// triangle stands between the point and the light (a ray, as the
+  /// shader's caster map tests it per pixel), lux.
+  glm::dvec3 maskedDirectAt(const SurfaceHit& hit) const;
+  /// Whether the segment from `from` along unit `direction` for
+  /// `distance_m` meets a visible dynamic object's triangle.
+  bool dynamicObjectBlocks(const glm::vec3& from, const glm::vec3& direction,
+                           float distance_m) const;
+
   // Deltas and the bounce (runtime_deltas.cpp, runtime_solve.cpp).
   rt::DeltaTerms deltaTerms(const Emitter& e) const;
   void solve(FrameStats& stats, std::vector<std::pair<double, uint32_t>>& wanted);

@@ -206,11 +206,12 @@ Status tessellatePatches(const BakeData& bake, const BakedSurfaces& surfaces, si
 // end): its area-weighted normal, centroid, albedo, emission and baked
 // irradiance, its sub-triangles appended to out.triangles.
 void addReceiver(const Scene& scene, const BakeData& bake, const std::vector<LightmapImage>& pages,
-                 uint32_t p, const std::vector<Item*>& list, size_t begin, size_t end,
-                 RuntimePatches& out) {
+                 const MaskedLightField& masked, uint32_t p, const std::vector<Item*>& list,
+                 size_t begin, size_t end, RuntimePatches& out) {
   const uint32_t id = uint32_t(out.receivers.size());
   Receiver r;
-  glm::dvec3 normal(0.0), centroid(0.0), albedo(0.0), emission(0.0), irradiance(0.0);
+  glm::dvec3 normal(0.0), centroid(0.0), albedo(0.0), emission(0.0), irradiance(0.0),
+      masked_irradiance(0.0);
   double area = 0;
   Aabb box;
   for (size_t k = begin; k < end; ++k) {
@@ -226,6 +227,12 @@ void addReceiver(const Scene& scene, const BakeData& bake, const std::vector<Lig
     const Vec2 uv{(item.uv[0].x + item.uv[1].x + item.uv[2].x) / 3,
                   (item.uv[0].y + item.uv[1].y + item.uv[2].y) / 3};
     irradiance += dvec(pages[item.page].sampleBilinear(uv)) * item.area;
+    if (!masked.empty()) {  // what the lightmap leaves to the masked lights
+      const glm::dvec3 side = cross / std::max(glm::length(cross), 1e-300);
+      masked_irradiance += dvec(masked.bakedIrradiance(fromGlm(glm::vec3(item.centroid)),
+                                                       fromGlm(glm::vec3(side)), item.page, uv)) *
+                           item.area;
+    }
     area += item.area;
     for (const glm::dvec3& q : item.p) grow(box, q);
     const uint32_t sub = uint32_t(out.triangles.triangleCount());
@@ -246,7 +253,9 @@ void addReceiver(const Scene& scene, const BakeData& bake, const std::vector<Lig
   r.albedo = {float(rho.x), float(rho.y), float(rho.z)};
   out.receivers.push_back(r);
   out.emission.push_back(emission / area);
-  out.baseline.push_back(emission / area + rho * (irradiance / area));
+  out.baseline.push_back(emission / area + rho * ((irradiance + masked_irradiance) / area));
+  out.masked_direct.push_back(masked_irradiance / area);
+  out.lightmap_irradiance.push_back(irradiance / area);
   out.bake_patch.push_back(p);
   out.bounds.push_back(box);
   out.bake_members[p].push_back(id);
@@ -254,14 +263,15 @@ void addReceiver(const Scene& scene, const BakeData& bake, const std::vector<Lig
 
 // Groups each bake patch's sub-triangles into runtime patches.
 void groupReceivers(const Scene& scene, const BakeData& bake,
-                    const std::vector<LightmapImage>& pages, double max_area_m2, Tessellation& tess,
-                    RuntimePatches& out) {
+                    const std::vector<LightmapImage>& pages, const MaskedLightField& masked,
+                    double max_area_m2, Tessellation& tess, RuntimePatches& out) {
   for (uint32_t p = 0; p < bake.patches.size(); ++p) {
     std::vector<Item*> list;
     for (size_t k : tess.patch_items[p]) list.push_back(&tess.items[k]);
     std::vector<std::pair<size_t, size_t>> groups;
     if (!list.empty()) splitGroups(list, 0, list.size(), max_area_m2, groups);
-    for (auto [begin, end] : groups) addReceiver(scene, bake, pages, p, list, begin, end, out);
+    for (auto [begin, end] : groups)
+      addReceiver(scene, bake, pages, masked, p, list, begin, end, out);
   }
 }
 
@@ -323,7 +333,8 @@ void weldCorners(RuntimePatches& out) {
 Expected<RuntimePatches> buildRuntimePatches(const Scene& scene, const BakeData& bake,
                                              const BakedSurfaces& surfaces,
                                              const std::vector<LightmapImage>& pages,
-                                             double max_area_m2, double max_shooter_area_m2) {
+                                             const MaskedLightField& masked, double max_area_m2,
+                                             double max_shooter_area_m2) {
   RuntimePatches out;
   const size_t elements = surfaces.triangleCount() * 2;
   out.element_n.assign(elements, 0);
@@ -332,7 +343,7 @@ Expected<RuntimePatches> buildRuntimePatches(const Scene& scene, const BakeData&
   Tessellation tess;
   if (Status s = tessellatePatches(bake, surfaces, pages.size(), max_area_m2, out, tess); !s.ok())
     return s;
-  groupReceivers(scene, bake, pages, max_area_m2, tess, out);
+  groupReceivers(scene, bake, pages, masked, max_area_m2, tess, out);
   groupShooters(bake, max_shooter_area_m2, out);
   weldCorners(out);
   return out;

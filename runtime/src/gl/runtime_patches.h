@@ -19,6 +19,7 @@
 #include "svit/bake_file.h"
 #include "svit/baked_surfaces.h"
 #include "svit/lightmap_image.h"
+#include "svit/masked_lights.h"
 #include "svit/scene.h"
 #include "svit/status.h"
 
@@ -28,9 +29,13 @@ struct RuntimePatches {
   std::vector<Receiver> receivers;   ///< per runtime patch
   std::vector<glm::dvec3> baseline;  ///< per runtime patch: baked exitance B0, lm/m2
   std::vector<glm::dvec3> emission;  ///< per runtime patch: own exitance pi L, lm/m2
-  std::vector<uint32_t> bake_patch;  ///< per runtime patch: the bake patch it came from
-  std::vector<uint32_t> shooter;     ///< per runtime patch: the shooter group it belongs to
-  std::vector<Aabb> bounds;          ///< per runtime patch
+  /// per runtime patch: the masked lights' baked direct irradiance (lux),
+  /// part of `baseline` but not of the lightmap
+  std::vector<glm::dvec3> masked_direct;
+  std::vector<glm::dvec3> lightmap_irradiance;  ///< per runtime patch: what its lightmap holds, lux
+  std::vector<uint32_t> bake_patch;             ///< per runtime patch: the bake patch it came from
+  std::vector<uint32_t> shooter;  ///< per runtime patch: the shooter group it belongs to
+  std::vector<Aabb> bounds;       ///< per runtime patch
   std::vector<std::vector<uint32_t>> bake_members;     ///< per bake patch: its runtime patches
   std::vector<std::vector<uint32_t>> shooter_members;  ///< per shooter: its runtime patches
   std::vector<uint32_t> shooter_bake_patch;            ///< per shooter: its bake patch
@@ -60,7 +65,8 @@ struct RuntimePatches {
 Expected<RuntimePatches> buildRuntimePatches(const Scene& scene, const BakeData& bake,
                                              const BakedSurfaces& surfaces,
                                              const std::vector<LightmapImage>& pages,
-                                             double max_area_m2, double max_shooter_area_m2);
+                                             const MaskedLightField& masked, double max_area_m2,
+                                             double max_shooter_area_m2);
 
 /// A bake patch's proxy is used when it takes fewer than this share of the
 /// patch's own sub-triangles and its area is within these bounds of the

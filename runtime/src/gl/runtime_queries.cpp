@@ -48,13 +48,16 @@ Rgb Runtime::irradianceAt(const Vec3& point, const Vec3& normal, float max_dista
   const rt::StaticLevel& level = impl_->level;
   const std::optional<SurfaceHit> hit = level.surfaces.nearest(point, normal);
   if (!hit || hit->distance_m > max_distance_m) return {nan, nan, nan};
-  Rgb e = level.pages[hit->page].sampleBilinear(hit->uv);
+  const Rgb e = level.pages[hit->page].sampleBilinear(hit->uv);
+  // Shaded per pixel beside the lightmap: the masked lights' direct light.
+  const glm::dvec3 masked = level.masked.empty() ? glm::dvec3(0.0) : impl_->maskedDirectAt(*hit);
   // The delta as shading interpolates it: between the welded vertices of
   // the runtime patch sub-triangle under the point.
   const uint32_t element = hit->triangle * 2 + uint32_t(hit->side);
   float s1 = 0, s2 = 0;
   const uint32_t sub = level.patches.subTriangle(element, hit->w1, hit->w2, s1, s2);
-  if (sub == rt::kNoReceiver) return e;
+  if (sub == rt::kNoReceiver)
+    return {float(e.r + masked.x), float(e.g + masked.y), float(e.b + masked.z)};
   if (hit->side == 1) std::swap(s1, s2);  // back-side sub-triangles are wound the other way
   const uint32_t* corner = &level.patches.triangle_vertices[size_t(sub) * 3];
   auto at = [&](const std::vector<glm::dvec3>& values) {
@@ -66,8 +69,9 @@ Rgb Runtime::irradianceAt(const Vec3& point, const Vec3& normal, float max_dista
   const std::vector<glm::dvec3>& scales = impl_->outputs.vertexScales();
   const double factor = 1.0 + (scales.empty() ? 0.0 : at(scales).x);
   // A delta never takes more light than there is (shading clamps the same way).
-  return {std::max(0.0f, float(e.r * factor + d.x)), std::max(0.0f, float(e.g * factor + d.y)),
-          std::max(0.0f, float(e.b * factor + d.z))};
+  return {std::max(0.0f, float(e.r * factor + d.x)) + float(masked.x),
+          std::max(0.0f, float(e.g * factor + d.y)) + float(masked.y),
+          std::max(0.0f, float(e.b * factor + d.z)) + float(masked.z)};
 }
 
 const std::vector<Rgb>& Runtime::patchDeltas() const { return impl_->outputs.display; }

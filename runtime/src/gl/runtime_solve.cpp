@@ -61,6 +61,7 @@ void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint3
   accumulator.sum(emitter_set.emitters, n, [this](const Emitter& e) { return deltaTerms(e); });
   const std::vector<glm::dvec3>& first = accumulator.firstFlux();
   const std::vector<glm::dvec3>& direct = accumulator.directFlux();
+  const std::vector<glm::dvec3>& masked = accumulator.maskedFlux();
   const std::vector<int32_t> group_of = receiverGroups();
   const std::vector<uint32_t>& group_emitter = emitter_set.group_emitter;
   std::vector<const rt::SparseShares*> shooters(group_emitter.size(), nullptr);
@@ -82,7 +83,10 @@ void Runtime::Impl::solve(FrameStats& stats, std::vector<std::pair<double, uint3
   for (size_t r = 0; r < n; ++r) {
     const double area = receivers[r].area_m2;
     outputs.delta_total[r] = area > 0 ? result.received[r] / area : glm::dvec3(0.0);
-    outputs.runtime_direct[r] = area > 0 ? direct[r] / area : glm::dvec3(0.0);
+    // Shaded per pixel: runtime lights everywhere, masked lights on static surfaces.
+    const glm::dvec3 masked_here = r < level.static_receivers ? masked[r] : glm::dvec3(0.0);
+    outputs.runtime_direct[r] = area > 0 ? (direct[r] + masked_here) / area : glm::dvec3(0.0);
+    outputs.masked_direct[r] = area > 0 ? masked_here / area : glm::dvec3(0.0);
   }
   averageFlatFaces(objects, receivers, outputs.delta_total);
   for (size_t g = 0; g < result.wanted.size(); ++g) {

@@ -31,6 +31,7 @@
 #include "scene_renderer_bindings.h"
 #include "scene_renderer_dynamic_objects.h"
 #include "scene_renderer_lightmaps.h"
+#include "scene_renderer_masks.h"
 #include "scene_renderer_materials.h"
 #include "scene_renderer_probe_grid.h"
 #include "scene_renderer_shadow_maps.h"
@@ -98,7 +99,8 @@ struct FramePass {
   glm::mat4 clip_from_world;
   ShadingView view;
   int baked_lights = 0;  // FrameLights before the runtime's
-  int light_count = 0;
+  int light_count = 0;   // baked and runtime lights (the masked ones follow)
+  int masked_end = 0;    // masked baked lights are [light_count, masked_end)
 };
 
 // A camera that can be drawn from, or an error naming what is wrong.
@@ -157,6 +159,9 @@ struct SceneRenderer::Impl {
 
   gl::GlProgram static_program, dynamic_program;
   gl::LightmapTextures lightmaps;
+  gl::ShadowMaskTextures masks;
+  std::vector<BakeMaskedLight> masked_lights;
+  std::vector<BakeEmitter> masked_emitters;  // each masked light's bake emitter
   gl::MaterialTextures materials;
   gl::LightShadowMaps shadows;
   gl::ProbeGridTextures probes;
@@ -180,6 +185,11 @@ struct SceneRenderer::Impl {
   }
   std::vector<gl::FrameLight> frameLights(bool with_runtime_lights, bool with_baked_lights,
                                           bool scale_baked, size_t* baked_count) const;
+  /// Appends the masked baked lights (scaled like their emitters when
+  /// `scale_baked`; caster maps of the dynamic objects when `with_casters`).
+  void appendMaskedLights(bool scale_baked, bool with_casters,
+                          std::vector<gl::FrameLight>& lights) const;
+  gl::FrameLight sunLight(float dimmer) const;
   void setSharedUniforms(const glm::mat4& clip_from_world, ShadingView view, int light_begin,
                          int light_end) const;
 
@@ -243,16 +253,8 @@ std::vector<gl::FrameLight> SceneRenderer::Impl::frameLights(bool with_runtime_l
       const float dimmer = scale_baked ? emitterScale(light_emitter[i]) : 1.0f;
       if (!l.dynamic && l.intensity > 0) lights.push_back({l, scaled(l, dimmer), true});
     }
-    if (scene.sun.enabled && scene.sun.illuminance_lux > 0) {
-      Light sun;
-      sun.name = "sun";
-      sun.type = LightType::kDirectional;
-      sun.direction = {-scene.sun.direction_to_sun.x, -scene.sun.direction_to_sun.y,
-                       -scene.sun.direction_to_sun.z};
-      sun.color = scene.sun.color;
-      sun.intensity = scene.sun.illuminance_lux;
-      lights.push_back({sun, scaled(sun, scale_baked ? emitterScale(sun_emitter) : 1.0f), true});
-    }
+    if (scene.sun.enabled && scene.sun.illuminance_lux > 0)
+      lights.push_back(sunLight(scale_baked ? emitterScale(sun_emitter) : 1.0f));
   }
   *baked_count = lights.size();
   if (with_runtime_lights) {
@@ -271,6 +273,39 @@ std::vector<gl::FrameLight> SceneRenderer::Impl::frameLights(bool with_runtime_l
     }
   }
   return lights;
+}
+
+gl::FrameLight SceneRenderer::Impl::sunLight(float dimmer) const {
+  Light sun;
+  sun.name = "sun";
+  sun.type = LightType::kDirectional;
+  sun.direction = {-scene.sun.direction_to_sun.x, -scene.sun.direction_to_sun.y,
+                   -scene.sun.direction_to_sun.z};
+  sun.color = scene.sun.color;
+  sun.intensity = scene.sun.illuminance_lux;
+  const float s = sun.intensity * dimmer;
+  return {sun, Rgb{sun.color.r * s, sun.color.g * s, sun.color.b * s}, true};
+}
+
+void SceneRenderer::Impl::appendMaskedLights(bool scale_baked, bool with_casters,
+                                             std::vector<gl::FrameLight>& lights) const {
+  for (size_t k = 0; k < masked_lights.size(); ++k) {
+    const BakeMaskedLight& m = masked_lights[k];
+    const float dimmer = scale_baked ? emitterScale(int(m.emitter)) : 1.0f;
+    gl::FrameLight light;
+    if (masked_emitters[k].kind == BakeEmitter::Kind::kSun) {
+      light = sunLight(dimmer);
+    } else {
+      const Light& l = scene.lights[masked_emitters[k].index];
+      const float s = l.intensity * dimmer;
+      light = {l, Rgb{l.color.r * s, l.color.g * s, l.color.b * s}, true};
+    }
+    light.casts_shadows = with_casters;
+    light.dynamic_casters_only = true;
+    light.mask_channel = m.channel;
+    light.mask_owner = m.owner;
+    lights.push_back(light);
+  }
 }
 
 void SceneRenderer::Impl::setSharedUniforms(const glm::mat4& clip_from_world, ShadingView view,
@@ -320,6 +355,19 @@ Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(
           : gl::LightmapTextures::create(bake, bake_dir);
   if (!lightmaps.ok()) return lightmaps.status();
   impl->lightmaps = std::move(lightmaps).value();
+  Expected<gl::ShadowMaskTextures> masks = gl::ShadowMaskTextures::create(bake);
+  if (!masks.ok()) return masks.status();
+  impl->masks = std::move(masks).value();
+  impl->masked_lights = bake.masks.lights;
+  for (const BakeMaskedLight& m : bake.masks.lights) {
+    const BakeEmitter& e = bake.emitters[m.emitter];
+    if (e.kind == BakeEmitter::Kind::kLight && e.index >= scene.lights.size()) {
+      return Status(StatusCode::kInvalidInput, bake_dir + "/bake.svit: section SMSK masks light " +
+                                                   std::to_string(e.index) + " of a level with " +
+                                                   std::to_string(scene.lights.size()) + " lights");
+    }
+    impl->masked_emitters.push_back({e.kind, e.index, e.flux, {}, {}});
+  }
   Expected<gl::MaterialTextures> materials = gl::MaterialTextures::create(scene);
   if (!materials.ok()) return materials.status();
   impl->materials = std::move(materials).value();
@@ -376,8 +424,11 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
   const bool casters_changed = s.dynamic_objects.update(s.scene, s.runtime);
   const bool has_dynamic = s.dynamic_objects.vertexCount() > 0;
   size_t baked_lights = 0;
-  const std::vector<gl::FrameLight> lights =
+  std::vector<gl::FrameLight> lights =
       s.frameLights(view == ShadingView::kRuntime, has_dynamic, runtime_view, &baked_lights);
+  const size_t light_count = lights.size();
+  // The baked-only view shows the bake as it is: no dynamic shadow, no dimmer.
+  s.appendMaskedLights(runtime_view, runtime_view && has_dynamic, lights);
   if (!lights.empty()) s.renderShadowMaps(lights, has_dynamic, casters_changed, stats);
 
   // The frame.
@@ -391,7 +442,8 @@ Expected<RenderStats> SceneRenderer::render(const Camera& camera, ShadingView vi
       glm::lookAt(eye, centre, up);
   pass.view = view;
   pass.baked_lights = int(baked_lights);
-  pass.light_count = int(lights.size());
+  pass.light_count = int(light_count);
+  pass.masked_end = int(lights.size());
   if (!lights.empty()) s.shadows.bind();
   s.drawStatic(pass, resources, runtime_view, stats);
   if (has_dynamic) s.drawDynamic(pass, resources.patch_delta_buffer, stats);
@@ -416,12 +468,19 @@ void SceneRenderer::Impl::renderShadowMaps(const std::vector<gl::FrameLight>& li
                   std::max(bounds.max.z, d.max.z)};
   }
   const std::vector<Aabb>& moved = dynamic_objects.movedBoxes();
-  stats.shadow_maps_rendered = shadows.update(lights, bounds, casters_changed, &moved, [&] {
-    glBindVertexArray(static_vao.id());
-    glDrawArrays(GL_TRIANGLES, 0, GLsizei(static_vertex_count));
-    dynamic_objects.draw();
-    stats.draw_calls += has_dynamic ? 2 : 1;
-  });
+  const Aabb dynamic_bounds = has_dynamic ? dynamic_objects.bounds() : Aabb{};
+  stats.shadow_maps_rendered = shadows.update(
+      lights, bounds, dynamic_bounds, casters_changed, &moved, [&](bool dynamic_only) {
+        if (!dynamic_only) {
+          glBindVertexArray(static_vao.id());
+          glDrawArrays(GL_TRIANGLES, 0, GLsizei(static_vertex_count));
+          ++stats.draw_calls;
+        }
+        if (has_dynamic) {
+          dynamic_objects.draw();
+          ++stats.draw_calls;
+        }
+      });
 }
 
 void SceneRenderer::Impl::beginFrame(bool to_default_framebuffer) const {
@@ -442,7 +501,8 @@ void SceneRenderer::Impl::beginFrame(bool to_default_framebuffer) const {
   if (!to_default_framebuffer) target.clearRadiance();  // surface kind 0 where nothing is drawn
 }
 
-// Static geometry: runtime lights only (baked lights are in the lightmap).
+// Static geometry: runtime lights and the masked baked lights per pixel
+// (the other baked lights are in the lightmap).
 void SceneRenderer::Impl::drawStatic(const FramePass& pass, const ShadingResources& resources,
                                      bool runtime_view, RenderStats& stats) const {
   const std::vector<uint32_t>& delta_maps = resources.delta_textures;
@@ -451,6 +511,8 @@ void SceneRenderer::Impl::drawStatic(const FramePass& pass, const ShadingResourc
   setSharedUniforms(pass.clip_from_world, pass.view, pass.baked_lights,
                     pass.view == ShadingView::kRuntime ? pass.light_count : pass.baked_lights);
   glUniform1i(b::kUseDeltas, static_deltas ? 1 : 0);
+  glUniform1i(b::kMaskedBegin, pass.light_count);
+  glUniform1i(b::kMaskedEnd, masks.empty() ? pass.light_count : pass.masked_end);
   if (static_deltas) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kDeltaElements, resources.delta_elements);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kDeltaSlots, resources.delta_slots);
@@ -480,6 +542,7 @@ void SceneRenderer::Impl::drawStatic(const FramePass& pass, const ShadingResourc
     }
     if (batch.page != bound_page) {
       glBindTextureUnit(b::kLightmapUnit, lightmaps.texture(batch.page));
+      if (!masks.empty()) glBindTextureUnit(b::kShadowMaskUnit, masks.texture(batch.page));
       // The runtime's deltas in lightmap space, when it makes them.
       const bool delta_map = batch.page < delta_maps.size();
       glUniform1i(b::kUseDeltaMap, delta_map ? 1 : 0);
@@ -607,6 +670,10 @@ std::vector<ResourceUse> SceneRenderer::resources() const {
           " lights drawn per pixel (runtime lights; baked ones while dynamic objects need them)",
       "no light to draw per pixel: no runtime lights, and no baked point, spot or sun light while "
       "dynamic objects exist (or nothing rendered yet)"));
+  out.push_back(use("shadow mask textures", s.masks.glObjects(),
+                    std::to_string(s.masked_lights.size()) +
+                        " masked baked lights' static visibility, shaded per pixel",
+                    "the bake masks no light (no dynamic objects, or --no-shadow-masks)"));
   out.push_back(use(
       "probe grid textures", s.probes.glObjects(), "indirect light of dynamic objects",
       "no dynamic objects can exist (no runtime, none in the level), or the bake has no probes"));

@@ -27,6 +27,7 @@ inline constexpr uint32_t kShadowFaceUnit = 4;  ///< sampler2DArrayShadow
 inline constexpr uint32_t kProbeUnitR = 5;      ///< SH coefficients of red (Y00, Y1-1, Y10, Y11)
 inline constexpr uint32_t kProbeUnitG = 6;
 inline constexpr uint32_t kProbeUnitB = 7;
+inline constexpr uint32_t kShadowMaskUnit = 9;  ///< usampler2DArray: the page's shadow masks
 
 // ---- uniform locations (layout(location = N) uniform) ----
 // Shared by both lit programs (svit_shading.frag reads some of them).
@@ -57,6 +58,9 @@ inline constexpr int kUseDeltas = 18;  ///< int: the runtime's delta buffers bou
 inline constexpr int kUseDeltaMap = 19;
 /// float: the batch's bake emitter scale (lit_static.frag)
 inline constexpr int kEmissionScale = 24;
+/// int: the masked baked lights are lights [begin, end) (lit_static.frag)
+inline constexpr int kMaskedBegin = 25;
+inline constexpr int kMaskedEnd = 26;
 // Dynamic only: probe grid.
 inline constexpr int kProbeOrigin = 19;   ///< vec3: centre of probe (0,0,0)
 inline constexpr int kProbeSpacing = 20;  ///< vec3

@@ -87,6 +87,7 @@ LightShadowMaps& LightShadowMaps::operator=(LightShadowMaps&& other) noexcept {
     box_query_ = std::move(other.box_query_);
     box_capacity_ = std::exchange(other.box_capacity_, 0);
     gpu_lights_ = std::move(other.gpu_lights_);
+    dynamic_only_ = std::move(other.dynamic_only_);
     rendered_keys_ = std::move(other.rendered_keys_);
   }
   return *this;
@@ -229,20 +230,69 @@ bool LightShadowMaps::boxesSeen(size_t light, uint32_t box_vertices,
 }
 
 uint32_t LightShadowMaps::update(const std::vector<FrameLight>& lights, const Aabb& scene_bounds,
-                                 bool casters_changed, const std::vector<Aabb>* moved_boxes,
+                                 const Aabb& dynamic_bounds, bool casters_changed,
+                                 const std::vector<Aabb>* moved_boxes,
                                  const DrawCasters& draw_casters) {
   std::vector<glm::mat4> face_views(lights.size());
-  const MapCounts counts = layOutLights(lights, scene_bounds, face_views);
+  const MapCounts counts = layOutLights(lights, scene_bounds, dynamic_bounds, face_views);
   ensureCapacity(counts.cubes, counts.faces);
   uploadLights();
-  return renderMaps(scene_bounds, face_views, casters_changed, moved_boxes, draw_casters);
+  std::vector<Aabb> light_bounds(lights.size());
+  for (size_t i = 0; i < lights.size(); ++i)
+    light_bounds[i] = lights[i].dynamic_casters_only ? dynamic_bounds : scene_bounds;
+  return renderMaps(light_bounds, face_views, casters_changed, moved_boxes, draw_casters);
+}
+
+void LightShadowMaps::layOutMap(const Light& l, const Aabb& bounds, bool fit_cone, GpuLight& g,
+                                glm::mat4& view, MapCounts& counts) const {
+  const glm::vec3 p = toGlm(l.position);
+  glm::vec3 d = toGlm(l.direction);
+  d = glm::length(d) > 0 ? glm::normalize(d) : glm::vec3(0, -1, 0);
+  const glm::vec3 lo = toGlm(bounds.min), hi = toGlm(bounds.max);
+  const glm::vec3 centre = 0.5f * (lo + hi);
+  const float radius = std::max(0.5f * glm::length(hi - lo), 1e-3f);
+  if (l.type == LightType::kDirectional) {
+    const glm::vec3 eye = centre - d * (radius * 1.05f);
+    view = glm::ortho(-radius, radius, -radius, radius, 0.0f, radius * 2.1f) *
+           glm::lookAt(eye, centre, anyPerpendicular(d));
+    g.shadow[0] = kKindFace, g.shadow[1] = float(counts.faces++), g.shadow[2] = 0,
+    g.shadow[3] = radius * 2.1f;
+    g.shadow_texel[1] = 2.0f * radius / float(map_size_);
+    return;
+  }
+  const float to_centre = glm::length(centre - p);
+  if (fit_cone && to_centre > radius * 1.05f) {
+    // The cone from the light around the casters' sphere: texels over them only.
+    const glm::vec3 axis = (centre - p) / to_centre;
+    const float half = std::asin(std::min(radius / to_centre, 1.0f)) + kSpotMarginRad;
+    const float far_m = to_centre + radius, near_m = std::max(to_centre - radius, far_m * 1e-4f);
+    view = glm::perspective(2.0f * half, 1.0f, near_m, far_m) *
+           glm::lookAt(p, centre, anyPerpendicular(axis));
+    g.shadow[0] = kKindFace, g.shadow[1] = float(counts.faces++), g.shadow[2] = near_m,
+    g.shadow[3] = far_m;
+    g.shadow_texel[0] = 2.0f * std::tan(half) / float(map_size_);
+    return;
+  }
+  const auto [near_m, far_m] = nearFar(p, bounds);
+  g.shadow[2] = near_m, g.shadow[3] = far_m;
+  if (l.type == LightType::kSpot && l.outer_cone_rad <= kMaxFaceSpotRad) {
+    const float fov = 2.0f * (l.outer_cone_rad + kSpotMarginRad);
+    view = glm::perspective(fov, 1.0f, near_m, far_m) * glm::lookAt(p, p + d, anyPerpendicular(d));
+    g.shadow[0] = kKindFace, g.shadow[1] = float(counts.faces++);
+    g.shadow_texel[0] = 2.0f * std::tan(0.5f * fov) / float(map_size_);
+  } else {
+    g.shadow[0] = kKindCube, g.shadow[1] = float(counts.cubes++);
+    g.shadow_texel[0] = 2.0f / float(map_size_);
+  }
 }
 
 LightShadowMaps::MapCounts LightShadowMaps::layOutLights(const std::vector<FrameLight>& lights,
                                                          const Aabb& scene_bounds,
+                                                         const Aabb& dynamic_bounds,
                                                          std::vector<glm::mat4>& face_views) {
   gpu_lights_.assign(lights.size(), GpuLight{});
-  uint32_t cubes = 0, faces = 0;
+  dynamic_only_.assign(lights.size(), 0);
+  MapCounts counts;
   for (size_t i = 0; i < lights.size(); ++i) {
     const Light& l = lights[i].light;
     GpuLight& g = gpu_lights_[i];
@@ -258,34 +308,16 @@ LightShadowMaps::MapCounts LightShadowMaps::layOutLights(const std::vector<Frame
     const Rgb& c = lights[i].rgb_intensity;
     const float intensity[4] = {c.r, c.g, c.b, cos_inner};
     std::memcpy(g.intensity, intensity, sizeof g.intensity);
-    if (!lights[i].casts_shadows || scene_bounds.empty()) continue;
-    if (l.type == LightType::kDirectional) {
-      const glm::vec3 lo = toGlm(scene_bounds.min), hi = toGlm(scene_bounds.max);
-      const glm::vec3 centre = 0.5f * (lo + hi);
-      const float radius = std::max(0.5f * glm::length(hi - lo), 1e-3f);
-      const glm::vec3 eye = centre - d * (radius * 1.05f);
-      const glm::mat4 view = glm::lookAt(eye, centre, anyPerpendicular(d));
-      face_views[i] = glm::ortho(-radius, radius, -radius, radius, 0.0f, radius * 2.1f) * view;
-      g.shadow[0] = kKindFace, g.shadow[1] = float(faces++), g.shadow[2] = 0,
-      g.shadow[3] = radius * 2.1f;
-      g.shadow_texel[1] = 2.0f * radius / float(map_size_);
-    } else {
-      const auto [near_m, far_m] = nearFar(p, scene_bounds);
-      g.shadow[2] = near_m, g.shadow[3] = far_m;
-      if (l.type == LightType::kSpot && l.outer_cone_rad <= kMaxFaceSpotRad) {
-        const float fov = 2.0f * (l.outer_cone_rad + kSpotMarginRad);
-        face_views[i] =
-            glm::perspective(fov, 1.0f, near_m, far_m) * glm::lookAt(p, p + d, anyPerpendicular(d));
-        g.shadow[0] = kKindFace, g.shadow[1] = float(faces++);
-        g.shadow_texel[0] = 2.0f * std::tan(0.5f * fov) / float(map_size_);
-      } else {
-        g.shadow[0] = kKindCube, g.shadow[1] = float(cubes++);
-        g.shadow_texel[0] = 2.0f / float(map_size_);
-      }
-    }
+    g.shadow_texel[2] = float(lights[i].mask_channel);
+    g.shadow_texel[3] = float(lights[i].mask_owner);
+    const bool dynamic_only = lights[i].dynamic_casters_only;
+    dynamic_only_[i] = dynamic_only ? 1 : 0;
+    const Aabb& bounds = dynamic_only ? dynamic_bounds : scene_bounds;
+    if (!lights[i].casts_shadows || bounds.empty()) continue;
+    layOutMap(l, bounds, dynamic_only, g, face_views[i], counts);
     std::memcpy(g.shadow_from_world, glm::value_ptr(face_views[i]), sizeof g.shadow_from_world);
   }
-  return {cubes, faces};
+  return counts;
 }
 
 // The lights buffer: grows, never shrinks (no allocation in steady state).
@@ -305,7 +337,7 @@ void LightShadowMaps::uploadLights() {
 
 // Renders the maps whose light changed, or whose light sees where the
 // casters moved from or to.
-uint32_t LightShadowMaps::renderMaps(const Aabb& scene_bounds,
+uint32_t LightShadowMaps::renderMaps(const std::vector<Aabb>& light_bounds,
                                      const std::vector<glm::mat4>& face_views, bool casters_changed,
                                      const std::vector<Aabb>* moved_boxes,
                                      const DrawCasters& draw_casters) {
@@ -319,8 +351,9 @@ uint32_t LightShadowMaps::renderMaps(const Aabb& scene_bounds,
     if (g.shadow[0] == kKindNone) continue;
     std::vector<float> key(reinterpret_cast<const float*>(&g),
                            reinterpret_cast<const float*>(&g) + 4 * 5 + 16);
-    key.insert(key.end(), {scene_bounds.min.x, scene_bounds.min.y, scene_bounds.min.z,
-                           scene_bounds.max.x, scene_bounds.max.y, scene_bounds.max.z});
+    const Aabb& bounds = light_bounds[i];
+    key.insert(key.end(), {bounds.min.x, bounds.min.y, bounds.min.z, bounds.max.x, bounds.max.y,
+                           bounds.max.z});
     if (rendered_keys_[i] == key) {
       if (!casters_changed) continue;
       if (test_boxes) {
@@ -336,7 +369,7 @@ uint32_t LightShadowMaps::renderMaps(const Aabb& scene_bounds,
     }
     forEachFace(i, face_views[i], [&] {
       glClear(GL_DEPTH_BUFFER_BIT);
-      draw_casters();
+      draw_casters(dynamic_only_[i] != 0);
     });
     ++rendered;
   }

@@ -43,6 +43,11 @@ struct FrameLight {
   Light light;
   Rgb rgb_intensity;
   bool casts_shadows = true;
+  /// A masked baked light: its map holds the dynamic objects only, fitted
+  /// to their bounds (the static level's shadow is in its mask).
+  bool dynamic_casters_only = false;
+  /// Its mask channel and owner (BakeMaskedLight), for lit_static.frag.
+  uint32_t mask_channel = 0, mask_owner = 0;
 };
 
 class LightShadowMaps {
@@ -58,13 +63,17 @@ class LightShadowMaps {
   LightShadowMaps& operator=(const LightShadowMaps&) = delete;
   ~LightShadowMaps();
 
-  /// Draws every shadow caster with the current program; the callee sets
-  /// nothing but its vertex arrays and draws (positions at attribute 0).
-  using DrawCasters = std::function<void()>;
+  /// Draws the shadow casters with the current program: everything, or
+  /// the dynamic objects only; the callee sets nothing but its vertex
+  /// arrays and draws (positions at attribute 0).
+  using DrawCasters = std::function<void(bool dynamic_only)>;
 
   /// Brings the lights buffer and the maps up to date for `lights` within
   /// `scene_bounds` (world box holding every caster and receiver; sizes
-  /// directional maps and near/far planes). `casters_changed`: the casters
+  /// directional maps and near/far planes); the maps of
+  /// dynamic_casters_only lights are fitted to `dynamic_bounds` instead (a
+  /// sun's orthographic map to their box, a lamp's perspective map to the
+  /// cone that sees them), none when it is empty. `casters_changed`: the casters
   /// moved since the last call; `moved_boxes` (may be null: every map is
   /// then re-rendered) are the boxes they moved from and to. A light's map
   /// is re-rendered only when one of those boxes is seen from the light:
@@ -73,8 +82,8 @@ class LightShadowMaps {
   /// the number of maps rendered (a cube counts once). Leaves the draw
   /// framebuffer and viewport changed; the caller restores its own.
   uint32_t update(const std::vector<FrameLight>& lights, const Aabb& scene_bounds,
-                  bool casters_changed, const std::vector<Aabb>* moved_boxes,
-                  const DrawCasters& draw_casters);
+                  const Aabb& dynamic_bounds, bool casters_changed,
+                  const std::vector<Aabb>* moved_boxes, const DrawCasters& draw_casters);
 
   /// Binds the lights buffer and the two shadow textures (units of
   /// scene_renderer_bindings.h); valid after update().
@@ -94,11 +103,16 @@ class LightShadowMaps {
   /// (into face_views) from `lights`, with the maps they need; the lights
   /// buffer filled; the maps that may have changed rendered (returns how many).
   MapCounts layOutLights(const std::vector<FrameLight>& lights, const Aabb& scene_bounds,
-                         std::vector<glm::mat4>& face_views);
+                         const Aabb& dynamic_bounds, std::vector<glm::mat4>& face_views);
+  /// A light's map: its kind, layer, planes, texel sizes and clip
+  /// transform, fitted to `bounds`; `fit_cone`: a point light outside them
+  /// gets one perspective face around them instead of a cube.
+  void layOutMap(const Light& l, const Aabb& bounds, bool fit_cone, GpuLight& g, glm::mat4& view,
+                 MapCounts& counts) const;
   void uploadLights();
-  uint32_t renderMaps(const Aabb& scene_bounds, const std::vector<glm::mat4>& face_views,
-                      bool casters_changed, const std::vector<Aabb>* moved_boxes,
-                      const DrawCasters& draw_casters);
+  uint32_t renderMaps(const std::vector<Aabb>& light_bounds,
+                      const std::vector<glm::mat4>& face_views, bool casters_changed,
+                      const std::vector<Aabb>* moved_boxes, const DrawCasters& draw_casters);
   void release();
   void ensureCapacity(uint32_t cubes, uint32_t faces);
   /// Depth-only drawing into the maps: writing (with the casters' polygon
@@ -124,6 +138,7 @@ class LightShadowMaps {
   GlQuery box_query_;
   size_t box_capacity_ = 0;  ///< vertices box_buffer_ holds
   std::vector<GpuLight> gpu_lights_;
+  std::vector<uint8_t> dynamic_only_;  ///< per light: its map holds dynamic casters only
   /// per light slot: what its map was rendered for
   std::vector<std::vector<float>> rendered_keys_;
 };

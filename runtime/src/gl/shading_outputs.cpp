@@ -35,12 +35,15 @@ uint64_t vectorBytes(const std::vector<T>& v) {
 void ShadingOutputs::resize(size_t receivers) {
   delta_total.resize(receivers, glm::dvec3(0.0));
   runtime_direct.resize(receivers, glm::dvec3(0.0));
+  masked_direct.resize(receivers, glm::dvec3(0.0));
   display.resize(receivers, Rgb{});
 }
 
 const std::vector<glm::dvec3>& ShadingOutputs::vertexDeltas(const RuntimePatches& patches) const {
   if (vertex_deltas_stale_) {
-    vertex_deltas_ = vertexValues(patches, delta_total);
+    std::vector<glm::dvec3> patch_part = delta_total;
+    for (size_t r = 0; r < masked_direct.size(); ++r) patch_part[r] -= masked_direct[r];
+    vertex_deltas_ = vertexValues(patches, patch_part);
     vertex_deltas_stale_ = false;
   }
   return vertex_deltas_;
@@ -142,8 +145,8 @@ std::vector<uint32_t> ShadingOutputs::lightmapTextures(
 }
 
 uint64_t ShadingOutputs::hostBytes() const {
-  return vectorBytes(delta_total) + vectorBytes(runtime_direct) + vectorBytes(display) +
-         vectorBytes(vertex_deltas_);
+  return vectorBytes(delta_total) + vectorBytes(runtime_direct) + vectorBytes(masked_direct) +
+         vectorBytes(display) + vectorBytes(vertex_deltas_);
 }
 
 std::vector<uint32_t> ShadingOutputs::ids(const std::vector<GlTexture>& textures) {

@@ -35,15 +35,21 @@ class ShadingOutputs {
   // Per receiver, from the last solve.
   /// irradiance delta incl. runtime lights' direct light, lux
   std::vector<glm::dvec3> delta_total;
-  /// direct irradiance of runtime lights, lux (shaded per pixel)
+  /// direct irradiance shaded per pixel, lux: runtime lights' everywhere,
+  /// masked baked lights' on static surfaces
+  /// (the name is older than the masks)
   std::vector<glm::dvec3> runtime_direct;
   std::vector<Rgb> display;  ///< what shading adds (temporally blended), lux
+  /// the masked baked lights' first-round delta on static receivers, lux
+  /// (part of delta_total and of runtime_direct; shaded per pixel)
+  std::vector<glm::dvec3> masked_direct;
 
   /// Grows the per-receiver vectors to `receivers` (objects are appended).
   void resize(size_t receivers);
   /// A solve changed delta_total: the vertex values are recomputed when asked.
   void deltasChanged() { vertex_deltas_stale_ = true; }
-  /// delta_total at the welded vertices of `patches` (computed lazily).
+  /// delta_total less masked_direct (what shading interpolates over the
+  /// patches) at the welded vertices of `patches` (computed lazily).
   const std::vector<glm::dvec3>& vertexDeltas(const RuntimePatches& patches) const;
   /// The light scale minus 1 (x) at the welded vertices, as the last upload
   /// showed it; empty while every baked emitter is as baked.

@@ -26,8 +26,8 @@ Status buildPatches(StaticLevel& level, const RuntimeSettings& settings) {
   }
   const double max_area = area / double(settings.target_patches);
   Expected<RuntimePatches> patches =
-      buildRuntimePatches(level.scene, level.bake, level.surfaces, level.pages, max_area,
-                          area / double(settings.target_shooters));
+      buildRuntimePatches(level.scene, level.bake, level.surfaces, level.pages, level.masked,
+                          max_area, area / double(settings.target_shooters));
   if (!patches.ok())
     return Status(patches.status().code(), level.bake_dir + ": " + patches.status().message());
   level.patches = std::move(patches).value();
@@ -73,6 +73,11 @@ Expected<StaticLevel> buildStaticLevel(const Scene& scene, const BakeData& bake,
   Expected<std::vector<LightmapImage>> pages = readLightmapPages(bake, bake_dir);
   if (!pages.ok()) return pages.status();
   level.pages = std::move(pages).value();
+  Expected<MaskedLightField> masked = MaskedLightField::create(scene, bake);
+  if (!masked.ok())
+    return Status(masked.status().code(), bake_dir + "/" + masked.status().message());
+  level.masked = std::move(masked).value();
+  level.bake.masks.pages.clear();  // the field holds them; not twice
   if (hasDynamicContent(scene) && !bake.has_runtime_sections) {
     return Status(StatusCode::kInvalidInput,
                   bake_dir +

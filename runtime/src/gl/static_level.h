@@ -14,6 +14,7 @@
 #include "runtime_patches.h"
 #include "svit/baked_surfaces.h"
 #include "svit/lightmap_image.h"
+#include "svit/masked_lights.h"
 #include "svit/runtime.h"
 
 namespace svit::gl {
@@ -24,6 +25,9 @@ struct StaticLevel {
   std::string bake_dir;
   BakedSurfaces surfaces;
   std::vector<LightmapImage> pages;
+  /// The bake's masked lights (their direct light is not in `pages`);
+  /// bake.masks keeps their list, the field their texels.
+  MaskedLightField masked;
 
   /// Receivers of the static level; groups (what shoots) are bake patches.
   RuntimePatches patches;

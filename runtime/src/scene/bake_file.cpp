@@ -5,10 +5,11 @@
 //   u64 FNV-1a 64 of every preceding byte
 // HEAD, PAGE and TUVS are always present; PTCH, PELM, CLST, EMIT, PRXY and
 // PROB all together or not at all (BakeData::has_runtime_sections); BUVS
-// when some double-sided triangle has a back lightmap. Readers
-// skip unknown tags, so a version can gain sections without a bump; a known
-// section's payload layout is fixed per version. The payloads are described
-// beside their encoders below.
+// when some double-sided triangle has a back lightmap; SMSK, after the
+// runtime sections, when the bake masks some light (only with runtime
+// sections). Readers skip unknown tags, so a version can gain sections
+// without a bump; a known section's payload layout is fixed per version.
+// The payloads are described beside their encoders below.
 //
 // Trust: a bake file is input. The reader walks the section table before it
 // believes any size, checks the checksum before it parses a payload, checks
@@ -59,6 +60,7 @@ constexpr uint32_t kEmit = makeTag("EMIT");
 constexpr uint32_t kPrxy = makeTag("PRXY");
 constexpr uint32_t kProb = makeTag("PROB");
 constexpr uint32_t kBuvs = makeTag("BUVS");
+constexpr uint32_t kSmsk = makeTag("SMSK");
 
 // Fixed sizes of the per-element records (bytes), used to bound counts.
 constexpr uint64_t kPageMinBytes = 4 + 4 + 8 + 4;  // width, height, hash, name length
@@ -67,6 +69,8 @@ constexpr uint64_t kBackUvBytes = 4 * 2 + 6 * 4;
 constexpr uint64_t kPatchBytes = 16 * 4 + 2 * 4;       // 16 floats, first, count
 constexpr uint64_t kClusterBytes = 4 * 4 + 7 * 4;      // 4 ints, bounds, area
 constexpr uint64_t kEmitterMinBytes = 4 + 4 + 12 + 4;  // kind, index, flux, count
+constexpr uint64_t kMaskedLightBytes = 3 * 4;          // emitter, channel, owner
+constexpr uint64_t kMaskPageMinBytes = 8;              // value count
 
 // Printable form of a tag: its four characters, or hex when they are not ASCII.
 std::string tagName(uint32_t tag) {
@@ -206,6 +210,24 @@ void encodeProbes(ByteWriter& w, const BakeData& d) {
   for (float v : d.probes.sh) w.f32(v);
 }
 
+// u32 light count, then per light: u32 emitter, u32 channel, u32 owner;
+// u32 channels; u32 page count, then per page: u64 value count, that many
+// u16 values (BakeShadowMasks::pages order).
+void encodeShadowMasks(ByteWriter& w, const BakeData& d) {
+  w.u32(uint32_t(d.masks.lights.size()));
+  for (const BakeMaskedLight& light : d.masks.lights) {
+    w.u32(light.emitter);
+    w.u32(light.channel);
+    w.u32(light.owner);
+  }
+  w.u32(d.masks.channels);
+  w.u32(uint32_t(d.masks.pages.size()));
+  for (const std::vector<uint16_t>& page : d.masks.pages) {
+    w.u64(page.size());
+    w.u16s(page.data(), page.size());
+  }
+}
+
 template <typename Encode>
 void section(ByteWriter& w, uint32_t tag, Encode encode) {
   w.u32(tag);
@@ -216,11 +238,17 @@ void section(ByteWriter& w, uint32_t tag, Encode encode) {
   w.patchU64(size_at, uint64_t(w.size() - start));
 }
 
+// The sections encode() writes: 3 required, 6 runtime, BUVS, SMSK.
+uint32_t sectionCount(const BakeData& d) {
+  return (d.has_runtime_sections ? 9 : 3) + (d.back_uvs.empty() ? 0 : 1) +
+         (d.masks.lights.empty() ? 0 : 1);
+}
+
 std::vector<uint8_t> encode(const BakeData& d) {
   ByteWriter w;
   w.raw(kMagic, sizeof kMagic);
   w.u32(kBakeFileVersion);
-  w.u32((d.has_runtime_sections ? 9 : 3) + (d.back_uvs.empty() ? 0 : 1));
+  w.u32(sectionCount(d));
   section(w, kHead, [&] { encodeHead(w, d); });
   section(w, kPage, [&] { encodePages(w, d); });
   section(w, kTuvs, [&] { encodeTriangleUvs(w, d); });
@@ -233,6 +261,7 @@ std::vector<uint8_t> encode(const BakeData& d) {
     section(w, kPrxy, [&] { encodeProxy(w, d); });
     section(w, kProb, [&] { encodeProbes(w, d); });
   }
+  if (!d.masks.lights.empty()) section(w, kSmsk, [&] { encodeShadowMasks(w, d); });
   w.u64(fnv1a64(w.bytes().data(), w.size()));
   return std::move(w.bytes());
 }
@@ -356,6 +385,27 @@ void decodeProbes(ByteReader& r, BakeData& d) {
   for (float& v : d.probes.sh) v = r.f32();
 }
 
+void decodeShadowMasks(ByteReader& r, BakeData& d) {
+  const uint32_t lights = r.u32();
+  if (!r.needArray(lights, kMaskedLightBytes)) return;
+  d.masks.lights.resize(lights);
+  for (BakeMaskedLight& light : d.masks.lights) {
+    light.emitter = r.u32();
+    light.channel = r.u32();
+    light.owner = r.u32();
+  }
+  d.masks.channels = r.u32();
+  const uint32_t pages = r.u32();
+  if (!r.needArray(pages, kMaskPageMinBytes)) return;
+  d.masks.pages.resize(pages);
+  for (std::vector<uint16_t>& page : d.masks.pages) {
+    const uint64_t values = r.u64();
+    if (!r.needArray(values, 2)) return;
+    page.resize(size_t(values));
+    r.u16s(page.data(), page.size());
+  }
+}
+
 struct SectionRef {
   uint32_t tag = 0;
   size_t offset = 0;  // of the payload, in the file
@@ -364,11 +414,13 @@ struct SectionRef {
 
 std::string osError(int error) { return std::generic_category().message(error); }
 
-constexpr int kKnownSectionCount = 10;
+constexpr int kKnownSectionCount = 11;
 constexpr int kRequiredSectionCount = 3;  // HEAD, PAGE, TUVS
-constexpr int kRuntimeSectionEnd = 9;     // the runtime sections follow them, then BUVS
-constexpr uint32_t kKnown[kKnownSectionCount] = {kHead, kPage, kTuvs, kPtch, kPelm,
-                                                 kClst, kEmit, kPrxy, kProb, kBuvs};
+constexpr int kRuntimeSectionEnd = 9;     // the 6 runtime sections follow them
+constexpr int kBackUvSection = 9;         // then the optional ones, in kKnown order
+constexpr int kShadowMaskSection = 10;
+constexpr uint32_t kKnown[kKnownSectionCount] = {kHead, kPage, kTuvs, kPtch, kPelm, kClst,
+                                                 kEmit, kPrxy, kProb, kBuvs, kSmsk};
 
 // A short prefix of the magic is a cut file; anything else is not ours.
 Status checkMagic(const uint8_t* bytes, size_t size, const std::string& path) {
@@ -489,8 +541,8 @@ Status parseSections(const uint8_t* bytes, const SectionRef* const (&found)[kKno
   if (Status s = parse(0, decodeHead); !s.ok()) return s;
   if (Status s = parse(1, decodePages); !s.ok()) return s;
   if (Status s = parse(2, decodeTriangleUvs); !s.ok()) return s;
-  if (found[kRuntimeSectionEnd]) {
-    if (Status s = parse(kRuntimeSectionEnd, decodeBackUvs); !s.ok()) return s;
+  if (found[kBackUvSection]) {
+    if (Status s = parse(kBackUvSection, decodeBackUvs); !s.ok()) return s;
   }
   if (data.has_runtime_sections) {
     if (Status s = parse(3, decodePatches); !s.ok()) return s;
@@ -501,6 +553,11 @@ Status parseSections(const uint8_t* bytes, const SectionRef* const (&found)[kKno
     if (Status s = parse(6, decodeEmitters); !s.ok()) return s;
     if (Status s = parse(7, decodeProxy); !s.ok()) return s;
     if (Status s = parse(8, decodeProbes); !s.ok()) return s;
+  }
+  // Parsed even without the runtime sections, so that validateBakeData()
+  // refuses such a file by name rather than the reader dropping the masks.
+  if (found[kShadowMaskSection]) {
+    if (Status s = parse(kShadowMaskSection, decodeShadowMasks); !s.ok()) return s;
   }
   return Status();
 }

@@ -2,7 +2,9 @@
 // Little-endian byte encoding for bake files and the level hash. Every field
 // is written byte by byte (floats as their IEEE-754 bits), never as a struct
 // memcpy, so the format does not depend on the host's endianness, padding or
-// alignment. Internal to svit::scene; not installed.
+// alignment. The one bulk copy, of u16 arrays (u16s), happens only on
+// little-endian hosts, where it yields the same bytes. Internal to
+// svit::scene; not installed.
 
 #include <bit>
 #include <cstdint>
@@ -21,6 +23,20 @@ template <typename Sink>
 class LittleEndianEncoder {
  public:
   void u8(uint8_t v) { sink().put(&v, 1); }
+  void u16(uint16_t v) {
+    const uint8_t b[2] = {uint8_t(v), uint8_t(v >> 8)};
+    sink().put(b, 2);
+  }
+  /// `count` u16 values in order. Shadow masks run to ~10 M values (Sponza),
+  /// so a little-endian host hands the array over in one put(): its bytes
+  /// already are the encoding. Other hosts go value by value.
+  void u16s(const uint16_t* values, size_t count) {
+    if constexpr (std::endian::native == std::endian::little) {
+      sink().put(reinterpret_cast<const uint8_t*>(values), count * sizeof(uint16_t));
+    } else {
+      for (size_t i = 0; i < count; ++i) u16(values[i]);
+    }
+  }
   void u32(uint32_t v) {
     const uint8_t b[4] = {uint8_t(v), uint8_t(v >> 8), uint8_t(v >> 16), uint8_t(v >> 24)};
     sink().put(b, 4);
@@ -96,6 +112,24 @@ class ByteReader {
   }
 
   uint8_t u8() { return need(1) ? data_[offset_++] : 0; }
+  uint16_t u16() {
+    if (!need(2)) return 0;
+    const uint16_t v = uint16_t(data_[offset_] | data_[offset_ + 1] << 8);
+    offset_ += 2;
+    return v;
+  }
+  /// Fills `values[0, count)`, or fails the reader (values untouched) when
+  /// fewer than 2 * count bytes are left. One memcpy on a little-endian host,
+  /// as the encoder's u16s().
+  void u16s(uint16_t* values, size_t count) {
+    if (!needArray(count, sizeof(uint16_t))) return;
+    if constexpr (std::endian::native == std::endian::little) {
+      if (count != 0) std::memcpy(values, data_ + offset_, count * sizeof(uint16_t));
+      offset_ += count * sizeof(uint16_t);
+    } else {
+      for (size_t i = 0; i < count; ++i) values[i] = u16();
+    }
+  }
   uint32_t u32() {
     if (!need(4)) return 0;
     uint32_t v = 0;

@@ -17,6 +17,12 @@ namespace {
 
 // The longest page file name we accept: a name, not a path tree.
 constexpr size_t kMaxPageFileChars = 1024;
+// Shadow-mask owners are the high byte of a u16 texel value: 1..255, 0 for
+// no light. A channel cap of 256 (64 RGBA layers) is far above any real
+// overlap and bounds the owner tables below to 64 K entries.
+constexpr uint32_t kMaxMaskOwner = 255;
+constexpr uint32_t kMaxMaskChannels = 256;
+constexpr uint32_t kMaskOwners = kMaxMaskOwner + 1;  // 0..255
 
 std::string num(double v) {
   char text[32];
@@ -149,6 +155,13 @@ Status validateRuntimeAbsent(const BakeData& d, const std::string& path) {
   if (!d.proxy.face_patch.empty())
     return refuse("PRXY", "proxy.face_patch", d.proxy.face_patch.size());
   if (!d.probes.sh.empty()) return refuse("PROB", "probes.sh", d.probes.sh.size());
+  // Masks modulate runtime lights; without the emitters they name nothing.
+  if (!d.masks.lights.empty()) return refuse("SMSK", "masks.lights", d.masks.lights.size());
+  if (!d.masks.pages.empty()) return refuse("SMSK", "masks.pages", d.masks.pages.size());
+  if (d.masks.channels != 0) {
+    return invalid(path, "section SMSK: has_runtime_sections is false but masks.channels is " +
+                             num(d.masks.channels) + ", which would not be written");
+  }
   if (d.probes.dims[0] != 0 || d.probes.dims[1] != 0 || d.probes.dims[2] != 0) {
     return invalid(path, "section PROB: has_runtime_sections is false but probe dims are " +
                              num(d.probes.dims[0]) + " x " + num(d.probes.dims[1]) + " x " +
@@ -342,6 +355,159 @@ Status validateProbes(const BakeData& d, const std::string& path) {
   return Status();
 }
 
+// No lights: nothing else either, since only lights get SMSK written.
+Status validateNoShadowMasks(const BakeShadowMasks& masks, const std::string& path) {
+  if (masks.channels != 0) {
+    return invalid(
+        path, "section SMSK: no masked lights but " + num(masks.channels) + " channels (want 0)");
+  }
+  if (!masks.pages.empty()) {
+    return invalid(path, "section SMSK: no masked lights but " + num(uint64_t(masks.pages.size())) +
+                             " mask pages (want none)");
+  }
+  return Status();
+}
+
+const char* emitterKindName(BakeEmitter::Kind kind) {
+  switch (kind) {
+    case BakeEmitter::Kind::kLight: return "light";
+    case BakeEmitter::Kind::kPatch: return "patch";
+    case BakeEmitter::Kind::kSun: return "sun";
+    case BakeEmitter::Kind::kSky: return "sky";
+  }
+  return "unknown";
+}
+
+// Each light: a light or sun emitter, masked once, in a channel under a
+// (channel, owner) pair no other light holds. Fills `owner_allowed`
+// (channel * kMaskOwners + owner: 1 where a texel may hold that owner in
+// that channel; owner 0 always) for the texel check. `masks.channels` is
+// already <= kMaxMaskChannels.
+Status validateMaskedLights(const BakeData& d, const std::string& path,
+                            std::vector<uint8_t>& owner_allowed) {
+  const BakeShadowMasks& masks = d.masks;
+  // Which light holds an emitter / a (channel, owner) pair; -1 for none yet.
+  std::vector<int64_t> light_of_emitter(d.emitters.size(), -1);
+  std::vector<int64_t> light_of_owner(size_t(masks.channels) * kMaskOwners, -1);
+  owner_allowed.assign(size_t(masks.layers()) * 4 * kMaskOwners, 0);
+  for (uint32_t c = 0; c < masks.layers() * 4; ++c) owner_allowed[size_t(c) * kMaskOwners] = 1;
+  for (size_t i = 0; i < masks.lights.size(); ++i) {
+    const BakeMaskedLight& light = masks.lights[i];
+    const std::string where = "section SMSK light " + num(uint64_t(i)) + ": ";
+    if (light.emitter >= d.emitters.size()) {
+      return invalid(path, where + "emitter " + num(light.emitter) + " is out of range (" +
+                               num(uint64_t(d.emitters.size())) + " emitters)");
+    }
+    const BakeEmitter::Kind kind = d.emitters[light.emitter].kind;
+    if (kind != BakeEmitter::Kind::kLight && kind != BakeEmitter::Kind::kSun) {
+      return invalid(path, where + "emitter " + num(light.emitter) + " is a " +
+                               emitterKindName(kind) + " (kind " + num(uint32_t(kind)) +
+                               "), not a light or the sun");
+    }
+    int64_t& emitter_holder = light_of_emitter[light.emitter];
+    if (emitter_holder >= 0) {
+      return invalid(path, where + "emitter " + num(light.emitter) +
+                               " is already masked by light " + num(emitter_holder));
+    }
+    emitter_holder = int64_t(i);
+    if (light.channel >= masks.channels) {
+      return invalid(path, where + "channel " + num(light.channel) + " >= channel count " +
+                               num(masks.channels));
+    }
+    if (light.owner == 0 || light.owner > kMaxMaskOwner) {
+      return invalid(path, where + "owner " + num(light.owner) + " is not in 1.." +
+                               num(kMaxMaskOwner) + " (0 marks no light)");
+    }
+    const size_t slot = size_t(light.channel) * kMaskOwners + light.owner;
+    if (light_of_owner[slot] >= 0) {
+      return invalid(path, where + "channel " + num(light.channel) + " owner " + num(light.owner) +
+                               " is already light " + num(light_of_owner[slot]) + "'s");
+    }
+    light_of_owner[slot] = int64_t(i);
+    owner_allowed[slot] = 1;
+  }
+  return Status();
+}
+
+// The texel value at `index` of a mask page, whose owner its channel does
+// not allow, named by layer, column, row and channel.
+Status maskTexelError(const std::vector<uint16_t>& values, size_t index,
+                      const BakeLightmapPage& page, const std::string& where,
+                      const std::string& path) {
+  const uint64_t texel = index / 4, layer_texels = uint64_t(page.width) * page.height;
+  const uint64_t layer = texel / layer_texels, in_layer = texel % layer_texels;
+  const uint64_t channel = layer * 4 + index % 4;
+  const uint32_t value = values[index];
+  return invalid(path, where + "layer " + num(layer) + " texel (" + num(in_layer % page.width) +
+                           ", " + num(in_layer / page.width) + ") channel " + num(channel) +
+                           ": value " + num(value) + " has owner " + num(value >> 8) +
+                           ", not 0 or a light of channel " + num(channel));
+}
+
+// Every value's owner (its high byte) is allowed in its channel.
+// `values` holds `layers` x height x width x 4 values (checked by the caller).
+Status validateMaskTexels(const std::vector<uint16_t>& values, uint32_t layers,
+                          const BakeLightmapPage& page, const std::vector<uint8_t>& owner_allowed,
+                          const std::string& where, const std::string& path) {
+  // Hot loop (~10 M values on Sponza): one table lookup per value, no
+  // division; the position is worked out only for a value that fails.
+  const size_t layer_values = size_t(page.width) * page.height * 4;
+  for (size_t layer = 0; layer < layers; ++layer) {
+    const uint8_t* allowed = owner_allowed.data() + layer * 4 * kMaskOwners;
+    const size_t first = layer * layer_values;
+    for (size_t i = first; i < first + layer_values; i += 4) {
+      for (size_t c = 0; c < 4; ++c) {
+        if (!allowed[c * kMaskOwners + (values[i + c] >> 8)])
+          return maskTexelError(values, i + c, page, where, path);
+      }
+    }
+  }
+  return Status();
+}
+
+// Per lightmap page, layers x height x width x 4 values whose owners are
+// lights of their channel.
+Status validateMaskPages(const BakeData& d, const std::string& path,
+                         const std::vector<uint8_t>& owner_allowed) {
+  const BakeShadowMasks& masks = d.masks;
+  if (masks.pages.size() != d.pages.size()) {
+    return invalid(path, "section SMSK: " + num(uint64_t(masks.pages.size())) + " mask pages for " +
+                             num(uint64_t(d.pages.size())) + " lightmap pages (want one per page)");
+  }
+  for (size_t p = 0; p < masks.pages.size(); ++p) {
+    const BakeLightmapPage& page = d.pages[p];
+    const std::vector<uint16_t>& values = masks.pages[p];
+    const std::string where = "section SMSK page " + num(uint64_t(p)) + ": ";
+    uint64_t want = 4;
+    const bool fits = mulNoOverflow(want, masks.layers(), want) &&
+                      mulNoOverflow(want, page.width, want) &&
+                      mulNoOverflow(want, page.height, want);
+    if (!fits || want != values.size()) {
+      return invalid(path, where + num(uint64_t(values.size())) + " values for " +
+                               num(masks.layers()) + " layers of " + num(page.width) + " x " +
+                               num(page.height) + " texels (want 4 per texel and layer" +
+                               (fits ? " = " + num(want) : std::string(", which overflows")) + ")");
+    }
+    if (Status s = validateMaskTexels(values, masks.layers(), page, owner_allowed, where, path);
+        !s.ok())
+      return s;
+  }
+  return Status();
+}
+
+Status validateShadowMasks(const BakeData& d, const std::string& path) {
+  const BakeShadowMasks& masks = d.masks;
+  if (Status s = checkCount(path, "SMSK", "masked lights", masks.lights.size()); !s.ok()) return s;
+  if (masks.lights.empty()) return validateNoShadowMasks(masks, path);
+  if (masks.channels > kMaxMaskChannels) {
+    return invalid(path, "section SMSK: " + num(masks.channels) + " channels exceed the limit of " +
+                             num(kMaxMaskChannels));
+  }
+  std::vector<uint8_t> owner_allowed;
+  if (Status s = validateMaskedLights(d, path, owner_allowed); !s.ok()) return s;
+  return validateMaskPages(d, path, owner_allowed);
+}
+
 }  // namespace
 
 Status validateBakeData(const BakeData& d, const std::string& path) {
@@ -359,7 +525,8 @@ Status validateBakeData(const BakeData& d, const std::string& path) {
   if (Status s = validateClusters(d, path); !s.ok()) return s;
   if (Status s = validateEmitters(d, path); !s.ok()) return s;
   if (Status s = validateProxy(d, path); !s.ok()) return s;
-  return validateProbes(d, path);
+  if (Status s = validateProbes(d, path); !s.ok()) return s;
+  return validateShadowMasks(d, path);
 }
 
 }  // namespace svit::bakeio

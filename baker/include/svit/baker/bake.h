@@ -46,6 +46,11 @@ struct BakeOptions {
   /// OUT/level.json (the glTF by absolute path, this sun and sky): the
   /// level it baked, for svit-walk and the runtime.
   std::string sun_json, sky_json;
+  /// For a level with dynamic objects: shadow masks of the baked lights and
+  /// the sun (shadow_masks.h), whose direct light the runtime then shades
+  /// per pixel with the dynamic objects' shadows. false: they stay in the
+  /// lightmap (--no-shadow-masks).
+  bool shadow_masks = true;
 };
 
 /// Checks option ranges (what the tool reports as bad usage, exit 2).

@@ -18,6 +18,14 @@
 
 namespace svit::baker {
 
+/// Baked lights whose direct light shadow masks carry instead of the
+/// lightmap (shadow_masks.h): the lighting passes leave them out.
+struct MaskedLights {
+  std::vector<uint32_t> lights;  ///< Scene::lights indices, static punctual or directional
+  bool sun = false;
+  size_t count() const { return lights.size() + (sun ? 1 : 0); }
+};
+
 struct TexelLightingSettings {
   uint64_t seed = 1;
   int threads = 0;                   ///< 0 = all cores; results do not depend on it
@@ -29,6 +37,8 @@ struct TexelLightingSettings {
   /// the solution the gather reads: a bake's passes read the solver's halves
   /// in turn (radiosity.h's SolutionHalf)
   SolutionHalf solution = SolutionHalf::kWhole;
+  /// left out of the direct light (their masks hold it)
+  MaskedLights masked;
 };
 
 /// Direct and indirect irradiance of one texel, lux per channel.
@@ -62,5 +72,16 @@ Expected<std::vector<TexelIrradiance>> lightTexelList(
     const RadiositySolver& solver, const TexelSet& texels, const std::vector<uint32_t>& samples,
     const TexelLightingSettings& settings, const std::atomic<bool>* cancel = nullptr,
     const std::function<bool(size_t, size_t)>& progress = {});
+
+/// Per texel, each masked light's visibility from the static level: the
+/// unshadowed-irradiance-weighted share of its shadow rays (one to a point
+/// or spot light, `settings.sun_samples` over the sun's disk) that reach
+/// it, 0 where the light does not reach the texel at all (behind, outside
+/// the cone). Laid out texel-major: [texel * masked.count() + light], the
+/// Scene::lights in `masked.lights` order, then the sun. Deterministic.
+Expected<std::vector<float>> maskVisibility(const Scene& scene, const BakeGeometry& geometry,
+                                            const RayCaster& caster, const TexelSet& texels,
+                                            const TexelLightingSettings& settings,
+                                            const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace svit::baker
