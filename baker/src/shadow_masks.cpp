@@ -32,11 +32,9 @@ bool hasDynamicInstance(const Scene& scene) {
 
 // One light's mask on every page, 0..255, dilated and seamed like the lightmap.
 std::vector<std::vector<uint8_t>> lightMaskPages(const BakeGeometry& geometry,
-                                                 const LightmapAtlas& atlas,
-                                                 const TexelSet& texels,
-                                                 const std::vector<float>& visibility,
-                                                 size_t light, size_t light_count,
-                                                 const PageSettings& settings) {
+                                                 const LightmapAtlas& atlas, const TexelSet& texels,
+                                                 const std::vector<float>& visibility, size_t light,
+                                                 size_t light_count, const PageSettings& settings) {
   std::vector<TexelIrradiance> as_light(texels.samples.size());
   for (size_t j = 0; j < as_light.size(); ++j) {
     const float v = visibility[j * light_count + light];
@@ -167,9 +165,9 @@ Expected<BakeShadowMasks> buildShadowMasks(const Scene& scene, const BakeGeometr
   ChannelOwners channels;
   for (size_t k = 0; k < count; ++k) {
     const bool is_sun = k == masked.lights.size();
-    const uint32_t emitter = is_sun ? emitterOf(emitters, BakeEmitter::Kind::kSun, 0)
-                                    : emitterOf(emitters, BakeEmitter::Kind::kLight,
-                                                masked.lights[k]);
+    const uint32_t emitter = is_sun
+                                 ? emitterOf(emitters, BakeEmitter::Kind::kSun, 0)
+                                 : emitterOf(emitters, BakeEmitter::Kind::kLight, masked.lights[k]);
     if (emitter == UINT32_MAX) {
       return Status(StatusCode::kInternal,
                     "shadow masks: " +

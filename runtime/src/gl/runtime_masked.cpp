@@ -47,11 +47,10 @@ bool Runtime::Impl::dynamicObjectBlocks(const glm::vec3& from, const glm::vec3& 
       glm::vec2 barycentric;
       float distance = 0;
       // Both windings: backs cast shadows too (the caster maps cull nothing).
-      const bool hit =
-          glm::intersectRayTriangle(from, direction, toGlm(p[t]), toGlm(p[t + 1]), toGlm(p[t + 2]),
-                                    barycentric, distance) ||
-          glm::intersectRayTriangle(from, direction, toGlm(p[t]), toGlm(p[t + 2]), toGlm(p[t + 1]),
-                                    barycentric, distance);
+      const bool hit = glm::intersectRayTriangle(from, direction, toGlm(p[t]), toGlm(p[t + 1]),
+                                                 toGlm(p[t + 2]), barycentric, distance) ||
+                       glm::intersectRayTriangle(from, direction, toGlm(p[t]), toGlm(p[t + 2]),
+                                                 toGlm(p[t + 1]), barycentric, distance);
       if (hit && distance > 0 && distance < distance_m) return true;
     }
   }

@@ -38,8 +38,10 @@ Expected<MaskedLightField> MaskedLightField::create(const Scene& scene, const Ba
     } else {
       return Status(StatusCode::kInvalidInput,
                     "bake.svit: section SMSK masks emitter " + std::to_string(m.emitter) +
-                        ", light " + std::to_string(e.index) + ", which is not a baked light of "
-                        "the level (" + std::to_string(scene.lights.size()) + " lights)");
+                        ", light " + std::to_string(e.index) +
+                        ", which is not a baked light of "
+                        "the level (" +
+                        std::to_string(scene.lights.size()) + " lights)");
     }
     field.emitters_.push_back(m.emitter);
   }
@@ -48,8 +50,8 @@ Expected<MaskedLightField> MaskedLightField::create(const Scene& scene, const Ba
 
 Vec3 MaskedLightField::towardLight(size_t k, const Vec3& p) const {
   const Light& l = lights_[k];
-  const glm::vec3 d = l.type == LightType::kDirectional ? -toGlm(l.direction)
-                                                         : toGlm(l.position) - toGlm(p);
+  const glm::vec3 d =
+      l.type == LightType::kDirectional ? -toGlm(l.direction) : toGlm(l.position) - toGlm(p);
   const float length = glm::length(d);
   return length > 0 ? fromGlm(d / length) : Vec3{0, 1, 0};
 }
@@ -76,7 +78,8 @@ Rgb MaskedLightField::unshadowed(size_t k, const Vec3& p, const Vec3& n) const {
       const double c = glm::dot(glm::normalize(glm::dvec3(toGlm(l.direction))), -toward);
       const double cos_outer = std::cos(double(l.outer_cone_rad)),
                    cos_inner = std::cos(double(l.inner_cone_rad));
-      const double t = std::clamp((c - cos_outer) / std::max(cos_inner - cos_outer, 1e-6), 0.0, 1.0);
+      const double t =
+          std::clamp((c - cos_outer) / std::max(cos_inner - cos_outer, 1e-6), 0.0, 1.0);
       e *= t * t;
     }
   }
@@ -96,7 +99,8 @@ float MaskedLightField::visibility(size_t k, uint32_t page, const Vec2& uv) cons
   const auto at = [&](int x, int y) {
     x = std::clamp(x, 0, width - 1);
     y = std::clamp(y, 0, height - 1);
-    const uint16_t v = values[(layer * texels + size_t(y) * size_t(width) + size_t(x)) * 4 + component];
+    const uint16_t v =
+        values[(layer * texels + size_t(y) * size_t(width) + size_t(x)) * 4 + component];
     return (v >> 8) == m.owner ? float(v & 0xff) / 255.0f : 0.0f;
   };
   // Bilinear, as GL samples a texture: texel centres at (i + 0.5) / size.
