@@ -24,6 +24,8 @@ expect_exit bad_time 2 -- "$bake" "$cornell" -o "$work/x" --time -1
 expect_exit bad_texels 2 -- "$bake" "$cornell" -o "$work/x" --texels-per-m abc
 expect_exit unknown_option 2 -- "$bake" "$cornell" -o "$work/x" --frobnicate
 grep -q "unknown option '--frobnicate'" "$work/err.txt" || fail "unknown option message"
+expect_exit plan_without_masks 2 -- "$bake" plan "$cornell" -o "$work/x" --shards 2 --no-shadow-masks
+grep -q "no-shadow-masks is for whole bakes only" "$work/err.txt" || fail "plan --no-shadow-masks message"
 # Bad input: exit 1, message names the file.
 expect_exit missing_level 1 -- "$bake" "$work/nope.gltf" -o "$work/x"
 grep -q "nope.gltf" "$work/err.txt" || fail "missing level message names the file"

@@ -396,7 +396,9 @@ Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(
   if (!target.ok()) return target.status();
   impl->target = std::move(target).value();
 
-  const double log_mean = impl->lightmaps.logMeanIrradiance();
+  Expected<double> masked_ratio = gl::maskedExposureRatio(scene, bake, bake_dir);
+  if (!masked_ratio.ok()) return masked_ratio.status();
+  const double log_mean = impl->lightmaps.logMeanIrradiance() * *masked_ratio;
   impl->delta_reference_lux = log_mean > 0 ? float(log_mean) : 1.0f;
   impl->exposure = settings.auto_exposure && log_mean > 0
                        ? float(settings.exposure * kExposureKey * kPi / log_mean)
@@ -667,7 +669,8 @@ std::vector<ResourceUse> SceneRenderer::resources() const {
   out.push_back(use(
       "light shadow maps", s.shadows.glObjects(),
       std::to_string(s.shadows.lightCount()) +
-          " lights drawn per pixel (runtime lights; baked ones while dynamic objects need them)",
+          " lights drawn per pixel (runtime lights; baked ones while dynamic objects need them; "
+          "masked baked lights' caster maps of the dynamic objects)",
       "no light to draw per pixel: no runtime lights, and no baked point, spot or sun light while "
       "dynamic objects exist (or nothing rendered yet)"));
   out.push_back(use("shadow mask textures", s.masks.glObjects(),

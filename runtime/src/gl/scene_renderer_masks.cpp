@@ -2,7 +2,12 @@
 
 #include <epoxy/gl.h>
 
+#include <cmath>
+
 #include "gl_program.h"
+#include "numeric.h"
+#include "svit/baked_surfaces.h"
+#include "svit/masked_lights.h"
 
 namespace svit::gl {
 
@@ -31,6 +36,37 @@ std::vector<GlObject> ShadowMaskTextures::glObjects() const {
   std::vector<GlObject> out;
   for (const GlTexture& t : textures_) out.push_back(glTextureObject(t.id()));
   return out;
+}
+
+Expected<double> maskedExposureRatio(const Scene& scene, const BakeData& bake,
+                                     const std::string& bake_dir) {
+  if (bake.masks.lights.empty()) return 1.0;
+  Expected<BakedSurfaces> surfaces = BakedSurfaces::build(scene, bake);
+  if (!surfaces.ok()) return surfaces.status();
+  Expected<MaskedLightField> masked = MaskedLightField::create(scene, bake);
+  if (!masked.ok()) return masked.status();
+  Expected<std::vector<LightmapImage>> pages = readLightmapPages(bake, bake_dir);
+  if (!pages.ok()) return pages.status();
+  double log_with = 0, log_without = 0, area = 0;
+  for (size_t t = 0; t < surfaces->triangleCount(); ++t) {
+    const BakeTriangleUv& uv = bake.triangle_uvs[t];
+    const Vec2 centre{(uv.uv[0].x + uv.uv[1].x + uv.uv[2].x) / 3,
+                      (uv.uv[0].y + uv.uv[1].y + uv.uv[2].y) / 3};
+    Vec3 p{0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& c = surfaces->corner(t, k);
+      p = {p.x + c.x / 3, p.y + c.y / 3, p.z + c.z / 3};
+    }
+    const double lightmap = luminanceOf((*pages)[uv.page].sampleBilinear(centre));
+    const double direct =
+        luminanceOf(masked->bakedIrradiance(p, surfaces->normal(t), uv.page, centre));
+    if (!(lightmap > 0) || !(lightmap + direct > 0)) continue;
+    const double a = surfaces->area(t);
+    log_with += a * std::log(lightmap + direct);
+    log_without += a * std::log(lightmap);
+    area += a;
+  }
+  return area > 0 ? std::exp((log_with - log_without) / area) : 1.0;
 }
 
 }  // namespace svit::gl

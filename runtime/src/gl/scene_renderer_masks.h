@@ -6,11 +6,13 @@
 // without masks.
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "gl_handle.h"
 #include "gl_memory.h"
 #include "svit/bake_file.h"
+#include "svit/scene.h"
 #include "svit/status.h"
 
 namespace svit::gl {
@@ -25,5 +27,13 @@ class ShadowMaskTextures {
  private:
   std::vector<GlTexture> textures_;
 };
+
+/// How much brighter a masked bake's surfaces are than its lightmap says
+/// (the masked lights' direct light is not in the pages), for auto
+/// exposure: the area-weighted log-mean irradiance over the static
+/// triangles' centroids with the masked lights, over that without. 1 for a
+/// bake without masks. Errors: unreadable pages, a bake of another level.
+Expected<double> maskedExposureRatio(const Scene& scene, const BakeData& bake,
+                                     const std::string& bake_dir);
 
 }  // namespace svit::gl
