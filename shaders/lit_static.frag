@@ -58,6 +58,10 @@ struct GpuLight {
   mat4 shadow_from_world;
 };
 layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
+// Masked area lights' triangles: per light a header (x: element count),
+// then per element its corners (wound to face the emitting side) and its
+// luminance, cd/m2 (gl::AreaLightBuffer).
+layout(std430, binding = 5) readonly buffer AreaLights { vec4 area[]; };
 vec3 svitUnshadowedIrradiance(GpuLight light, vec3 p, vec3 n, out float distance_m);
 float svitShadowVisibility(GpuLight light, vec3 p, vec3 n, float distance_m, float phi);
 float svitPixelNoise();
@@ -95,6 +99,80 @@ float maskVisibility(vec2 uv, int channel, int owner) {
   return mix(mix(taps[0], taps[1], a.x), mix(taps[2], taps[3], a.x), a.y);
 }
 
+// Sutherland-Hodgman against the receiver's plane dot(n, v) >= 0 (v
+// relative to the receiver): a triangle becomes at most a quadrilateral.
+int clipToHemisphere(vec3 c[3], vec3 n, out vec3 v[4]) {
+  int count = 0;
+  for (int i = 0; i < 3; ++i) {
+    vec3 from = c[i], to = c[(i + 1) % 3];
+    float h_from = dot(n, from), h_to = dot(n, to);
+    if (h_from >= 0.0) v[count++] = from;
+    if ((h_from >= 0.0) != (h_to >= 0.0)) v[count++] = from + (to - from) * (h_from / (h_from - h_to));
+  }
+  return count;
+}
+
+// Lambert's polygon formula: the cosine-weighted solid angle of a
+// triangle at p, clipped to the hemisphere of n (polygon_irradiance.cpp).
+float triangleCosineSolidAngle(vec3 c[3], vec3 n) {
+  vec3 v[4];
+  int count = clipToHemisphere(c, n, v);
+  if (count < 3) return 0.0;
+  float sum = 0.0;
+  for (int i = 0; i < count; ++i) {
+    vec3 a = normalize(v[i]), b = normalize(v[(i + 1) % count]);
+    vec3 axis = cross(a, b);
+    float s = length(axis);
+    if (s > 1e-7) sum += atan(s, dot(a, b)) * dot(n, axis / s);
+  }
+  return min(abs(0.5 * sum), kPi);
+}
+
+// An area light's unshadowed irradiance at p: each element p is in front
+// of gives its luminance x its cosine-weighted solid angle.
+vec3 areaIrradiance(int offset, vec3 p, vec3 n) {
+  int count = int(area[offset].x);
+  vec3 e = vec3(0.0);
+  for (int k = 0; k < count; ++k) {
+    int at = offset + 1 + 4 * k;
+    vec3 c[3] = vec3[3](area[at].xyz - p, area[at + 1].xyz - p, area[at + 2].xyz - p);
+    vec3 emitting = cross(c[1] - c[0], c[2] - c[0]);  // faces away from p when p is in front
+    if (dot(emitting, c[0]) >= 0.0) continue;
+    e += area[at + 3].rgb * triangleCosineSolidAngle(c, n);
+  }
+  return e;
+}
+
+// What the dynamic objects let through of area light samples
+// [first, first + count): their caster maps' visibilities weighted by the
+// point-to-point form factor cos * cos / d^2 toward each sample.
+float areaShadowVisibility(int first, int count, vec3 p, vec3 n, float phi) {
+  float seen = 0.0, total = 0.0;
+  for (int s = first; s < first + count; ++s) {
+    GpuLight sample_light = lights[s];
+    vec3 v = sample_light.position.xyz - p;
+    float d2 = max(dot(v, v), 1e-12);
+    float d = sqrt(d2);
+    vec3 l = v / d;
+    float w = max(dot(n, l), 0.0) * max(-dot(sample_light.direction.xyz, l), 0.0) / d2;
+    if (w <= 0.0) continue;
+    total += w;
+    seen += w * svitShadowVisibility(sample_light, p, n, d, phi);
+  }
+  return total > 0.0 ? seen / total : 1.0;
+}
+
+// A masked area light whose samples start at lights[i]: unshadowed x mask
+// x dimmer x what the samples' caster maps let through.
+vec3 maskedAreaIrradiance(int i, vec3 p, vec3 n, vec2 uv, float phi) {
+  GpuLight head = lights[i];
+  float mask = maskVisibility(uv, int(head.shadow_texel.z), int(head.shadow_texel.w));
+  if (mask <= 0.0 || head.intensity.r <= 0.0) return vec3(0.0);
+  vec3 e = areaIrradiance(int(head.direction.w), p, n);
+  if (max(e.r, max(e.g, e.b)) <= 0.0) return vec3(0.0);
+  return e * (mask * head.intensity.r * areaShadowVisibility(i, int(head.intensity.w), p, n, phi));
+}
+
 // The masked lights' direct light: unshadowed x static mask x what their
 // caster maps (dynamic objects only) let through; dimmers are in the
 // lights' intensities.
@@ -103,6 +181,11 @@ vec3 maskedIrradiance(vec3 p, vec3 n, vec2 uv) {
   float phi = svitPixelNoise() * 6.28318530718;
   for (int i = u_masked_begin; i < u_masked_end; ++i) {
     GpuLight light = lights[i];
+    if (int(light.position.w) == 3) {
+      sum += maskedAreaIrradiance(i, p, n, uv, phi);
+      i += int(light.intensity.w) - 1;  // past its samples
+      continue;
+    }
     float distance_m;
     vec3 e = svitUnshadowedIrradiance(light, p, n, distance_m);
     if (max(e.r, max(e.g, e.b)) <= 0.0) continue;

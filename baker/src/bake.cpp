@@ -93,7 +93,7 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const LoadedLevel& leve
   double pass_seconds = 0;
   for (uint32_t pass = 0; wantLightingPass(plan, pass, run.clock.elapsed(), pass_seconds); ++pass) {
     const double pass_start = run.clock.elapsed();
-    const TexelLightingSettings lighting_settings = passLightingSettings(run, level.scene, pass);
+    const TexelLightingSettings lighting_settings = passLightingSettings(run, level, pass);
     // Stage progress: the share of the stage's time used (with a budget),
     // or of the planned passes (without one); never goes backwards.
     const double stage_budget = plan.has_budget ? std::max(1e-3, plan.budget_s - stage_start) : 0.0;

@@ -165,8 +165,12 @@ nlohmann::ordered_json maskedLightJson(const Scene& scene, const BakeData& data,
     texels += maskTexelsOf(data.masks, k, p);
     page_texels += size_t(data.pages[p].width) * data.pages[p].height;
   }
-  return {{"light", emitter.kind == BakeEmitter::Kind::kSun ? std::string("sun")
-                                                            : scene.lights[emitter.index].name},
+  const std::string name = emitter.kind == BakeEmitter::Kind::kSun     ? std::string("sun")
+                           : emitter.kind == BakeEmitter::Kind::kPatch ? "emissive patch " +
+                                                                            std::to_string(emitter.index)
+                                                                      : scene.lights[emitter.index].name;
+  return {{"light", name},
+          {"kind", emitter.kind == BakeEmitter::Kind::kPatch ? "area" : "punctual"},
           {"emitter", light.emitter},
           {"channel", light.channel},
           {"texels", texels},
@@ -178,7 +182,8 @@ nlohmann::ordered_json maskedLightJson(const Scene& scene, const BakeData& data,
 Expected<nlohmann::ordered_json> addShadowMasks(BakeRun& run, const LoadedLevel& level,
                                                 const AtlasTexels& atlas, BakeData& data,
                                                 nlohmann::ordered_json& left_out) {
-  const MaskChoice choice = chooseMaskedLights(level.scene, run.options.shadow_masks);
+  MaskChoice choice = chooseMaskedLights(level.scene, level.geometry, run.options.shadow_masks);
+  addAreaLights(level.geometry, data.patches, data.patch_elements, choice.masked);
   nlohmann::ordered_json json;
   nlohmann::ordered_json unmasked = nlohmann::ordered_json::array();
   for (const UnmaskedLight& u : choice.unmasked)
@@ -550,9 +555,11 @@ PageSettings bakePageSettings(const AtlasTexels& atlas) {
   return settings;
 }
 
-TexelLightingSettings passLightingSettings(const BakeRun& run, const Scene& scene, uint32_t pass) {
+TexelLightingSettings passLightingSettings(const BakeRun& run, const LoadedLevel& level,
+                                           uint32_t pass) {
   TexelLightingSettings settings;
-  settings.masked = chooseMaskedLights(scene, run.options.shadow_masks).masked;
+  settings.masked =
+      chooseMaskedLights(level.scene, level.geometry, run.options.shadow_masks).masked;
   settings.threads = run.options.threads;
   settings.gather_rays = run.plan.gather_rays;
   settings.area_light_samples = run.plan.area_light_samples;

@@ -130,7 +130,8 @@ PageSettings bakePageSettings(const AtlasTexels& atlas);
 
 /// The texel lighting settings of the plan's pass `pass` (its seed, and
 /// the lights whose shadow masks hold their direct light).
-TexelLightingSettings passLightingSettings(const BakeRun& run, const Scene& scene, uint32_t pass);
+TexelLightingSettings passLightingSettings(const BakeRun& run, const LoadedLevel& level,
+                                           uint32_t pass);
 
 // What the lighting passes leave: their running mean and the error series
 // (the solver's points, then one per pass).

@@ -48,7 +48,7 @@ Expected<std::vector<ProbeResult>> probeBake(const std::string& out_dir,
     return Status(surfaces.status().code(), bake_path + ": " + surfaces.status().message());
   Expected<std::vector<LightmapImage>> pages = readLightmapPages(*bake, out_dir);
   if (!pages.ok()) return pages.status();
-  Expected<MaskedLightField> masked = MaskedLightField::create(*scene, *bake);
+  Expected<MaskedLightField> masked = MaskedLightField::create(*scene, *bake, *surfaces);
   if (!masked.ok())
     return Status(masked.status().code(), out_dir + "/" + masked.status().message());
   const double cos_limit = 0.5;  // 60 degrees

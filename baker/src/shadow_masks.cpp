@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "double_math.h"
 
@@ -23,6 +24,51 @@ double maskPriority(const Light& light) {
                           ? 2.0 * kPi * (1.0 - std::cos(double(light.outer_cone_rad)))
                           : 4.0 * kPi;
   return intensity * cone;
+}
+
+// Per static instance, its emissive triangle sides (a double-sided
+// triangle emits from two), in instance order; 0 for most.
+std::vector<size_t> emissiveSides(const Scene& scene, const BakeGeometry& geometry) {
+  std::vector<size_t> sides(scene.instances.size(), 0);
+  for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+    if (luminanceOf(dvec(geometry.emission[t])) > 0)
+      sides[geometry.instance[t]] += geometry.double_sided[t] ? 2 : 1;
+  }
+  return sides;
+}
+
+std::string instanceName(const Scene& scene, uint32_t instance) {
+  const int node = scene.instances[instance].node;
+  const std::string name =
+      node >= 0 && size_t(node) < scene.nodes.size() ? scene.nodes[size_t(node)].name : "";
+  return name.empty() ? "instance " + std::to_string(instance) : name;
+}
+
+// The emissive instances to mask as area lights, in instance order, each
+// taking a slot per emissive side (an upper bound of its patches) out of
+// `room`; the others are listed with why.
+std::vector<uint32_t> chooseEmissiveInstances(const Scene& scene, const BakeGeometry& geometry,
+                                              size_t& room, std::vector<UnmaskedLight>& unmasked) {
+  std::vector<uint32_t> out;
+  const std::vector<size_t> sides = emissiveSides(scene, geometry);
+  for (uint32_t i = 0; i < sides.size(); ++i) {
+    if (sides[i] == 0) continue;
+    if (sides[i] > kMaxAreaLightSides) {
+      unmasked.push_back({instanceName(scene, i),
+                          std::to_string(sides[i]) + " emissive triangle sides (more than " +
+                              std::to_string(kMaxAreaLightSides) +
+                              " make a glowing surface, not a lamp): it keeps the lightmap "
+                              "and the patch deltas"});
+    } else if (sides[i] > room) {
+      unmasked.push_back({instanceName(scene, i),
+                          "more than " + std::to_string(kMaxMaskedLights) +
+                              " lights to mask: it keeps the lightmap and the patch deltas"});
+    } else {
+      out.push_back(i);
+      room -= sides[i];
+    }
+  }
+  return out;
 }
 
 bool hasDynamicInstance(const Scene& scene) {
@@ -60,6 +106,23 @@ uint32_t emitterOf(const std::vector<BakeEmitter>& emitters, BakeEmitter::Kind k
       return uint32_t(e);
   }
   return UINT32_MAX;
+}
+
+// Masked light k's bake emitter (UINT32_MAX: none): the lights, the sun,
+// then the areas' patches.
+uint32_t maskedEmitter(const MaskedLights& masked, const std::vector<BakeEmitter>& emitters,
+                       size_t k) {
+  const size_t lights = masked.lights.size(), sun = masked.sun ? 1 : 0;
+  if (k < lights) return emitterOf(emitters, BakeEmitter::Kind::kLight, masked.lights[k]);
+  if (k < lights + sun) return emitterOf(emitters, BakeEmitter::Kind::kSun, 0);
+  return emitterOf(emitters, BakeEmitter::Kind::kPatch, masked.area_patches[k - lights - sun]);
+}
+
+std::string maskedLightName(const Scene& scene, const MaskedLights& masked, size_t k) {
+  const size_t lights = masked.lights.size(), sun = masked.sun ? 1 : 0;
+  if (k < lights) return scene.lights[masked.lights[k]].name;
+  if (k < lights + sun) return "the sun";
+  return "emissive patch " + std::to_string(masked.area_patches[k - lights - sun]);
 }
 
 // Channel packing: per channel and page, the owner of each texel (0: none).
@@ -107,7 +170,7 @@ void growLayers(const std::vector<size_t>& page_texels, uint32_t layers, BakeSha
 
 }  // namespace
 
-MaskChoice chooseMaskedLights(const Scene& scene, bool enabled) {
+MaskChoice chooseMaskedLights(const Scene& scene, const BakeGeometry& geometry, bool enabled) {
   MaskChoice choice;
   if (!enabled) {
     choice.none_reason = "shadow masks are off (--no-shadow-masks)";
@@ -126,7 +189,9 @@ MaskChoice chooseMaskedLights(const Scene& scene, bool enabled) {
     return maskPriority(scene.lights[a]) > maskPriority(scene.lights[b]);
   });
   const bool sun = scene.sun.enabled && scene.sun.illuminance_lux > 0;
-  const size_t room = kMaxMaskedLights - (sun ? 1 : 0);
+  size_t room = kMaxMaskedLights - (sun ? 1 : 0);
+  choice.masked.emissive_instances =
+      chooseEmissiveInstances(scene, geometry, room, choice.unmasked);
   for (size_t k = room; k < lights.size(); ++k) {
     choice.unmasked.push_back({scene.lights[lights[k]].name,
                                "more than " + std::to_string(kMaxMaskedLights) +
@@ -136,8 +201,25 @@ MaskChoice chooseMaskedLights(const Scene& scene, bool enabled) {
   std::sort(lights.begin(), lights.end());  // scene order
   choice.masked.lights = std::move(lights);
   choice.masked.sun = sun;
-  if (choice.masked.count() == 0) choice.none_reason = "the level has no baked light or sun";
+  if (choice.masked.count() == 0 && choice.masked.emissive_instances.empty())
+    choice.none_reason = "the level has no baked light, sun or lamp";
   return choice;
+}
+
+void addAreaLights(const BakeGeometry& geometry, const std::vector<BakePatch>& patches,
+                   const std::vector<uint32_t>& patch_elements, MaskedLights& masked) {
+  for (uint32_t p = 0; p < patches.size(); ++p) {
+    std::vector<uint32_t> elements;
+    for (uint32_t i = 0; i < patches[p].element_count; ++i) {
+      const uint32_t e = patch_elements[patches[p].first_element + i];
+      if (masked.masksInstance(geometry.instance[e / 2]) &&
+          luminanceOf(dvec(geometry.emission[e / 2])) > 0)
+        elements.push_back(e);
+    }
+    if (elements.empty()) continue;
+    masked.area_elements.push_back(std::move(elements));
+    masked.area_patches.push_back(p);
+  }
 }
 
 Expected<BakeShadowMasks> buildShadowMasks(const Scene& scene, const BakeGeometry& geometry,
@@ -164,15 +246,10 @@ Expected<BakeShadowMasks> buildShadowMasks(const Scene& scene, const BakeGeometr
   masks.pages.resize(page_count);
   ChannelOwners channels;
   for (size_t k = 0; k < count; ++k) {
-    const bool is_sun = k == masked.lights.size();
-    const uint32_t emitter = is_sun
-                                 ? emitterOf(emitters, BakeEmitter::Kind::kSun, 0)
-                                 : emitterOf(emitters, BakeEmitter::Kind::kLight, masked.lights[k]);
+    const uint32_t emitter = maskedEmitter(masked, emitters, k);
     if (emitter == UINT32_MAX) {
       return Status(StatusCode::kInternal,
-                    "shadow masks: " +
-                        (is_sun ? std::string("the sun") : scene.lights[masked.lights[k]].name) +
-                        " has no bake emitter");
+                    "shadow masks: " + maskedLightName(scene, masked, k) + " has no bake emitter");
     }
     const std::vector<std::vector<uint8_t>> mask =
         lightMaskPages(geometry, atlas, texels, *visibility, k, count, settings.pages);

@@ -197,7 +197,7 @@ Expected<ShardPlanResult> planShardedBake(const BakeOptions& options, uint32_t s
   // Deal the texels by the rays they cast, and write.
   WorkPlan plan = makeWorkPlan(planned, shards, **level, atlas->texels);
   dealChunks(texelRayCounts((*level)->scene, (*level)->geometry, *(*level)->caster, **solver,
-                            atlas->texels, passLightingSettings(run, (*level)->scene, 0)),
+                            atlas->texels, passLightingSettings(run, **level, 0)),
              plan);
   if (run.cancelRequested()) return run.cancelled;
   run.clock.endStage("write");

@@ -44,7 +44,7 @@ Expected<ShardLighting> lightShard(BakeRun& run, const LoadedPlan& loaded, uint3
   for (uint32_t pass = 0; pass < loaded.plan.passes; ++pass) {
     Expected<std::vector<TexelIrradiance>> lit = lightTexelList(
         level.scene, level.geometry, *level.caster, *loaded.solver, loaded.atlas.texels, texels,
-        passLightingSettings(run, level.scene, pass), run.cancel, [&](size_t done, size_t total) {
+        passLightingSettings(run, level, pass), run.cancel, [&](size_t done, size_t total) {
           const double within = double(done) / double(std::max<size_t>(total, 1));
           return run.clock.report((double(pass) + within) / double(loaded.plan.passes), -1);
         });

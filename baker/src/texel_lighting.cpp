@@ -99,8 +99,12 @@ void collectAnalyticLights(const Scene& scene, const MaskedLights& masked, Texel
     lights.directionals.push_back(sunOf(scene.sun));
 }
 
-void collectEmitters(const BakeGeometry& geometry, TexelLights& lights) {
+// The emissive triangles the lightmap's direct light sums: all but those
+// of masked area lights (their masks hold it).
+void collectEmitters(const BakeGeometry& geometry, const MaskedLights& masked,
+                     TexelLights& lights) {
   for (size_t t = 0; t < geometry.triangleCount(); ++t) {
+    if (masked.masksInstance(geometry.instance[t])) continue;
     const glm::dvec3 l = dvec(geometry.emission[t]);
     const double flux =
         luminanceOf(l) * geometry.areas_m2[t] * (geometry.double_sided[t] ? 2.0 : 1.0);
@@ -448,6 +452,11 @@ TexelRays makeScratch(const TexelLights& lights) {
 
 }  // namespace
 
+bool MaskedLights::masksInstance(uint32_t instance) const {
+  return std::find(emissive_instances.begin(), emissive_instances.end(), instance) !=
+         emissive_instances.end();
+}
+
 Expected<std::vector<TexelIrradiance>> lightTexelList(
     const Scene& scene, const BakeGeometry& geometry, const RayCaster& caster,
     const RadiositySolver& solver, const TexelSet& texels, const std::vector<uint32_t>& samples,
@@ -462,7 +471,7 @@ Expected<std::vector<TexelIrradiance>> lightTexelList(
   }
   TexelLights lights;
   collectAnalyticLights(scene, settings.masked, lights);
-  collectEmitters(geometry, lights);
+  collectEmitters(geometry, settings.masked, lights);
   solver.prepareQueries(settings.solution);
   const int threads = resolveThreads(settings.threads);
   const LightingContext context{scene, geometry, caster, solver, settings, lights};
@@ -493,7 +502,7 @@ std::vector<uint32_t> texelRayCounts(const Scene& scene, const BakeGeometry& geo
                                      const TexelLightingSettings& settings) {
   TexelLights lights;
   collectAnalyticLights(scene, settings.masked, lights);
-  collectEmitters(geometry, lights);
+  collectEmitters(geometry, settings.masked, lights);
   const LightingContext context{scene, geometry, caster, solver, settings, lights};
   std::vector<uint32_t> counts(texels.samples.size());
   parallelFor(counts.size(), 256, resolveThreads(settings.threads), [&](size_t begin, size_t end) {
@@ -513,10 +522,21 @@ struct MaskedLightRays {
   bool directional = false;
   PointLight point;
   DirectionalLight sun_or_directional;
+  std::vector<uint32_t> area_elements;  ///< an area light's (triangle * 2 + side)
+  std::vector<double> area_cdf;         ///< running sum of their areas
 };
 
-// masked.lights in order, then the sun.
-std::vector<MaskedLightRays> maskedLightRays(const Scene& scene, const MaskedLights& masked) {
+MaskedLightRays areaLightRays(const BakeGeometry& geometry, const std::vector<uint32_t>& elements) {
+  MaskedLightRays m;
+  m.area_elements = elements;
+  double total = 0;
+  for (uint32_t e : elements) m.area_cdf.push_back(total += geometry.areas_m2[e / 2]);
+  return m;
+}
+
+// masked.lights in order, then the sun, then the areas.
+std::vector<MaskedLightRays> maskedLightRays(const Scene& scene, const BakeGeometry& geometry,
+                                             const MaskedLights& masked) {
   std::vector<MaskedLightRays> out;
   for (uint32_t i : masked.lights) {
     const Light& light = scene.lights[i];
@@ -536,20 +556,59 @@ std::vector<MaskedLightRays> maskedLightRays(const Scene& scene, const MaskedLig
     m.sun_or_directional = sunOf(scene.sun);
     out.push_back(m);
   }
+  for (const std::vector<uint32_t>& elements : masked.area_elements)
+    out.push_back(areaLightRays(geometry, elements));
   return out;
+}
+
+// An area light's shadow rays from the texel: `count` points stratified
+// over its elements by area (the second coordinate on a shifted rank-1
+// lattice), each weighted by its element's luminance x cosine solid angle
+// estimate; elements whose emitting side the texel is behind give none.
+void addAreaLightRays(const BakeGeometry& geometry, const MaskedLightRays& light, uint32_t count,
+                      Rng& rng, TexelRays& t) {
+  const double total = light.area_cdf.back();
+  const double shift = rng.uniformDouble();
+  for (uint32_t s = 0; s < count; ++s) {
+    const double pick = (double(s) + rng.uniformDouble()) / double(count) * total;
+    const size_t i = std::min(
+        light.area_elements.size() - 1,
+        size_t(std::lower_bound(light.area_cdf.begin(), light.area_cdf.end(), pick) -
+               light.area_cdf.begin()));
+    const uint32_t element = light.area_elements[i], triangle = element / 2;
+    const glm::dvec3 side_normal =
+        dvec(geometry.normals[triangle]) * (element % 2 == 0 ? 1.0 : -1.0);
+    if (!(glm::dot(t.p - dvec(geometry.corner(triangle, 0)), side_normal) > 0)) continue;
+    const double low = i > 0 ? light.area_cdf[i - 1] : 0.0;
+    const double r1 = std::clamp((pick - low) / (light.area_cdf[i] - low), 0.0, 1.0 - 1e-12);
+    const double r2 = std::fmod(double(s) * 0.6180339887498949 + shift, 1.0);
+    // As double-sided, sampleEmitter takes the side the texel sees: this one.
+    const Emitter emitter{triangle, dvec(geometry.emission[triangle]), true};
+    const EmitterSample sample = sampleEmitter(geometry, emitter, t.p, t.n, r1, r2);
+    if (!(sample.cosine_solid_angle > 0)) continue;
+    const double weight = luminanceOf(emitter.luminance) * sample.cosine_solid_angle *
+                          total / geometry.areas_m2[triangle];
+    const Vec3 target = offsetRayOrigin(vec3(sample.point), vec3(sample.normal),
+                                        cornerMagnitude(geometry, triangle));
+    t.shadowTo(dvec(target), glm::dvec3(weight));
+  }
 }
 
 // One texel's visibility of each masked light: its rays' unshadowed
 // irradiance that arrives over all of it, 0 where none has any.
-void texelVisibility(const RayCaster& caster, const std::vector<MaskedLightRays>& lights,
-                     uint32_t disk_samples, Rng& rng, TexelRays& t, float* visibility) {
+void texelVisibility(const BakeGeometry& geometry, const RayCaster& caster,
+                     const std::vector<MaskedLightRays>& lights,
+                     const TexelLightingSettings& settings, Rng& rng, TexelRays& t,
+                     float* visibility) {
   t.rays.clear();
   t.contributions.clear();
   std::vector<size_t> ends;
   ends.reserve(lights.size());
   for (const MaskedLightRays& light : lights) {
-    if (light.directional) {
-      addDirectionalLightRays(light.sun_or_directional, disk_samples, rng, t);
+    if (!light.area_elements.empty()) {
+      addAreaLightRays(geometry, light, settings.area_light_samples, rng, t);
+    } else if (light.directional) {
+      addDirectionalLightRays(light.sun_or_directional, settings.sun_samples, rng, t);
     } else {
       const glm::dvec3 e = pointIrradiance(light.point, t.p, t.n);
       if (luminanceOf(e) > 0) t.shadowTo(light.point.position, e);
@@ -583,7 +642,17 @@ Expected<std::vector<float>> maskVisibility(const Scene& scene, const BakeGeomet
                     "shadow masks: light " + std::to_string(i) + " is not a static light");
     }
   }
-  const std::vector<MaskedLightRays> lights = maskedLightRays(scene, settings.masked);
+  for (const std::vector<uint32_t>& elements : settings.masked.area_elements) {
+    for (uint32_t e : elements) {
+      if (e / 2 >= geometry.triangleCount() || !(luminanceOf(dvec(geometry.emission[e / 2])) > 0)) {
+        return Status(StatusCode::kInvalidInput,
+                      "shadow masks: area element " + std::to_string(e) + " is not an emissive side");
+      }
+    }
+    if (elements.empty())
+      return Status(StatusCode::kInvalidInput, "shadow masks: an area light has no elements");
+  }
+  const std::vector<MaskedLightRays> lights = maskedLightRays(scene, geometry, settings.masked);
   const size_t count = lights.size();
   std::vector<float> out(texels.samples.size() * count, 0.0f);
   const auto visibilityRange = [&](size_t begin, size_t end) {
@@ -596,7 +665,7 @@ Expected<std::vector<float>> maskVisibility(const Scene& scene, const BakeGeomet
       t.origin = offsetRayOrigin(sample.position, sample.normal,
                                  cornerMagnitude(geometry, sample.triangle));
       t.o = dvec(t.origin);
-      texelVisibility(caster, lights, settings.sun_samples, rng, t, &out[j * count]);
+      texelVisibility(geometry, caster, lights, settings, rng, t, &out[j * count]);
     }
   };
   const size_t block = 16384;  // cancellation is checked between blocks

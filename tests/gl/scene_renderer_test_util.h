@@ -39,11 +39,19 @@ inline std::string hex(uint64_t v) {
   return text;
 }
 
-// Bakes `level_path` quickly (few passes), once per level content across test
-// processes (CTest runs every TEST in its own process): the bake goes to a
-// directory named after the level hash and is reused while it reads back
-// with the same hash. bakeLevel swaps its output in atomically, so
-// processes racing on a bake leave a whole one.
+// The test binary's build (its file's write time): a bake cached by an
+// older build of the baker is not reused.
+inline std::string buildStamp() {
+  std::error_code error;
+  const auto written = fs::last_write_time("/proc/self/exe", error);
+  return error ? "0" : hex(uint64_t(written.time_since_epoch().count()));
+}
+
+// Bakes `level_path` quickly (few passes), once per level content and test
+// build across test processes (CTest runs every TEST in its own process):
+// the bake goes to a directory named after the level hash and the build
+// and is reused while it reads back with the same hash. bakeLevel swaps
+// its output in atomically, so processes racing on a bake leave a whole one.
 /// How a test bakes a level: different seeds give independent references
 /// (their difference is the bakes' noise floor). A pass count, never a time
 /// budget: the same bake on every machine, however loaded (a budget gave CI
@@ -71,7 +79,8 @@ inline const BakedLevel& bakedLevel(const std::string& level_path, const TestBak
   const uint64_t hash = hashLevel(level.scene);
   const std::string name = hex(hash) + "-s" + std::to_string(how.seed) + "-q" +
                            std::to_string(int(how.quality * 1000)) + "-p" +
-                           std::to_string(how.passes) + (how.shadow_masks ? "-masks" : "-nomasks");
+                           std::to_string(how.passes) + (how.shadow_masks ? "-masks" : "-nomasks") +
+                           "-b" + buildStamp();
   level.dir = (fs::temp_directory_path() / "svit_scene_renderer_test" / name).string();
   Expected<BakeData> bake = readBakeFile(level.dir + "/bake.svit");
   if (!bake.ok() || bake->level_hash != hash) {

@@ -832,9 +832,12 @@ TEST_F(BakeFileTest, BadShadowMasksAreRefusedByWriterAndReader) {
       {"emitter out of range",
        [](BakeData& d) { d.masks.lights[2].emitter = 9; },
        {"section SMSK light 2: emitter 9 is out of range (6 emitters)"}},
-      {"emitter is a patch",
-       [](BakeData& d) { d.masks.lights[1].emitter = 2; },
-       {"SMSK light 1", "emitter 2 is a patch", "not a light or the sun"}},
+      {"emitter is the sky",
+       [](BakeData& d) {
+         d.emitters[2].kind = BakeEmitter::Kind::kSky;
+         d.masks.lights[1].emitter = 2;
+       },
+       {"SMSK light 1", "emitter 2 is a sky", "not a light, the sun or a lamp's patch"}},
       {"emitter masked twice",
        [](BakeData& d) { d.masks.lights[3].emitter = 0; },
        {"SMSK light 3", "emitter 0 is already masked by light 0"}},

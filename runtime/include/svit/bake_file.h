@@ -74,12 +74,13 @@ struct BakeEmitter {
   std::vector<float> factors;     ///< share of the emitter's flux each receives, same length
 };
 
-/// A baked light (point, spot, directional or the sun) whose direct light
-/// the lightmap leaves out: the runtime shades it per pixel as its
-/// unshadowed irradiance x this mask (its visibility from the static level,
-/// per lightmap texel) x its dimmer x the dynamic objects' shadow.
+/// A baked light (point, spot, directional, the sun, or a lamp's emissive
+/// patch as an area light) whose direct light the lightmap leaves out: the
+/// runtime shades it per pixel as its unshadowed irradiance x this mask
+/// (its visibility from the static level, per lightmap texel) x its dimmer
+/// x the dynamic objects' shadow.
 struct BakeMaskedLight {
-  uint32_t emitter = 0;  ///< BakeData::emitters index (a kLight or the kSun)
+  uint32_t emitter = 0;  ///< BakeData::emitters index (a kLight, the kSun or a kPatch)
   uint32_t channel = 0;  ///< mask channel: layer channel / 4, component channel % 4
   uint32_t owner = 0;    ///< its id in that channel's texels, 1..255 (0 marks no light)
 };

@@ -40,6 +40,12 @@ std::vector<std::pair<double, uint32_t>> brightestGroups(const std::vector<doubl
   return bright;
 }
 
+// Whether the bake shades emitter `i` per pixel (a shadow mask's light).
+bool isMaskedEmitter(const BakeData& bake, uint32_t i) {
+  return std::any_of(bake.masks.lights.begin(), bake.masks.lights.end(),
+                     [&](const BakeMaskedLight& m) { return m.emitter == i; });
+}
+
 void addBakedLights(EmitterSet& set, const EmitterContext& c) {
   const BakeData& bake = c.level.bake;
   for (uint32_t i = 0; i < bake.emitters.size(); ++i) {
@@ -52,8 +58,7 @@ void addBakedLights(EmitterSet& set, const EmitterContext& c) {
     e.index = i;
     e.bake_emitter = i;
     e.needs_baseline = true;
-    e.masked = std::any_of(bake.masks.lights.begin(), bake.masks.lights.end(),
-                           [&](const BakeMaskedLight& m) { return m.emitter == i; });
+    e.masked = isMaskedEmitter(bake, i);
     e.flux = dvec(be.flux);  // until its samples give the exact lobe's flux
     initBakeShares(e, c);
     set.emitters.push_back(std::move(e));
@@ -71,6 +76,7 @@ void addLampPatches(EmitterSet& set, const EmitterContext& c, const std::vector<
       if (level.patches.shooter_bake_patch[g] != be.index) continue;
       const uint32_t id = addGroupEmitter(set, c, g, true, group_flux[g], max_flux);
       set.emitters[id].bake_emitter = i;
+      set.emitters[id].masked = isMaskedEmitter(level.bake, i);
       initBakeShares(set.emitters[id], c);
     }
   }

@@ -32,13 +32,14 @@ rt::DeltaTerms Runtime::Impl::deltaTerms(const Emitter& e) const {
     }
     case EmitterKind::kStaticPatch: {
       // A bright patch (or a lamp) sends what objects change of its light,
-      // at the factor its own baked light now has.
+      // at the factor its own baked light now has; a masked lamp's dimming
+      // is a delta, as a masked light's.
       if (e.needs_baseline && e.has_baseline && e.hasCurrent()) {
         const double scale = e.bake_emitter != kInvalidId
                                  ? double(light_scale.emitterScale(e.bake_emitter))
                                  : light_scale.ofGroup(e.index);
         t.on_current = e.flux * scale;
-        t.on_baseline = -e.flux * scale;
+        t.on_baseline = -e.flux * (e.masked ? 1.0 : scale);
       }
       break;
     }

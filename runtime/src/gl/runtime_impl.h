@@ -191,6 +191,10 @@ struct Runtime::Impl {
   /// `distance_m` meets a visible dynamic object's triangle.
   bool dynamicObjectBlocks(const glm::vec3& from, const glm::vec3& direction,
                            float distance_m) const;
+  /// What of masked area light k the dynamic objects let through to
+  /// `from` (unit normal `n`): its point samples' cosine-weighted share
+  /// that no dynamic triangle hides.
+  double areaVisibility(size_t k, const glm::vec3& from, const glm::vec3& n) const;
 
   // Deltas and the bounce (runtime_deltas.cpp, runtime_solve.cpp).
   rt::DeltaTerms deltaTerms(const Emitter& e) const;

@@ -2,10 +2,12 @@
 // lit_static.frag shades it per pixel (Runtime::irradianceAt adds it):
 // the bake's mask x the light's unshadowed irradiance x its dimmer x the
 // dynamic objects' shadow, tested here by a ray where the shader reads
-// the light's caster depth map.
+// the light's caster depth map (an area light: one ray per point sample,
+// weighted as the shader weighs its samples' maps).
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #define GLM_ENABLE_EXPERIMENTAL  // glm/gtx: intersectRayTriangle
 #include <glm/gtx/intersect.hpp>
@@ -35,7 +37,39 @@ bool segmentMeetsBox(const glm::vec3& from, const glm::vec3& direction, float di
   return true;
 }
 
+// The centre of the dynamic objects that can cast (the point an area
+// light's sample count is chosen for, as the renderer does).
+Vec3 castersCentre(const std::vector<rt::DynamicObject>& objects) {
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const rt::DynamicObject& object : objects) {
+    if (!object.visible || object.removed || object.bounds.empty()) continue;
+    lo = glm::min(lo, toGlm(object.bounds.min));
+    hi = glm::max(hi, toGlm(object.bounds.max));
+  }
+  return fromGlm(lo.x <= hi.x ? 0.5f * (lo + hi) : glm::vec3(0.0f));
+}
+
 }  // namespace
+
+double Runtime::Impl::areaVisibility(size_t k, const glm::vec3& from, const glm::vec3& n) const {
+  const MaskedLightField& masked = level.masked;
+  const std::vector<MaskedAreaSample> samples =
+      masked.areaSamples(k, masked.areaSampleCount(k, castersCentre(objects)));
+  double seen = 0, total = 0;
+  for (const MaskedAreaSample& sample : samples) {
+    const glm::vec3 v = toGlm(sample.point) - from;
+    const float d2 = glm::dot(v, v);
+    if (!(d2 > 0)) continue;
+    const float d = std::sqrt(d2);
+    const glm::vec3 l = v / d;
+    const double w = std::max(glm::dot(n, l), 0.0f) *
+                     std::max(-glm::dot(toGlm(sample.normal), l), 0.0f) / d2;
+    if (!(w > 0)) continue;
+    total += w;
+    if (!dynamicObjectBlocks(from, l, d)) seen += w;
+  }
+  return total > 0 ? seen / total : 1.0;
+}
 
 bool Runtime::Impl::dynamicObjectBlocks(const glm::vec3& from, const glm::vec3& direction,
                                         float distance_m) const {
@@ -70,9 +104,14 @@ glm::dvec3 Runtime::Impl::maskedDirectAt(const SurfaceHit& hit) const {
     if (!(v > 0)) continue;
     const double scale = light_scale.emitterScale(masked.emitter(k));
     if (!(scale > 0)) continue;
-    const float distance = std::min(masked.distanceToLight(k, hit.point), 1e30f);
-    if (dynamicObjectBlocks(from, toGlm(masked.towardLight(k, hit.point)), distance)) continue;
-    sum += glm::dvec3(e.r, e.g, e.b) * double(v) * scale;
+    double through = 1;
+    if (masked.isArea(k)) {
+      through = areaVisibility(k, from, n);
+    } else {
+      const float distance = std::min(masked.distanceToLight(k, hit.point), 1e30f);
+      if (dynamicObjectBlocks(from, toGlm(masked.towardLight(k, hit.point)), distance)) continue;
+    }
+    sum += glm::dvec3(e.r, e.g, e.b) * double(v) * scale * through;
   }
   return sum;
 }

@@ -162,6 +162,8 @@ struct SceneRenderer::Impl {
   gl::ShadowMaskTextures masks;
   std::vector<BakeMaskedLight> masked_lights;
   std::vector<BakeEmitter> masked_emitters;  // each masked light's bake emitter
+  MaskedLightField masked_field;             // their parameters; areas' samples
+  gl::AreaLightBuffer area_lights;
   gl::MaterialTextures materials;
   gl::LightShadowMaps shadows;
   gl::ProbeGridTextures probes;
@@ -189,6 +191,8 @@ struct SceneRenderer::Impl {
   /// `scale_baked`; caster maps of the dynamic objects when `with_casters`).
   void appendMaskedLights(bool scale_baked, bool with_casters,
                           std::vector<gl::FrameLight>& lights) const;
+  void appendAreaSamples(size_t k, float dimmer, bool with_casters,
+                         std::vector<gl::FrameLight>& lights) const;
   gl::FrameLight sunLight(float dimmer) const;
   void setSharedUniforms(const glm::mat4& clip_from_world, ShadingView view, int light_begin,
                          int light_end) const;
@@ -275,6 +279,31 @@ std::vector<gl::FrameLight> SceneRenderer::Impl::frameLights(bool with_runtime_l
   return lights;
 }
 
+// Area light k's point samples, each with a caster map: as many as the
+// light's solid angle at the casters asks for (one without casters).
+void SceneRenderer::Impl::appendAreaSamples(size_t k, float dimmer, bool with_casters,
+                                            std::vector<gl::FrameLight>& lights) const {
+  const Aabb& casters = dynamic_objects.bounds();
+  const Vec3 centre{0.5f * (casters.min.x + casters.max.x), 0.5f * (casters.min.y + casters.max.y),
+                    0.5f * (casters.min.z + casters.max.z)};
+  const uint32_t count = with_casters ? masked_field.areaSampleCount(k, centre) : 1;
+  for (const MaskedAreaSample& sample : masked_field.areaSamples(k, count)) {
+    gl::FrameLight light;
+    light.light = masked_field.light(k);
+    light.light.position = sample.point;
+    light.rgb_intensity = {dimmer, dimmer, dimmer};
+    light.casts_shadows = with_casters;
+    light.dynamic_casters_only = true;
+    light.mask_channel = masked_lights[k].channel;
+    light.mask_owner = masked_lights[k].owner;
+    light.area_sample = true;
+    light.area_normal = sample.normal;
+    light.area_samples = count;
+    light.area_offset = area_lights.offset(k);
+    lights.push_back(light);
+  }
+}
+
 gl::FrameLight SceneRenderer::Impl::sunLight(float dimmer) const {
   Light sun;
   sun.name = "sun";
@@ -292,6 +321,10 @@ void SceneRenderer::Impl::appendMaskedLights(bool scale_baked, bool with_casters
   for (size_t k = 0; k < masked_lights.size(); ++k) {
     const BakeMaskedLight& m = masked_lights[k];
     const float dimmer = scale_baked ? emitterScale(int(m.emitter)) : 1.0f;
+    if (masked_field.isArea(k)) {
+      appendAreaSamples(k, dimmer, with_casters, lights);
+      continue;
+    }
     gl::FrameLight light;
     if (masked_emitters[k].kind == BakeEmitter::Kind::kSun) {
       light = sunLight(dimmer);
@@ -396,9 +429,11 @@ Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(
   if (!target.ok()) return target.status();
   impl->target = std::move(target).value();
 
-  Expected<double> masked_ratio = gl::maskedExposureRatio(scene, bake, bake_dir);
-  if (!masked_ratio.ok()) return masked_ratio.status();
-  const double log_mean = impl->lightmaps.logMeanIrradiance() * *masked_ratio;
+  Expected<gl::MaskedShading> masked = gl::prepareMaskedShading(scene, bake, bake_dir);
+  if (!masked.ok()) return Status(masked.status().code(), bake_dir + ": " + masked.status().message());
+  impl->masked_field = std::move(masked->field);
+  impl->area_lights = gl::AreaLightBuffer::create(impl->masked_field);
+  const double log_mean = impl->lightmaps.logMeanIrradiance() * masked->exposure_ratio;
   impl->delta_reference_lux = log_mean > 0 ? float(log_mean) : 1.0f;
   impl->exposure = settings.auto_exposure && log_mean > 0
                        ? float(settings.exposure * kExposureKey * kPi / log_mean)
@@ -515,6 +550,7 @@ void SceneRenderer::Impl::drawStatic(const FramePass& pass, const ShadingResourc
   glUniform1i(b::kUseDeltas, static_deltas ? 1 : 0);
   glUniform1i(b::kMaskedBegin, pass.light_count);
   glUniform1i(b::kMaskedEnd, masks.empty() ? pass.light_count : pass.masked_end);
+  area_lights.bind();
   if (static_deltas) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kDeltaElements, resources.delta_elements);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kDeltaSlots, resources.delta_slots);
@@ -673,9 +709,12 @@ std::vector<ResourceUse> SceneRenderer::resources() const {
           "masked baked lights' caster maps of the dynamic objects)",
       "no light to draw per pixel: no runtime lights, and no baked point, spot or sun light while "
       "dynamic objects exist (or nothing rendered yet)"));
-  out.push_back(use("shadow mask textures", s.masks.glObjects(),
+  std::vector<gl::GlObject> mask_objects = s.masks.glObjects();
+  for (const gl::GlObject& o : s.area_lights.glObjects()) mask_objects.push_back(o);
+  out.push_back(use("shadow mask textures", mask_objects,
                     std::to_string(s.masked_lights.size()) +
-                        " masked baked lights' static visibility, shaded per pixel",
+                        " masked baked lights' static visibility, shaded per pixel (and the "
+                        "area lights' triangles)",
                     "the bake masks no light (no dynamic objects, or --no-shadow-masks)"));
   out.push_back(use(
       "probe grid textures", s.probes.glObjects(), "indirect light of dynamic objects",

@@ -16,6 +16,8 @@ inline constexpr uint32_t kDeltaElements = 1;
 inline constexpr uint32_t kDeltaSlots = 2;
 inline constexpr uint32_t kVertexDeltas = 3;  ///< vec4 per welded runtime vertex (lux)
 inline constexpr uint32_t kLights = 4;        ///< GpuLight array
+/// vec4s of the masked area lights (lit_static.frag's svitAreaIrradiance)
+inline constexpr uint32_t kAreaLights = 5;
 
 // ---- texture units ----
 inline constexpr uint32_t kBaseColorUnit = 0;

@@ -299,14 +299,19 @@ LightShadowMaps::MapCounts LightShadowMaps::layOutLights(const std::vector<Frame
     const glm::vec3 p = toGlm(l.position);
     glm::vec3 d = toGlm(l.direction);
     d = glm::length(d) > 0 ? glm::normalize(d) : glm::vec3(0, -1, 0);
-    const float type = l.type == LightType::kPoint  ? 0.0f
-                       : l.type == LightType::kSpot ? 1.0f
-                                                    : 2.0f;
+    const FrameLight& f = lights[i];
+    const float type = f.area_sample                ? 3.0f
+                       : l.type == LightType::kPoint ? 0.0f
+                       : l.type == LightType::kSpot  ? 1.0f
+                                                     : 2.0f;
     const float cos_inner = std::cos(l.inner_cone_rad), cos_outer = std::cos(l.outer_cone_rad);
     std::memcpy(g.position, glm::value_ptr(glm::vec4(p, type)), sizeof g.position);
-    std::memcpy(g.direction, glm::value_ptr(glm::vec4(d, cos_outer)), sizeof g.direction);
-    const Rgb& c = lights[i].rgb_intensity;
-    const float intensity[4] = {c.r, c.g, c.b, cos_inner};
+    const glm::vec4 direction = f.area_sample
+                                    ? glm::vec4(toGlm(f.area_normal), float(f.area_offset))
+                                    : glm::vec4(d, cos_outer);
+    std::memcpy(g.direction, glm::value_ptr(direction), sizeof g.direction);
+    const Rgb& c = f.rgb_intensity;
+    const float intensity[4] = {c.r, c.g, c.b, f.area_sample ? float(f.area_samples) : cos_inner};
     std::memcpy(g.intensity, intensity, sizeof g.intensity);
     g.shadow_texel[2] = float(lights[i].mask_channel);
     g.shadow_texel[3] = float(lights[i].mask_owner);

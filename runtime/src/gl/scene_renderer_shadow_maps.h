@@ -25,9 +25,16 @@ namespace svit::gl {
 /// A light as lit_static.frag / lit_dynamic.frag read it (std430, binding
 /// render_binding::kLights; struct GpuLight in svit_shading.frag).
 struct GpuLight {
-  float position[4];   ///< xyz world metres; w: 0 point, 1 spot, 2 directional
-  float direction[4];  ///< xyz unit, the way light travels; w: cos(outer cone)
-  /// rgb: candela (point, spot) or lux (directional), colour x dimmer applied; w: cos(inner cone)
+  /// xyz world metres; w: 0 point, 1 spot, 2 directional, 3 a masked area
+  /// light's point sample
+  float position[4];
+  /// xyz unit, the way light travels (an area sample: its element's
+  /// normal); w: cos(outer cone) (an area sample: the light's first vec4
+  /// in the area buffer, render_binding::kAreaLights)
+  float direction[4];
+  /// rgb: candela (point, spot) or lux (directional), colour x dimmer
+  /// applied (an area sample: the dimmer in r); w: cos(inner cone) (an
+  /// area sample: its light's sample count)
   float intensity[4];
   /// x: 0 none, 1 cube, 2 face; y: layer (cube index or face layer); z, w: near, far (m)
   float shadow[4];
@@ -48,6 +55,12 @@ struct FrameLight {
   bool dynamic_casters_only = false;
   /// Its mask channel and owner (BakeMaskedLight), for lit_static.frag.
   uint32_t mask_channel = 0, mask_owner = 0;
+  /// A masked area light's point sample (light: a point light there):
+  /// the samples of one light follow each other, each with the light's
+  /// sample count and its first vec4 in the area buffer.
+  bool area_sample = false;
+  Vec3 area_normal{0, 0, 0};
+  uint32_t area_samples = 0, area_offset = 0;
 };
 
 class LightShadowMaps {

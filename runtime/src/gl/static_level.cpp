@@ -73,7 +73,7 @@ Expected<StaticLevel> buildStaticLevel(const Scene& scene, const BakeData& bake,
   Expected<std::vector<LightmapImage>> pages = readLightmapPages(bake, bake_dir);
   if (!pages.ok()) return pages.status();
   level.pages = std::move(pages).value();
-  Expected<MaskedLightField> masked = MaskedLightField::create(scene, bake);
+  Expected<MaskedLightField> masked = MaskedLightField::create(scene, bake, level.surfaces);
   if (!masked.ok())
     return Status(masked.status().code(), bake_dir + "/" + masked.status().message());
   level.masked = std::move(masked).value();

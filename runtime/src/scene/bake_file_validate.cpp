@@ -378,8 +378,8 @@ const char* emitterKindName(BakeEmitter::Kind kind) {
   return "unknown";
 }
 
-// Each light: a light or sun emitter, masked once, in a channel under a
-// (channel, owner) pair no other light holds. Fills `owner_allowed`
+// Each light: a light, sun or (a lamp's) patch emitter, masked once, in a
+// channel under a (channel, owner) pair no other light holds. Fills `owner_allowed`
 // (channel * kMaskOwners + owner: 1 where a texel may hold that owner in
 // that channel; owner 0 always) for the texel check. `masks.channels` is
 // already <= kMaxMaskChannels.
@@ -399,10 +399,10 @@ Status validateMaskedLights(const BakeData& d, const std::string& path,
                                num(uint64_t(d.emitters.size())) + " emitters)");
     }
     const BakeEmitter::Kind kind = d.emitters[light.emitter].kind;
-    if (kind != BakeEmitter::Kind::kLight && kind != BakeEmitter::Kind::kSun) {
+    if (kind == BakeEmitter::Kind::kSky) {
       return invalid(path, where + "emitter " + num(light.emitter) + " is a " +
                                emitterKindName(kind) + " (kind " + num(uint32_t(kind)) +
-                               "), not a light or the sun");
+                               "), not a light, the sun or a lamp's patch");
     }
     int64_t& emitter_holder = light_of_emitter[light.emitter];
     if (emitter_holder >= 0) {

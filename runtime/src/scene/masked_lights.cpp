@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "glm_interop.h"
+#include "polygon_irradiance.h"
 
 namespace svit {
 namespace {
@@ -19,9 +21,60 @@ Light sunAsLight(const Sun& sun) {
   return l;
 }
 
+glm::dvec3 dvec(const Vec3& v) { return {v.x, v.y, v.z}; }
+
+Rgb triangleEmission(const Scene& scene, const BakeData& bake, uint32_t triangle) {
+  const BakeTriangleUv& t = bake.triangle_uvs[triangle];
+  const Mesh& mesh = scene.meshes[size_t(scene.instances[t.instance].mesh)];
+  return t.mesh_triangle < mesh.triangle_emission.size() ? mesh.triangle_emission[t.mesh_triangle]
+                                                         : Rgb{};
+}
+
+// The emissive sides among a patch's elements (triangle * 2 + side), wound
+// to face their emitting side.
+std::vector<MaskedAreaElement> areaElementsOf(const Scene& scene, const BakeData& bake,
+                                              const BakedSurfaces& surfaces,
+                                              const BakePatch& patch) {
+  std::vector<MaskedAreaElement> out;
+  for (uint32_t i = 0; i < patch.element_count; ++i) {
+    const uint32_t element = bake.patch_elements[patch.first_element + i];
+    const uint32_t t = element / 2;
+    const Rgb l = triangleEmission(scene, bake, t);
+    if (!(l.r > 0 || l.g > 0 || l.b > 0)) continue;
+    const bool back = element % 2 == 1;
+    MaskedAreaElement e;
+    e.corner[0] = surfaces.corner(t, 0);
+    e.corner[1] = surfaces.corner(t, back ? 2 : 1);
+    e.corner[2] = surfaces.corner(t, back ? 1 : 2);
+    const Vec3& n = surfaces.normal(t);
+    e.normal = back ? Vec3{-n.x, -n.y, -n.z} : n;
+    e.area_m2 = surfaces.area(t);
+    e.luminance = l;
+    out.push_back(e);
+  }
+  return out;
+}
+
+// An area light as a point light at its elements' area-weighted centre
+// (what towardLight and distanceToLight aim at).
+Light areaAsLight(const std::vector<MaskedAreaElement>& elements, uint32_t patch) {
+  glm::dvec3 centre(0.0);
+  double area = 0;
+  for (const MaskedAreaElement& e : elements) {
+    centre += (dvec(e.corner[0]) + dvec(e.corner[1]) + dvec(e.corner[2])) * (e.area_m2 / 3.0);
+    area += e.area_m2;
+  }
+  Light l;
+  l.name = "emissive patch " + std::to_string(patch);
+  l.position = fromGlm(glm::vec3(area > 0 ? centre / area : centre));
+  l.intensity = 0;  // its light is its elements'
+  return l;
+}
+
 }  // namespace
 
-Expected<MaskedLightField> MaskedLightField::create(const Scene& scene, const BakeData& bake) {
+Expected<MaskedLightField> MaskedLightField::create(const Scene& scene, const BakeData& bake,
+                                                    const BakedSurfaces& surfaces) {
   MaskedLightField field;
   if (bake.masks.lights.empty()) return field;
   field.masks_ = std::make_shared<const BakeShadowMasks>(bake.masks);
@@ -31,7 +84,19 @@ Expected<MaskedLightField> MaskedLightField::create(const Scene& scene, const Ba
   }
   for (const BakeMaskedLight& m : bake.masks.lights) {
     const BakeEmitter& e = bake.emitters[m.emitter];  // validated: in range, a light or the sun
-    if (e.kind == BakeEmitter::Kind::kSun) {
+    std::vector<MaskedAreaElement> area;
+    if (e.kind == BakeEmitter::Kind::kPatch) {
+      // validated: the patch is in range
+      if (surfaces.triangleCount() == bake.triangle_uvs.size())
+        area = areaElementsOf(scene, bake, surfaces, bake.patches[e.index]);
+      if (area.empty()) {
+        return Status(StatusCode::kInvalidInput,
+                      "bake.svit: section SMSK masks emitter " + std::to_string(m.emitter) +
+                          ", patch " + std::to_string(e.index) +
+                          ", which has no emissive triangle in the level");
+      }
+      field.lights_.push_back(areaAsLight(area, e.index));
+    } else if (e.kind == BakeEmitter::Kind::kSun) {
       field.lights_.push_back(sunAsLight(scene.sun));
     } else if (e.index < scene.lights.size() && !scene.lights[e.index].dynamic) {
       field.lights_.push_back(scene.lights[e.index]);
@@ -44,6 +109,7 @@ Expected<MaskedLightField> MaskedLightField::create(const Scene& scene, const Ba
                         std::to_string(scene.lights.size()) + " lights)");
     }
     field.emitters_.push_back(m.emitter);
+    field.areas_.push_back(std::move(area));
   }
   return field;
 }
@@ -62,7 +128,62 @@ float MaskedLightField::distanceToLight(size_t k, const Vec3& p) const {
   return glm::length(toGlm(l.position) - toGlm(p));
 }
 
+uint32_t MaskedLightField::areaSampleCount(size_t k, const Vec3& at) const {
+  double solid_angle = 0;
+  for (const MaskedAreaElement& e : areas_[k]) {
+    const glm::dvec3 centre = (dvec(e.corner[0]) + dvec(e.corner[1]) + dvec(e.corner[2])) / 3.0;
+    const glm::dvec3 v = dvec(at) - centre;
+    const double d2 = std::max(glm::dot(v, v), 1e-12);
+    solid_angle += e.area_m2 * std::abs(glm::dot(dvec(e.normal), v)) / (d2 * std::sqrt(d2));
+  }
+  const double samples = std::ceil(std::min(solid_angle, 2.0 * 3.14159265358979) /
+                                   kAreaSampleSolidAngleSr);
+  return uint32_t(std::clamp(samples, 1.0, double(kMaxAreaSamples)));
+}
+
+std::vector<MaskedAreaSample> MaskedLightField::areaSamples(size_t k, uint32_t count) const {
+  const std::vector<MaskedAreaElement>& elements = areas_[k];
+  std::vector<double> cdf;
+  double total = 0;
+  for (const MaskedAreaElement& e : elements) cdf.push_back(total += e.area_m2);
+  std::vector<MaskedAreaSample> out;
+  for (uint32_t s = 0; s < count && total > 0; ++s) {
+    const double pick = (double(s) + 0.5) / double(count) * total;
+    const size_t i = std::min(elements.size() - 1,
+                              size_t(std::lower_bound(cdf.begin(), cdf.end(), pick) - cdf.begin()));
+    const double low = i > 0 ? cdf[i - 1] : 0.0;
+    const double r1 = std::clamp((pick - low) / std::max(cdf[i] - low, 1e-30), 0.0, 1.0);
+    const double r2 = std::fmod(double(s) * 0.6180339887498949 + 0.5, 1.0);  // rank-1 lattice
+    const double root = std::sqrt(r1);  // uniform on the triangle
+    const MaskedAreaElement& e = elements[i];
+    const glm::dvec3 point = dvec(e.corner[0]) * (1.0 - root) +
+                             dvec(e.corner[1]) * (root * (1.0 - r2)) +
+                             dvec(e.corner[2]) * (root * r2);
+    out.push_back({fromGlm(glm::vec3(point)), e.normal});
+  }
+  return out;
+}
+
+namespace {
+
+// An area light: each element in front of whose emitting side `p` lies
+// gives its luminance x the cosine-weighted solid angle it subtends.
+Rgb areaIrradiance(const std::vector<MaskedAreaElement>& elements, const Vec3& p, const Vec3& n) {
+  glm::dvec3 e(0.0);
+  for (const MaskedAreaElement& element : elements) {
+    if (!(glm::dot(dvec(p) - dvec(element.corner[0]), dvec(element.normal)) > 0)) continue;
+    const double f =
+        triangleCosineSolidAngle(dvec(element.corner[0]), dvec(element.corner[1]),
+                                 dvec(element.corner[2]), dvec(p), glm::normalize(dvec(n)));
+    e += glm::dvec3(element.luminance.r, element.luminance.g, element.luminance.b) * f;
+  }
+  return {float(e.x), float(e.y), float(e.z)};
+}
+
+}  // namespace
+
 Rgb MaskedLightField::unshadowed(size_t k, const Vec3& p, const Vec3& n) const {
+  if (isArea(k)) return areaIrradiance(areas_[k], p, n);
   const Light& l = lights_[k];
   const glm::dvec3 colour(l.color.r, l.color.g, l.color.b);
   glm::dvec3 e = colour * double(l.intensity);

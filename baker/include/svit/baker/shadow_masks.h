@@ -25,6 +25,10 @@ namespace svit::baker {
 /// At most this many lights get a mask; the rest keep the lightmap and the
 /// runtime's patch path (listed in report.json).
 inline constexpr size_t kMaxMaskedLights = 32;
+/// An emissive instance with at most this many emitting triangle sides is
+/// a lamp, masked as area lights (one per patch of it); more make a
+/// glowing surface, which keeps the lightmap and the patch deltas.
+inline constexpr size_t kMaxAreaLightSides = 16;
 
 /// A baked light the bake does not mask, and why.
 struct UnmaskedLight {
@@ -40,11 +44,21 @@ struct MaskChoice {
   std::string none_reason;
 };
 
-/// The lights to mask: every static light with intensity and the sun, for
-/// a level with dynamic instances and `enabled` (BakeOptions::shadow_masks).
-/// Beyond kMaxMaskedLights the sun and directional lights come first, then
-/// punctual lights by luminous intensity x cone solid angle. Deterministic.
-MaskChoice chooseMaskedLights(const Scene& scene, bool enabled);
+/// The lights to mask: every static light with intensity, the sun and the
+/// lamps (static instances with 1..kMaxAreaLightSides emissive triangle
+/// sides), for a level with dynamic instances and `enabled`
+/// (BakeOptions::shadow_masks). Within kMaxMaskedLights the sun comes
+/// first, then the lamps in instance order (a slot per emissive side),
+/// then directional lights and punctual lights by luminous intensity x
+/// cone solid angle. Deterministic. The lamps' area lights are filled in
+/// by addAreaLights once the patches exist.
+MaskChoice chooseMaskedLights(const Scene& scene, const BakeGeometry& geometry, bool enabled);
+
+/// One masked area light per patch that holds emissive elements of
+/// `masked.emissive_instances` (BakeData::patches and patch_elements):
+/// fills masked.area_elements and area_patches, in patch order.
+void addAreaLights(const BakeGeometry& geometry, const std::vector<BakePatch>& patches,
+                   const std::vector<uint32_t>& patch_elements, MaskedLights& masked);
 
 struct ShadowMaskSettings {
   uint64_t seed = 1;

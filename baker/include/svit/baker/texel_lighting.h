@@ -23,7 +23,18 @@ namespace svit::baker {
 struct MaskedLights {
   std::vector<uint32_t> lights;  ///< Scene::lights indices, static punctual or directional
   bool sun = false;
-  size_t count() const { return lights.size() + (sun ? 1 : 0); }
+  /// Scene::instances whose emissive triangles are masked area lights: the
+  /// lighting passes leave those triangles' direct light out (their
+  /// bounce stays in the solution the gather reads).
+  std::vector<uint32_t> emissive_instances;
+  /// The masked area lights (after the lights and the sun): per area, its
+  /// emitting elements (triangle * 2 + side) and its bake patch. Filled
+  /// from the patches once they exist (shadow_masks.h); the passes need
+  /// only emissive_instances.
+  std::vector<std::vector<uint32_t>> area_elements;
+  std::vector<uint32_t> area_patches;
+  size_t count() const { return lights.size() + (sun ? 1 : 0) + area_elements.size(); }
+  bool masksInstance(uint32_t instance) const;
 };
 
 struct TexelLightingSettings {
@@ -75,10 +86,12 @@ Expected<std::vector<TexelIrradiance>> lightTexelList(
 
 /// Per texel, each masked light's visibility from the static level: the
 /// unshadowed-irradiance-weighted share of its shadow rays (one to a point
-/// or spot light, `settings.sun_samples` over the sun's disk) that reach
+/// or spot light, `settings.sun_samples` over the sun's disk,
+/// `settings.area_light_samples` over an area light's elements) that reach
 /// it, 0 where the light does not reach the texel at all (behind, outside
 /// the cone). Laid out texel-major: [texel * masked.count() + light], the
-/// Scene::lights in `masked.lights` order, then the sun. Deterministic.
+/// Scene::lights in `masked.lights` order, then the sun, then the areas.
+/// Deterministic.
 Expected<std::vector<float>> maskVisibility(const Scene& scene, const BakeGeometry& geometry,
                                             const RayCaster& caster, const TexelSet& texels,
                                             const TexelLightingSettings& settings,

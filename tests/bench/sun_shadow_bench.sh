@@ -1,0 +1,116 @@
+#!/usr/bin/env bash
+# The ball's shadow in the sun on Sponza, before and after shadow masks:
+# bench_sun_shadow (tests/bench/sun_shadow_bench.cpp says what it measures)
+# with the ball moved to BALL_X, then WORK/sun_shadow.json, the crops
+# docs/images/sun-shadow-{reference,before,after}.png and docs/performance.md's
+# section between its sun_shadow_bench.sh markers. Builds nothing; headless
+# under xvfb-run without a display. Bakes are kept in WORK and reused while
+# their stamp matches. Skipped (and says so) without ../shared/scenes/sponza.
+# usage: tests/bench/sun_shadow_bench.sh BUILD_DIR WORK [bake-seconds]
+#   BUILD_DIR: a build with -DSVIT_BUILD_BENCH=ON (its tests/bench/bench_sun_shadow)
+#   bake-seconds: time budget of each of the four Sponza bakes (default 150)
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+usage="usage: sun_shadow_bench.sh BUILD_DIR WORK [bake-seconds]"
+build="${1:?$usage}"
+work="${2:?$usage}"
+bake_s="${3:-150}"
+ball_x="${BALL_X:--3.0177}"
+bench="$build/tests/bench/bench_sun_shadow"
+if [[ ! -f "$root/../shared/scenes/sponza/Sponza.gltf" ]]; then
+  echo "sun_shadow_bench.sh: skipped (no ../shared/scenes/sponza)"
+  exit 0
+fi
+[[ -x "$bench" ]] || { echo "sun_shadow_bench.sh: no $bench (configure with -DSVIT_BUILD_BENCH=ON)" >&2; exit 1; }
+xvfb=()
+[[ -z "${DISPLAY:-}" ]] && xvfb=(xvfb-run -a -s "-screen 0 1280x720x24")
+mkdir -p "$work"
+"${xvfb[@]}" "$bench" --level "$root/samples/levels/sponza/level.json" --work "$work" \
+  --json "$work/sun_shadow.json" --time "$bake_s" --ball-x "$ball_x" \
+  --png-prefix "$root/docs/images/sun-shadow" | tee "$work/sun_shadow.txt"
+python3 - "$work/sun_shadow.json" "$root/docs/performance.md" "$bake_s" "$ball_x" <<'PY'
+import json, re, sys
+path, doc, bake_s, ball_x = sys.argv[1:5]
+r = json.load(open(path))
+pe, ed, cam = r["picture_error"], r["edges"], r["camera"]
+f = lambda v: f"{v:.4f}"
+v3 = lambda v: "(" + ", ".join(f"{x:.2f}" for x in v) + ")"
+def edge(name):
+    e = ed[name]
+    if not e["shadow_found"]:
+        return (f"no shadow (contrast {e['contrast']:.2f}); empty region: "
+                f"{e['edge_error_cm_vs_reference']:.1f}", f"{e['edge_error_cm_vs_geometric']:.1f}")
+    return f"{e['edge_error_cm_vs_reference']:.2f}", f"{e['edge_error_cm_vs_geometric']:.2f}"
+rows = [("before: no masks, runtime settled", "before"), ("after: masks, runtime settled", "after"),
+        ("before's bake, baked-only", "before_baked_only"), ("after's bake, baked-only", "after_baked_only"),
+        ("second reference (noise floor)", "noise_floor")]
+lines = [
+    "<!-- sun_shadow_bench.sh -->",
+    "### Sponza: the ball's shadow in the sun, before and after shadow masks",
+    "",
+    f"`tests/bench/sun_shadow_bench.sh build/bench /tmp/sunshadow {bake_s}` "
+    f"({r['renderer']}, 2-core CPU; four Sponza bakes of {float(r['bake_time_s']):.0f} s, quality "
+    f"{r['bake_quality']}, {r['bakes_wall_s']:.0f} s of baking in this run, 0 when reused). "
+    f"The ball (radius {r['ball_radius_m']:.2f} m) moved from the level's start to "
+    f"{v3(r['ball'])} on the sunlit atrium floor (y {r['floor_y_m']:.2f} m); the runtime of each "
+    "bake settled there (updates without a sample budget until nothing is pending: "
+    f"{r['settle']['before']['updates']} and {r['settle']['after']['updates']} updates), "
+    "runtime lights off. Reference: the baked view of a bake with the ball static there "
+    "(seed 8); before: the dynamic level baked with `--no-shadow-masks`; after: with shadow "
+    "masks (seed 7 both). Camera at " + v3(cam["position"]) + " looking at the shadow's centre "
+    + v3(r["shadow_centre"]) + f" from the side away from the sun, "
+    f"{cam['elevation_rad'] * 57.29578:.0f}° down, vertical field of view {cam['yfov_rad']:.2f} rad, "
+    f"{cam['width']}×{cam['height']}.",
+    "",
+    "(a) Relative RMS of the luminance difference (tests/gl/picture_metric.h) over static pixels, "
+    f"split by the shadow's footprint: the {r['footprint_pixels']} pixels where the reference is "
+    f"darker by more than {100 * r['footprint_darkening']:.0f} % than the picture without that "
+    "shadow (the no-masks bake's baked view, its ball far away at the start).",
+    "",
+    "| picture against the reference | inside the footprint | outside | whole view |",
+    "|---|---:|---:|---:|",
+]
+for label, key in rows:
+    s = pe[key]
+    lines.append(f"| {label} | {f(s['inside']['rel_rms'])} | {f(s['outside']['rel_rms'])} | {f(s['all']['rel_rms'])} |")
+lines += [
+    "",
+    "(b) The shadow's edge on the floor: a grid of "
+    f"{1000 * r['grid_step_m']:.0f} mm cells projected into each picture ({r['grid_points_seen']} "
+    "points seen; those the ball hides left out), each picture divided by the picture without the "
+    "shadow and thresholded half way between its lit level (a ring just outside the geometric "
+    "shadow) and its shadowed level (the geometric shadow's core). Edge error = area of the XOR of "
+    "the two shadow regions / contour length of the reference's (or the geometric shadow's) region, "
+    f"cm. Reference region {r['reference_shadow_area_cm2']:.0f} cm², contour "
+    f"{r['reference_contour_cm']:.0f} cm; geometric shadow (rays to the sun's centre meeting the "
+    f"ball) {r['geometric_shadow_area_cm2']:.0f} cm², contour {r['geometric_contour_cm']:.0f} cm "
+    "(visible parts).",
+    "",
+    "| picture | shadow contrast | edge error against the reference (cm) | against the geometric shadow (cm) |",
+    "|---|---:|---:|---:|",
+]
+for label, key in [("before: no masks, runtime settled", "before"), ("after: masks, runtime settled", "after"),
+                   ("second reference (noise floor)", "second reference"), ("reference", "reference")]:
+    a, b = edge(key)
+    lines.append(f"| {label} | {ed[key]['contrast']:.2f} | {a} | {b} |")
+lines += [
+    "",
+    "Reference, before and after (the view's central half):",
+    "",
+    "![reference](images/sun-shadow-reference.png) ![before](images/sun-shadow-before.png) "
+    "![after](images/sun-shadow-after.png)",
+    "<!-- /sun_shadow_bench.sh -->",
+]
+section = "\n".join(lines)
+text = open(doc).read()
+pattern = re.compile(r"<!-- sun_shadow_bench\.sh -->.*?<!-- /sun_shadow_bench\.sh -->", re.S)
+if pattern.search(text):
+    text = pattern.sub(lambda m: section, text)
+else:  # first run: right after the picture sections' tables
+    anchor = "<!-- picture_report.py: end -->\n"
+    assert anchor in text, "docs/performance.md: no picture_report.py end marker"
+    text = text.replace(anchor, anchor + "\n" + section + "\n", 1)
+open(doc, "w").write(text)
+print(section)
+PY
+echo "sun_shadow_bench.sh: wrote $work/sun_shadow.json, docs/images/sun-shadow-*.png and docs/performance.md's section"
