@@ -377,6 +377,65 @@ TEST(RuntimePicture, PointLampShadowOfTheMovedBoxIsPerPixel) {
   expectConverges(masked, bounds);
 }
 
+// The Cornell lamp masked as area lights, the box where it stands: the
+// baked view (per-pixel polygon irradiance x mask) matches a bake that
+// keeps the lamp's direct light in the lightmap, to within the bakes' own
+// noise (two unmasked bakes of different seeds).
+TEST(RuntimePicture, MaskedAreaLampBakedViewMatchesTheLightmap) {
+  test::GlTestContext context;
+  SVIT_REQUIRE_GL(context);
+  const Camera camera = cornellFrontCamera();
+  const BakedLevel& masked = bakedLevel(cornellStillBoxLevel(), kRuntimeBake);
+  ASSERT_FALSE(masked.bake.masks.lights.empty());
+  for (const BakeMaskedLight& m : masked.bake.masks.lights)
+    EXPECT_EQ(masked.bake.emitters[m.emitter].kind, BakeEmitter::Kind::kPatch);
+  TestBake unmasked = kRuntimeBake, second = kReferenceBake;
+  unmasked.shadow_masks = second.shadow_masks = false;
+  const LinearFrame reference = bakedPicture(bakedLevel(cornellStillBoxLevel(), second), camera);
+  const double masked_error =
+      comparePictures(bakedPicture(masked, camera), reference).static_rel_rms;
+  const double noise =
+      comparePictures(bakedPicture(bakedLevel(cornellStillBoxLevel(), unmasked), camera), reference)
+          .static_rel_rms;
+  std::printf("baked view against an unmasked bake: masked %.4f, unmasked (noise) %.4f\n",
+              masked_error, noise);
+  EXPECT_LE(masked_error, 1.1 * noise);
+}
+
+// The box moved under the Cornell lamp: masked as area lights, the box's
+// shadow is shaded per pixel from the lamp's point samples' caster maps;
+// without (--no-shadow-masks), per runtime patch.
+TEST(RuntimePicture, AreaLampShadowOfTheMovedBoxIsPerPixel) {
+  test::GlTestContext context;
+  SVIT_REQUIRE_GL(context);
+  const Camera camera = cornellFrontCamera();
+  const std::string work = (fs::temp_directory_path() / "svit_scene_renderer_test").string();
+  const std::string moved =
+      test::writeLevelWithNodeStatic(cornellStillBoxLevel(), "tallBox", kMovedTranslation,
+                                     kMovedRotation, work, "cornell_box_moved");
+  const LinearFrame reference = bakedPicture(bakedLevel(moved, kReferenceBake), camera);
+  const Bounds bounds = noiseFloor(moved, reference, camera);
+  const Mat4 pose = placeAt(kMovedTranslation, kMovedRotation);
+  const Walk masked = walkAgainst(bakedLevel(cornellStillBoxLevel(), kRuntimeBake), "tallBox", pose,
+                                  reference, camera, "svit_picture_area_lamp_masked");
+  TestBake patch_only = kRuntimeBake;
+  patch_only.shadow_masks = false;
+  const Walk patches = walkAgainst(bakedLevel(cornellStillBoxLevel(), patch_only), "tallBox", pose,
+                                   reference, camera, "svit_picture_area_lamp_patches");
+  ASSERT_FALSE(masked.frames.empty());
+  ASSERT_FALSE(patches.frames.empty());
+  const double floor = std::sqrt(2.0) * bounds.noise_floor;
+  const auto above = [&](double e) { return std::sqrt(std::max(e * e - floor * floor, 0.0)); };
+  const double settled = masked.frames.back().static_rel_rms;
+  const double patch_settled = patches.frames.back().static_rel_rms;
+  std::printf(
+      "settled static error: masked %.4f, patch-only %.4f, noise floor %.4f; above the floor "
+      "(quadrature): %.4f, %.4f\n",
+      settled, patch_settled, bounds.noise_floor, above(settled), above(patch_settled));
+  EXPECT_LE(settled, patch_settled);
+  expectConverges(masked, bounds);
+}
+
 // A lamp's light as the runtime shows it at 1, 0 and 0.5 (nothing moving).
 struct DimmedFrames {
   LinearFrame on, off, half;
