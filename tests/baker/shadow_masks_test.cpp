@@ -76,14 +76,20 @@ TEST(ShadowMasks, EightOverlappingLampsTakeEightChannelsAndReadAsTheUnmaskedBake
   const std::string level = cornellLevel("eight_lamps", eightLamps(), true);
   const Baked masked = bake(level, "eight_lamps_masked", true);
   const Baked plain = bake(level, "eight_lamps_plain", false);
-  ASSERT_EQ(masked.bake.masks.lights.size(), 8u);
-  EXPECT_EQ(masked.bake.masks.channels, 8u);
-  EXPECT_EQ(masked.bake.masks.layers(), 2u);
+  // The eight lamps and the ceiling lamp's two patches (area lights): all
+  // overlap, so each takes a channel.
+  ASSERT_EQ(masked.bake.masks.lights.size(), 10u);
+  size_t areas = 0;
+  for (const BakeMaskedLight& m : masked.bake.masks.lights)
+    areas += masked.bake.emitters[m.emitter].kind == BakeEmitter::Kind::kPatch ? 1 : 0;
+  EXPECT_EQ(areas, 2u);
+  EXPECT_EQ(masked.bake.masks.channels, 10u);
+  EXPECT_EQ(masked.bake.masks.layers(), 3u);
   EXPECT_TRUE(plain.bake.masks.lights.empty());
   const nlohmann::json& report = masked.report["shadow_masks"];
-  EXPECT_EQ(report["lights"].size(), 8u);
+  EXPECT_EQ(report["lights"].size(), 10u);
   EXPECT_GT(report["bytes"].get<double>(), 0);
-  std::printf("8 lamps: %u channels, %.0f bytes, %.2f s\n", masked.bake.masks.channels,
+  std::printf("8 lamps and 2 lamp patches: %u channels, %.0f bytes, %.2f s\n", masked.bake.masks.channels,
               report["bytes"].get<double>(), report["seconds"].get<double>());
   // The floor, the back wall and the short box's top, where every lamp reaches.
   std::vector<ProbePoint> points;
@@ -108,9 +114,12 @@ TEST(ShadowMasks, LightsThatNeverOverlapShareAChannel) {
          {"name": "right", "type": "spot", "position": [0, 1, 0], "direction": [1, 0, 0],
           "color": [1, 1, 1], "intensity_cd": 2, "inner_cone_rad": 0.1, "outer_cone_rad": 0.2})";
   const Baked masked = bake(cornellLevel("two_spots", spots, true), "two_spots", true);
-  ASSERT_EQ(masked.bake.masks.lights.size(), 2u);
-  EXPECT_EQ(masked.bake.masks.channels, 1u);
-  EXPECT_NE(masked.bake.masks.lights[0].owner, masked.bake.masks.lights[1].owner);
+  std::vector<BakeMaskedLight> spot_masks;  // (the ceiling lamp's patches are masked too)
+  for (const BakeMaskedLight& m : masked.bake.masks.lights)
+    if (masked.bake.emitters[m.emitter].kind == BakeEmitter::Kind::kLight) spot_masks.push_back(m);
+  ASSERT_EQ(spot_masks.size(), 2u);
+  EXPECT_EQ(spot_masks[0].channel, spot_masks[1].channel);
+  EXPECT_NE(spot_masks[0].owner, spot_masks[1].owner);
 }
 
 TEST(ShadowMasks, ALevelWithoutDynamicObjectsStoresNone) {

@@ -8,6 +8,7 @@
 # WORK/shadow_mask_cost.json, prints a Markdown table and puts it in
 # docs/performance.md between its shadow_mask_cost.sh markers. Sponza is
 # skipped (and says so) without ../shared/scenes.
+# Levels: the Cornell box (its lamp masked as area lights), the house, Sponza.
 # usage: tests/bench/shadow_mask_cost.sh BUILD_DIR WORK [FRAMES] [BAKE_PASSES]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -19,9 +20,15 @@ walk="$build/samples/walk/svit-walk" bake="$build/baker/svit-bake"
 xvfb=()
 [[ -z "${DISPLAY:-}" ]] && xvfb=(xvfb-run -a -s "-screen 0 1280x720x24")
 mkdir -p "$work"
-levels=(house)
-if [[ -f "$root/../shared/scenes/sponza/Sponza.gltf" ]]; then levels+=(sponza); else
-  echo "shadow_mask_cost.sh: sponza skipped (no ../shared/scenes/sponza)"; fi
+# SVIT_MASK_COST_LEVELS: the levels to run (default cornell house sponza).
+levels=()
+for name in ${SVIT_MASK_COST_LEVELS:-cornell house sponza}; do
+  if [[ "$name" == sponza && ! -f "$root/../shared/scenes/sponza/Sponza.gltf" ]]; then
+    echo "shadow_mask_cost.sh: sponza skipped (no ../shared/scenes/sponza)"
+  else
+    levels+=("$name")
+  fi
+done
 for name in "${levels[@]}"; do
   level="$root/samples/levels/$name/level.json"
   [[ -f "$work/$name-masks/bake.svit" ]] || "$bake" "$level" -o "$work/$name-masks" --passes "$passes" --quiet
