@@ -64,6 +64,8 @@ layout(std430, binding = 4) readonly buffer Lights { GpuLight lights[]; };
 layout(std430, binding = 5) readonly buffer AreaLights { vec4 area[]; };
 vec3 svitUnshadowedIrradiance(GpuLight light, vec3 p, vec3 n, out float distance_m);
 float svitShadowVisibility(GpuLight light, vec3 p, vec3 n, float distance_m, float phi);
+float svitShadowVisibilityTaps(GpuLight light, vec3 p, vec3 n, float distance_m, float phi, int taps);
+layout(location = 5) uniform int u_shadow_taps;  // PCF taps of one map (svit_shading.frag)
 float svitPixelNoise();
 vec3 svitDisplay(vec3 radiance);
 vec3 svitDeltaFalseColour(vec3 delta, vec3 under);
@@ -145,8 +147,11 @@ vec3 areaIrradiance(int offset, vec3 p, vec3 n) {
 
 // What the dynamic objects let through of area light samples
 // [first, first + count): their caster maps' visibilities weighted by the
-// point-to-point form factor cos * cos / d^2 toward each sample.
+// point-to-point form factor cos * cos / d^2 toward each sample. The
+// samples' spread softens the edge, so the frame's PCF taps are shared
+// between them (each map gets at least one, hardware-filtered).
 float areaShadowVisibility(int first, int count, vec3 p, vec3 n, float phi) {
+  int taps = max(max(u_shadow_taps, 1) / count, 1);
   float seen = 0.0, total = 0.0;
   for (int s = first; s < first + count; ++s) {
     GpuLight sample_light = lights[s];
@@ -157,7 +162,7 @@ float areaShadowVisibility(int first, int count, vec3 p, vec3 n, float phi) {
     float w = max(dot(n, l), 0.0) * max(-dot(sample_light.direction.xyz, l), 0.0) / d2;
     if (w <= 0.0) continue;
     total += w;
-    seen += w * svitShadowVisibility(sample_light, p, n, d, phi);
+    seen += w * svitShadowVisibilityTaps(sample_light, p, n, d, phi, taps);
   }
   return total > 0.0 ? seen / total : 1.0;
 }

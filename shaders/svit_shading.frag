@@ -48,7 +48,7 @@ vec2 svitVogel(int i, int n, float phi) {
   return r * vec2(cos(theta), sin(theta));
 }
 
-float svitShadowFace(GpuLight light, vec3 p, float phi) {
+float svitShadowFace(GpuLight light, vec3 p, float phi, int taps) {
   vec4 clip = light.shadow_from_world * vec4(p, 1.0);
   if (clip.w <= 0.0) return 1.0;
   vec3 ndc = clip.xyz / clip.w;
@@ -57,7 +57,6 @@ float svitShadowFace(GpuLight light, vec3 p, float phi) {
   // Beyond the far plane compares as at it: a caster map (fitted to the
   // dynamic objects) still shadows what lies behind them.
   float ref = min(ndc.z * 0.5 + 0.5, 1.0);
-  int taps = max(u_shadow_taps, 1);
   float lit = 0.0;
   for (int i = 0; i < taps; ++i) {
     vec2 o = svitVogel(i, taps, phi) * (kPcfRadiusTexels * u_shadow_texel);
@@ -67,7 +66,7 @@ float svitShadowFace(GpuLight light, vec3 p, float phi) {
 }
 
 // `d`: from the light to the (offset) point, world metres.
-float svitShadowCube(GpuLight light, vec3 d, float phi) {
+float svitShadowCube(GpuLight light, vec3 d, float phi, int taps) {
   vec3 a = abs(d);
   float major = max(a.x, max(a.y, a.z));
   float n = light.shadow.z, f = light.shadow.w;
@@ -77,7 +76,6 @@ float svitShadowCube(GpuLight light, vec3 d, float phi) {
   vec3 t1 = normalize(cross(axis, abs(axis.y) < 0.99 ? vec3(0, 1, 0) : vec3(1, 0, 0)));
   vec3 t2 = cross(axis, t1);
   float radius = kPcfRadiusTexels * light.shadow_texel.x * major;  // metres on the face plane
-  int taps = max(u_shadow_taps, 1);
   float lit = 0.0;
   for (int i = 0; i < taps; ++i) {
     vec2 o = svitVogel(i, taps, phi) * radius;
@@ -113,14 +111,20 @@ vec3 svitUnshadowedIrradiance(GpuLight light, vec3 p, vec3 n, out float distance
   return e * max(dot(n, l), 0.0);
 }
 
-// What of `light` its depth map lets through to p (1 without a map), the
-// PCF pattern rotated by phi (radians).
-float svitShadowVisibility(GpuLight light, vec3 p, vec3 n, float distance_m, float phi) {
+// What of `light` its depth map lets through to p (1 without a map), with
+// `taps` PCF taps (>= 1) in a pattern rotated by phi (radians).
+float svitShadowVisibilityTaps(GpuLight light, vec3 p, vec3 n, float distance_m, float phi, int taps) {
   int kind = int(light.shadow.x);
   if (kind == 0) return 1.0;
   float texel_m = light.shadow_texel.x * distance_m + light.shadow_texel.y;
   vec3 q = p + n * (kNormalOffsetTexels * texel_m);
-  return kind == 1 ? svitShadowCube(light, q - light.position.xyz, phi) : svitShadowFace(light, q, phi);
+  return kind == 1 ? svitShadowCube(light, q - light.position.xyz, phi, taps)
+                   : svitShadowFace(light, q, phi, taps);
+}
+
+// The same with the frame's PCF taps (u_shadow_taps).
+float svitShadowVisibility(GpuLight light, vec3 p, vec3 n, float distance_m, float phi) {
+  return svitShadowVisibilityTaps(light, p, n, distance_m, phi, max(u_shadow_taps, 1));
 }
 
 // Irradiance (lux) at world point p with unit normal n from the lights in
