@@ -72,7 +72,7 @@ Baked bake(const std::string& level, const std::string& name, bool masks) {
   return out;
 }
 
-TEST(ShadowMasks, EightOverlappingLampsTakeEightChannelsAndReadAsTheUnmaskedBake) {
+TEST(ShadowMasks, EightOverlappingLampsTakeAChannelEachAndReadAsTheUnmaskedBake) {
   const std::string level = cornellLevel("eight_lamps", eightLamps(), true);
   const Baked masked = bake(level, "eight_lamps_masked", true);
   const Baked plain = bake(level, "eight_lamps_plain", false);
