@@ -193,6 +193,8 @@ struct SceneRenderer::Impl {
                           std::vector<gl::FrameLight>& lights) const;
   void appendAreaSamples(size_t k, float dimmer, bool with_casters,
                          std::vector<gl::FrameLight>& lights) const;
+  Expected<double> loadMaskedLights(const Scene& level, const BakeData& bake,
+                                    const std::string& bake_dir);
   gl::FrameLight sunLight(float dimmer) const;
   void setSharedUniforms(const glm::mat4& clip_from_world, ShadingView view, int light_begin,
                          int light_end) const;
@@ -353,6 +355,32 @@ void SceneRenderer::Impl::setSharedUniforms(const glm::mat4& clip_from_world, Sh
   glUniform1f(b::kDeltaReference, delta_reference_lux);
 }
 
+// The bake's masked lights: their mask textures, emitters, parameters and
+// area lights' triangles. Returns how much brighter they make the level
+// than its lightmap (for auto exposure).
+Expected<double> SceneRenderer::Impl::loadMaskedLights(const Scene& level, const BakeData& bake,
+                                                       const std::string& bake_dir) {
+  Expected<gl::ShadowMaskTextures> mask_textures = gl::ShadowMaskTextures::create(bake);
+  if (!mask_textures.ok()) return mask_textures.status();
+  masks = std::move(mask_textures).value();
+  masked_lights = bake.masks.lights;
+  for (const BakeMaskedLight& m : bake.masks.lights) {
+    const BakeEmitter& e = bake.emitters[m.emitter];
+    if (e.kind == BakeEmitter::Kind::kLight && e.index >= level.lights.size()) {
+      return Status(StatusCode::kInvalidInput, bake_dir + "/bake.svit: section SMSK masks light " +
+                                                   std::to_string(e.index) + " of a level with " +
+                                                   std::to_string(level.lights.size()) + " lights");
+    }
+    masked_emitters.push_back({e.kind, e.index, e.flux, {}, {}});
+  }
+  Expected<gl::MaskedShading> masked = gl::prepareMaskedShading(level, bake, bake_dir);
+  if (!masked.ok())
+    return Status(masked.status().code(), bake_dir + ": " + masked.status().message());
+  masked_field = std::move(masked->field);
+  area_lights = gl::AreaLightBuffer::create(masked_field);
+  return masked->exposure_ratio;
+}
+
 SceneRenderer::SceneRenderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 SceneRenderer::~SceneRenderer() = default;
 
@@ -388,19 +416,8 @@ Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(
           : gl::LightmapTextures::create(bake, bake_dir);
   if (!lightmaps.ok()) return lightmaps.status();
   impl->lightmaps = std::move(lightmaps).value();
-  Expected<gl::ShadowMaskTextures> masks = gl::ShadowMaskTextures::create(bake);
-  if (!masks.ok()) return masks.status();
-  impl->masks = std::move(masks).value();
-  impl->masked_lights = bake.masks.lights;
-  for (const BakeMaskedLight& m : bake.masks.lights) {
-    const BakeEmitter& e = bake.emitters[m.emitter];
-    if (e.kind == BakeEmitter::Kind::kLight && e.index >= scene.lights.size()) {
-      return Status(StatusCode::kInvalidInput, bake_dir + "/bake.svit: section SMSK masks light " +
-                                                   std::to_string(e.index) + " of a level with " +
-                                                   std::to_string(scene.lights.size()) + " lights");
-    }
-    impl->masked_emitters.push_back({e.kind, e.index, e.flux, {}, {}});
-  }
+  Expected<double> masked_exposure = impl->loadMaskedLights(scene, bake, bake_dir);
+  if (!masked_exposure.ok()) return masked_exposure.status();
   Expected<gl::MaterialTextures> materials = gl::MaterialTextures::create(scene);
   if (!materials.ok()) return materials.status();
   impl->materials = std::move(materials).value();
@@ -429,11 +446,7 @@ Expected<std::unique_ptr<SceneRenderer>> SceneRenderer::create(
   if (!target.ok()) return target.status();
   impl->target = std::move(target).value();
 
-  Expected<gl::MaskedShading> masked = gl::prepareMaskedShading(scene, bake, bake_dir);
-  if (!masked.ok()) return Status(masked.status().code(), bake_dir + ": " + masked.status().message());
-  impl->masked_field = std::move(masked->field);
-  impl->area_lights = gl::AreaLightBuffer::create(impl->masked_field);
-  const double log_mean = impl->lightmaps.logMeanIrradiance() * masked->exposure_ratio;
+  const double log_mean = impl->lightmaps.logMeanIrradiance() * *masked_exposure;
   impl->delta_reference_lux = log_mean > 0 ? float(log_mean) : 1.0f;
   impl->exposure = settings.auto_exposure && log_mean > 0
                        ? float(settings.exposure * kExposureKey * kPi / log_mean)
