@@ -346,6 +346,44 @@ TEST(RuntimePicture, CornellLampOffIsBlackAndDimmedIsHalf) {
   }
 }
 
+// The tall box of `level` (dynamic) moved, walked with shadow masks and
+// without (--no-shadow-masks), against the level baked with the box static
+// there; prints the settled static errors (and above the noise floor, in
+// quadrature with sqrt(2) x floor).
+struct MaskedAgainstPatches {
+  Walk masked, patches;
+  Bounds bounds;
+  double settled = 0, patch_settled = 0;
+};
+
+MaskedAgainstPatches walkMaskedAndPatchOnly(const std::string& level, const std::string& name) {
+  MaskedAgainstPatches out;
+  const Camera camera = cornellFrontCamera();
+  const std::string work = (fs::temp_directory_path() / "svit_scene_renderer_test").string();
+  const std::string moved = test::writeLevelWithNodeStatic(
+      level, "tallBox", kMovedTranslation, kMovedRotation, work, name + "_moved");
+  const LinearFrame reference = bakedPicture(bakedLevel(moved, kReferenceBake), camera);
+  out.bounds = noiseFloor(moved, reference, camera);
+  const Mat4 pose = placeAt(kMovedTranslation, kMovedRotation);
+  out.masked = walkAgainst(bakedLevel(level, kRuntimeBake), "tallBox", pose, reference, camera,
+                           "svit_picture_" + name + "_masked");
+  TestBake patch_only = kRuntimeBake;
+  patch_only.shadow_masks = false;
+  out.patches = walkAgainst(bakedLevel(level, patch_only), "tallBox", pose, reference, camera,
+                            "svit_picture_" + name + "_patches");
+  if (out.masked.frames.empty() || out.patches.frames.empty()) return out;
+  out.settled = out.masked.frames.back().static_rel_rms;
+  out.patch_settled = out.patches.frames.back().static_rel_rms;
+  const double floor = std::sqrt(2.0) * out.bounds.noise_floor;
+  const auto above = [&](double e) { return std::sqrt(std::max(e * e - floor * floor, 0.0)); };
+  std::printf(
+      "settled static error: masked %.4f, patch-only %.4f, noise floor %.4f; above the floor "
+      "(quadrature): %.4f, %.4f\n",
+      out.settled, out.patch_settled, out.bounds.noise_floor, above(out.settled),
+      above(out.patch_settled));
+  return out;
+}
+
 // The box moved in the light of a baked point lamp: with its shadow mask,
 // the box's shadow from the lamp is shaded per pixel from its caster map;
 // without (--no-shadow-masks), per runtime patch. The masked walk settles
@@ -353,28 +391,11 @@ TEST(RuntimePicture, CornellLampOffIsBlackAndDimmedIsHalf) {
 TEST(RuntimePicture, PointLampShadowOfTheMovedBoxIsPerPixel) {
   test::GlTestContext context;
   SVIT_REQUIRE_GL(context);
-  const Camera camera = cornellFrontCamera();
-  const std::string work = (fs::temp_directory_path() / "svit_scene_renderer_test").string();
-  const std::string moved =
-      test::writeLevelWithNodeStatic(cornellPointLampLevel(true), "tallBox", kMovedTranslation,
-                                     kMovedRotation, work, "cornell_point_lamp_moved");
-  const LinearFrame reference = bakedPicture(bakedLevel(moved, kReferenceBake), camera);
-  const Bounds bounds = noiseFloor(moved, reference, camera);
-  const Mat4 pose = placeAt(kMovedTranslation, kMovedRotation);
-  const Walk masked = walkAgainst(bakedLevel(cornellPointLampLevel(true), kRuntimeBake), "tallBox",
-                                  pose, reference, camera, "svit_picture_point_lamp_masked");
-  TestBake patch_only = kRuntimeBake;
-  patch_only.shadow_masks = false;
-  const Walk patches = walkAgainst(bakedLevel(cornellPointLampLevel(true), patch_only), "tallBox",
-                                   pose, reference, camera, "svit_picture_point_lamp_patches");
-  ASSERT_FALSE(masked.frames.empty());
-  ASSERT_FALSE(patches.frames.empty());
-  const double settled = masked.frames.back().static_rel_rms;
-  const double patch_settled = patches.frames.back().static_rel_rms;
-  std::printf("settled static error: masked %.4f, patch-only %.4f, noise floor %.4f\n", settled,
-              patch_settled, bounds.noise_floor);
-  EXPECT_LE(settled, std::max(0.5 * patch_settled, std::sqrt(2.0) * bounds.noise_floor));
-  expectConverges(masked, bounds);
+  const MaskedAgainstPatches w = walkMaskedAndPatchOnly(cornellPointLampLevel(true), "point_lamp");
+  ASSERT_FALSE(w.masked.frames.empty());
+  ASSERT_FALSE(w.patches.frames.empty());
+  EXPECT_LE(w.settled, std::max(0.5 * w.patch_settled, std::sqrt(2.0) * w.bounds.noise_floor));
+  expectConverges(w.masked, w.bounds);
 }
 
 // The Cornell lamp masked as area lights, the box where it stands: the
@@ -408,32 +429,11 @@ TEST(RuntimePicture, MaskedAreaLampBakedViewMatchesTheLightmap) {
 TEST(RuntimePicture, AreaLampShadowOfTheMovedBoxIsPerPixel) {
   test::GlTestContext context;
   SVIT_REQUIRE_GL(context);
-  const Camera camera = cornellFrontCamera();
-  const std::string work = (fs::temp_directory_path() / "svit_scene_renderer_test").string();
-  const std::string moved =
-      test::writeLevelWithNodeStatic(cornellStillBoxLevel(), "tallBox", kMovedTranslation,
-                                     kMovedRotation, work, "cornell_box_moved");
-  const LinearFrame reference = bakedPicture(bakedLevel(moved, kReferenceBake), camera);
-  const Bounds bounds = noiseFloor(moved, reference, camera);
-  const Mat4 pose = placeAt(kMovedTranslation, kMovedRotation);
-  const Walk masked = walkAgainst(bakedLevel(cornellStillBoxLevel(), kRuntimeBake), "tallBox", pose,
-                                  reference, camera, "svit_picture_area_lamp_masked");
-  TestBake patch_only = kRuntimeBake;
-  patch_only.shadow_masks = false;
-  const Walk patches = walkAgainst(bakedLevel(cornellStillBoxLevel(), patch_only), "tallBox", pose,
-                                   reference, camera, "svit_picture_area_lamp_patches");
-  ASSERT_FALSE(masked.frames.empty());
-  ASSERT_FALSE(patches.frames.empty());
-  const double floor = std::sqrt(2.0) * bounds.noise_floor;
-  const auto above = [&](double e) { return std::sqrt(std::max(e * e - floor * floor, 0.0)); };
-  const double settled = masked.frames.back().static_rel_rms;
-  const double patch_settled = patches.frames.back().static_rel_rms;
-  std::printf(
-      "settled static error: masked %.4f, patch-only %.4f, noise floor %.4f; above the floor "
-      "(quadrature): %.4f, %.4f\n",
-      settled, patch_settled, bounds.noise_floor, above(settled), above(patch_settled));
-  EXPECT_LE(settled, patch_settled);
-  expectConverges(masked, bounds);
+  const MaskedAgainstPatches w = walkMaskedAndPatchOnly(cornellStillBoxLevel(), "area_lamp");
+  ASSERT_FALSE(w.masked.frames.empty());
+  ASSERT_FALSE(w.patches.frames.empty());
+  EXPECT_LE(w.settled, w.patch_settled);
+  expectConverges(w.masked, w.bounds);
 }
 
 // A lamp's light as the runtime shows it at 1, 0 and 0.5 (nothing moving).
