@@ -165,10 +165,10 @@ nlohmann::ordered_json maskedLightJson(const Scene& scene, const BakeData& data,
     texels += maskTexelsOf(data.masks, k, p);
     page_texels += size_t(data.pages[p].width) * data.pages[p].height;
   }
-  const std::string name = emitter.kind == BakeEmitter::Kind::kSun     ? std::string("sun")
-                           : emitter.kind == BakeEmitter::Kind::kPatch ? "emissive patch " +
-                                                                            std::to_string(emitter.index)
-                                                                      : scene.lights[emitter.index].name;
+  const std::string name = emitter.kind == BakeEmitter::Kind::kSun ? std::string("sun")
+                           : emitter.kind == BakeEmitter::Kind::kPatch
+                               ? "emissive patch " + std::to_string(emitter.index)
+                               : scene.lights[emitter.index].name;
   return {{"light", name},
           {"kind", emitter.kind == BakeEmitter::Kind::kPatch ? "area" : "punctual"},
           {"emitter", light.emitter},

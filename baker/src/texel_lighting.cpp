@@ -571,10 +571,10 @@ void addAreaLightRays(const BakeGeometry& geometry, const MaskedLightRays& light
   const double shift = rng.uniformDouble();
   for (uint32_t s = 0; s < count; ++s) {
     const double pick = (double(s) + rng.uniformDouble()) / double(count) * total;
-    const size_t i = std::min(
-        light.area_elements.size() - 1,
-        size_t(std::lower_bound(light.area_cdf.begin(), light.area_cdf.end(), pick) -
-               light.area_cdf.begin()));
+    const size_t i =
+        std::min(light.area_elements.size() - 1,
+                 size_t(std::lower_bound(light.area_cdf.begin(), light.area_cdf.end(), pick) -
+                        light.area_cdf.begin()));
     const uint32_t element = light.area_elements[i], triangle = element / 2;
     const glm::dvec3 side_normal =
         dvec(geometry.normals[triangle]) * (element % 2 == 0 ? 1.0 : -1.0);
@@ -586,8 +586,8 @@ void addAreaLightRays(const BakeGeometry& geometry, const MaskedLightRays& light
     const Emitter emitter{triangle, dvec(geometry.emission[triangle]), true};
     const EmitterSample sample = sampleEmitter(geometry, emitter, t.p, t.n, r1, r2);
     if (!(sample.cosine_solid_angle > 0)) continue;
-    const double weight = luminanceOf(emitter.luminance) * sample.cosine_solid_angle *
-                          total / geometry.areas_m2[triangle];
+    const double weight = luminanceOf(emitter.luminance) * sample.cosine_solid_angle * total /
+                          geometry.areas_m2[triangle];
     const Vec3 target = offsetRayOrigin(vec3(sample.point), vec3(sample.normal),
                                         cornerMagnitude(geometry, triangle));
     t.shadowTo(dvec(target), glm::dvec3(weight));
@@ -645,8 +645,8 @@ Expected<std::vector<float>> maskVisibility(const Scene& scene, const BakeGeomet
   for (const std::vector<uint32_t>& elements : settings.masked.area_elements) {
     for (uint32_t e : elements) {
       if (e / 2 >= geometry.triangleCount() || !(luminanceOf(dvec(geometry.emission[e / 2])) > 0)) {
-        return Status(StatusCode::kInvalidInput,
-                      "shadow masks: area element " + std::to_string(e) + " is not an emissive side");
+        return Status(StatusCode::kInvalidInput, "shadow masks: area element " + std::to_string(e) +
+                                                     " is not an emissive side");
       }
     }
     if (elements.empty())

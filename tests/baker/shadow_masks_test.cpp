@@ -89,8 +89,9 @@ TEST(ShadowMasks, EightOverlappingLampsTakeAChannelEachAndReadAsTheUnmaskedBake)
   const nlohmann::json& report = masked.report["shadow_masks"];
   EXPECT_EQ(report["lights"].size(), 10u);
   EXPECT_GT(report["bytes"].get<double>(), 0);
-  std::printf("8 lamps and 2 lamp patches: %u channels, %.0f bytes, %.2f s\n", masked.bake.masks.channels,
-              report["bytes"].get<double>(), report["seconds"].get<double>());
+  std::printf("8 lamps and 2 lamp patches: %u channels, %.0f bytes, %.2f s\n",
+              masked.bake.masks.channels, report["bytes"].get<double>(),
+              report["seconds"].get<double>());
   // The floor, the back wall and the short box's top, where every lamp reaches.
   std::vector<ProbePoint> points;
   for (double x : {-0.7, -0.3, 0.0, 0.4, 0.7})

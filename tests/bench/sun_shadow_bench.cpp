@@ -201,8 +201,8 @@ SceneRendererSettings rendererSettings(const Options& o) {
 }
 
 LinearFrame bakedView(const BakedLevel& level, const Camera& camera, const Options& o) {
-  auto renderer = SceneRenderer::create(level.scene, level.bake, level.dir, nullptr,
-                                        rendererSettings(o));
+  auto renderer =
+      SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, rendererSettings(o));
   SVIT_SETUP_CHECK(renderer.ok(), renderer.status().message());
   SVIT_SETUP_CHECK((*renderer)->render(camera, ShadingView::kBakedOnly).ok(), "baked render");
   return readLinearFrame(**renderer);
@@ -314,8 +314,8 @@ Projector projectorOf(const Camera& c, int width, int height) {
 }
 
 struct FloorGrid {
-  int n = 0;                   ///< points per side
-  std::vector<uint8_t> valid;  ///< seen, no neighbour pixel shows the ball or nothing
+  int n = 0;                            ///< points per side
+  std::vector<uint8_t> valid;           ///< seen, no neighbour pixel shows the ball or nothing
   std::vector<double> ball_distance_m;  ///< ball centre to the sun ray through the point
   std::vector<double> x0, y0;           ///< bilinear pixel coordinates
 };
@@ -380,7 +380,7 @@ double median(std::vector<double> v) {
 struct Shadow {
   std::vector<double> ratio;  ///< picture / without, per grid point
   double lit = 0, shadowed = 0, threshold = 0;
-  double contrast = 0;        ///< 1 - shadowed / lit
+  double contrast = 0;  ///< 1 - shadowed / lit
   bool found = true;
   std::vector<uint8_t> region;  ///< per grid point: in the shadow
   double area_m2 = 0;
@@ -421,9 +421,9 @@ double contourLength(const FloorGrid& g, const std::vector<double>& f) {
   double length = 0;
   for (int j = 0; j + 1 < g.n; ++j) {
     for (int i = 0; i + 1 < g.n; ++i) {
-      const size_t k[4] = {size_t(j) * size_t(g.n) + size_t(i), size_t(j) * size_t(g.n) + size_t(i + 1),
-                           size_t(j + 1) * size_t(g.n) + size_t(i + 1),
-                           size_t(j + 1) * size_t(g.n) + size_t(i)};
+      const size_t k[4] = {
+          size_t(j) * size_t(g.n) + size_t(i), size_t(j) * size_t(g.n) + size_t(i + 1),
+          size_t(j + 1) * size_t(g.n) + size_t(i + 1), size_t(j + 1) * size_t(g.n) + size_t(i)};
       if (!g.valid[k[0]] || !g.valid[k[1]] || !g.valid[k[2]] || !g.valid[k[3]]) continue;
       const double cx[4] = {0, 1, 1, 0}, cy[4] = {0, 0, 1, 1};
       double px[4], py[4];
@@ -473,7 +473,8 @@ Status writeCropPng(const std::string& path, const LinearFrame& f, float exposur
             sum += f.rgb[p * 3 + size_t(c)];
           }
         }
-        rgb[(size_t(y) * size_t(w) + size_t(x)) * 3 + size_t(c)] = displayByte(0.25f * sum, exposure);
+        rgb[(size_t(y) * size_t(w) + size_t(x)) * 3 + size_t(c)] =
+            displayByte(0.25f * sum, exposure);
       }
     }
   }
@@ -488,7 +489,8 @@ nlohmann::json errorJson(const PictureError& e) {
 }
 
 nlohmann::json splitJson(const Split& s) {
-  return {{"inside", errorJson(s.inside)}, {"outside", errorJson(s.outside)},
+  return {{"inside", errorJson(s.inside)},
+          {"outside", errorJson(s.outside)},
           {"all", errorJson(s.all)}};
 }
 
@@ -538,8 +540,7 @@ int main(int argc, char** argv) {
   }
 
   // The moved ball rests on the floor under (ball_x, ball_z).
-  const double floor_drop =
-      nearestHit(triangles, {o.ball_x, ball_start.y, o.ball_z}, {0, -1, 0});
+  const double floor_drop = nearestHit(triangles, {o.ball_x, ball_start.y, o.ball_z}, {0, -1, 0});
   SVIT_SETUP_CHECK(std::isfinite(floor_drop), "no floor under the moved ball");
   const float floor_y = ball_start.y - float(floor_drop);
   const Vec3 ball{o.ball_x, floor_y + radius, o.ball_z};
@@ -553,16 +554,18 @@ int main(int argc, char** argv) {
 
   // The reference level: the ball static there, every other dynamic object
   // static where the level starts it.
-  std::string reference_level = writeLevelWithNodeStatic(o.level, "ball", ball, Quat{}, o.work,
-                                                         "ball-moved");
+  std::string reference_level =
+      writeLevelWithNodeStatic(o.level, "ball", ball, Quat{}, o.work, "ball-moved");
   for (const Node& node : scene.nodes) {
     if (!node.dynamic || node.name == "ball" || node.parent >= 0) continue;
     reference_level = writeLevelWithNodeStatic(reference_level, node.name, node.translation,
                                                node.rotation, o.work, "ball-moved-" + node.name);
   }
   const BakedLevel masks = bakeOnce(o.level, o.work + "/base-masks", o.quality, 7, o.time_s, true);
-  const BakedLevel reference = bakeOnce(reference_level, o.work + "/reference", o.quality, 8, o.time_s);
-  const BakedLevel second = bakeOnce(reference_level, o.work + "/reference-2", o.quality, 9, o.time_s);
+  const BakedLevel reference =
+      bakeOnce(reference_level, o.work + "/reference", o.quality, 8, o.time_s);
+  const BakedLevel second =
+      bakeOnce(reference_level, o.work + "/reference-2", o.quality, 9, o.time_s);
   const double bakes_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_bakes).count();
 
@@ -651,10 +654,11 @@ int main(int argc, char** argv) {
       ball.x, ball.y, ball.z, radius, floor_y, centre.x, centre.z, camera.position.x,
       camera.position.y, camera.position.z, o.elevation_rad * 180 / M_PI, o.yfov_rad, o.width,
       o.height);
-  std::printf("settled (%d samples an update): before %d updates (%u pending, %.0f ms), after %d "
-              "updates (%u pending, %.0f ms); footprint %zu pixels\n",
-              o.settle_samples, before.updates, before.pending, before.settle_ms, after.updates, after.pending,
-              after.settle_ms, footprint_pixels);
+  std::printf(
+      "settled (%d samples an update): before %d updates (%u pending, %.0f ms), after %d "
+      "updates (%u pending, %.0f ms); footprint %zu pixels\n",
+      o.settle_samples, before.updates, before.pending, before.settle_ms, after.updates,
+      after.pending, after.settle_ms, footprint_pixels);
   std::printf("(a) relative RMS against the reference   inside   outside   whole view\n");
   auto row = [](const char* name, const Split& s) {
     std::printf("    %-36s %.4f   %.4f    %.4f\n", name, s.inside.static_rel_rms,
@@ -665,18 +669,20 @@ int main(int argc, char** argv) {
   row("before, baked-only", e_plain_baked);
   row("after, baked-only", e_masks_baked);
   row("noise floor (second reference)", e_floor);
-  std::printf("(b) shadow on the floor grid (%zu points of %.1f mm seen): reference area %.0f cm2, "
-              "contour %.1f cm; geometric area %.0f cm2, contour %.1f cm\n",
-              valid_points, 1000 * kGridStep_m, 1e4 * s_ref.area_m2, 100 * ref_perimeter,
-              1e4 * geo_area_m2, 100 * geo_perimeter);
+  std::printf(
+      "(b) shadow on the floor grid (%zu points of %.1f mm seen): reference area %.0f cm2, "
+      "contour %.1f cm; geometric area %.0f cm2, contour %.1f cm\n",
+      valid_points, 1000 * kGridStep_m, 1e4 * s_ref.area_m2, 100 * ref_perimeter, 1e4 * geo_area_m2,
+      100 * geo_perimeter);
   nlohmann::json edges = nlohmann::json::object();
   for (const EdgeRow& r : edge_rows) {
     const Edge vs_ref = edgeError(grid, r.s->region, s_ref.region, ref_perimeter);
     const Edge vs_geo = edgeError(grid, r.s->region, geo, geo_perimeter);
-    std::printf("    %-17s contrast %.3f (lit %.3f, shadowed %.3f)%s area %.0f cm2; edge error "
-                "%.2f cm against the reference, %.2f cm against the geometric shadow\n",
-                r.name, r.s->contrast, r.s->lit, r.s->shadowed, r.s->found ? "" : " NO SHADOW,",
-                1e4 * r.s->area_m2, vs_ref.displacementCm(), vs_geo.displacementCm());
+    std::printf(
+        "    %-17s contrast %.3f (lit %.3f, shadowed %.3f)%s area %.0f cm2; edge error "
+        "%.2f cm against the reference, %.2f cm against the geometric shadow\n",
+        r.name, r.s->contrast, r.s->lit, r.s->shadowed, r.s->found ? "" : " NO SHADOW,",
+        1e4 * r.s->area_m2, vs_ref.displacementCm(), vs_geo.displacementCm());
     edges[r.name] = {{"contrast", r.s->contrast},
                      {"lit_ratio", r.s->lit},
                      {"shadowed_ratio", r.s->shadowed},
@@ -689,11 +695,15 @@ int main(int argc, char** argv) {
   }
 
   if (!o.png_prefix.empty()) {
-    SVIT_SETUP_CHECK(writeCropPng(o.png_prefix + "-reference.png", ref_view, o.exposure).ok(), "png");
-    SVIT_SETUP_CHECK(writeCropPng(o.png_prefix + "-before.png", before.runtime, o.exposure).ok(), "png");
-    SVIT_SETUP_CHECK(writeCropPng(o.png_prefix + "-after.png", after.runtime, o.exposure).ok(), "png");
+    SVIT_SETUP_CHECK(writeCropPng(o.png_prefix + "-reference.png", ref_view, o.exposure).ok(),
+                     "png");
+    SVIT_SETUP_CHECK(writeCropPng(o.png_prefix + "-before.png", before.runtime, o.exposure).ok(),
+                     "png");
+    SVIT_SETUP_CHECK(writeCropPng(o.png_prefix + "-after.png", after.runtime, o.exposure).ok(),
+                     "png");
   }
-  (void)writeComparisonPng(o.work + "/before-vs-reference.png", before.runtime, ref_view, o.exposure);
+  (void)writeComparisonPng(o.work + "/before-vs-reference.png", before.runtime, ref_view,
+                           o.exposure);
   (void)writeComparisonPng(o.work + "/after-vs-reference.png", after.runtime, ref_view, o.exposure);
 
   nlohmann::json out = {
@@ -718,8 +728,10 @@ int main(int argc, char** argv) {
       {"settle",
        {{"samples_per_update", o.settle_samples},
         {"max_updates", o.settle_updates},
-        {"before", {{"updates", before.updates}, {"pending", before.pending}, {"ms", before.settle_ms}}},
-        {"after", {{"updates", after.updates}, {"pending", after.pending}, {"ms", after.settle_ms}}}}},
+        {"before",
+         {{"updates", before.updates}, {"pending", before.pending}, {"ms", before.settle_ms}}},
+        {"after",
+         {{"updates", after.updates}, {"pending", after.pending}, {"ms", after.settle_ms}}}}},
       {"footprint_darkening", kFootprintDarkening},
       {"footprint_pixels", footprint_pixels},
       {"picture_error",

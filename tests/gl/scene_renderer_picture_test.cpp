@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -360,8 +361,8 @@ MaskedAgainstPatches walkMaskedAndPatchOnly(const std::string& level, const std:
   MaskedAgainstPatches out;
   const Camera camera = cornellFrontCamera();
   const std::string work = (fs::temp_directory_path() / "svit_scene_renderer_test").string();
-  const std::string moved = test::writeLevelWithNodeStatic(
-      level, "tallBox", kMovedTranslation, kMovedRotation, work, name + "_moved");
+  const std::string moved = test::writeLevelWithNodeStatic(level, "tallBox", kMovedTranslation,
+                                                           kMovedRotation, work, name + "_moved");
   const LinearFrame reference = bakedPicture(bakedLevel(moved, kReferenceBake), camera);
   out.bounds = noiseFloor(moved, reference, camera);
   const Mat4 pose = placeAt(kMovedTranslation, kMovedRotation);
@@ -475,8 +476,11 @@ TEST(RuntimePicture, MaskedLampOffLeavesNoDirectResidueAndDimmedIsHalfway) {
   SVIT_REQUIRE_GL(context);
   const Camera camera = cornellFrontCamera();
   const BakedLevel& level = bakedLevel(cornellPointLampLevel(true), kRuntimeBake);
-  ASSERT_EQ(level.bake.masks.lights.size(), 1u);
-  const DimmedFrames masked = dimmedFrames(level, level.bake.masks.lights[0].emitter, camera);
+  const uint32_t lamp = pointLampEmitter(level.bake);  // masked, beside the ceiling lamp's patches
+  ASSERT_NE(lamp, kInvalidId);
+  ASSERT_TRUE(std::any_of(level.bake.masks.lights.begin(), level.bake.masks.lights.end(),
+                          [&](const BakeMaskedLight& m) { return m.emitter == lamp; }));
+  const DimmedFrames masked = dimmedFrames(level, lamp, camera);
   TestBake patch_only = kRuntimeBake;
   patch_only.shadow_masks = false;
   const BakedLevel& unmasked_level = bakedLevel(cornellPointLampLevel(true), patch_only);

@@ -62,8 +62,8 @@ double Runtime::Impl::areaVisibility(size_t k, const glm::vec3& from, const glm:
     if (!(d2 > 0)) continue;
     const float d = std::sqrt(d2);
     const glm::vec3 l = v / d;
-    const double w = std::max(glm::dot(n, l), 0.0f) *
-                     std::max(-glm::dot(toGlm(sample.normal), l), 0.0f) / d2;
+    const double w =
+        std::max(glm::dot(n, l), 0.0f) * std::max(-glm::dot(toGlm(sample.normal), l), 0.0f) / d2;
     if (!(w > 0)) continue;
     total += w;
     if (!dynamicObjectBlocks(from, l, d)) seen += w;

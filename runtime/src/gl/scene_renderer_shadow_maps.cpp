@@ -300,7 +300,7 @@ LightShadowMaps::MapCounts LightShadowMaps::layOutLights(const std::vector<Frame
     glm::vec3 d = toGlm(l.direction);
     d = glm::length(d) > 0 ? glm::normalize(d) : glm::vec3(0, -1, 0);
     const FrameLight& f = lights[i];
-    const float type = f.area_sample                ? 3.0f
+    const float type = f.area_sample                 ? 3.0f
                        : l.type == LightType::kPoint ? 0.0f
                        : l.type == LightType::kSpot  ? 1.0f
                                                      : 2.0f;

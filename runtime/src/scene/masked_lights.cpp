@@ -136,8 +136,8 @@ uint32_t MaskedLightField::areaSampleCount(size_t k, const Vec3& at) const {
     const double d2 = std::max(glm::dot(v, v), 1e-12);
     solid_angle += e.area_m2 * std::abs(glm::dot(dvec(e.normal), v)) / (d2 * std::sqrt(d2));
   }
-  const double samples = std::ceil(std::min(solid_angle, 2.0 * 3.14159265358979) /
-                                   kAreaSampleSolidAngleSr);
+  const double samples =
+      std::ceil(std::min(solid_angle, 2.0 * 3.14159265358979) / kAreaSampleSolidAngleSr);
   return uint32_t(std::clamp(samples, 1.0, double(kMaxAreaSamples)));
 }
 

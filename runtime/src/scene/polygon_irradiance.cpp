@@ -15,7 +15,8 @@ int clipToHemisphere(const glm::dvec3 (&in)[3], const glm::dvec3& n, glm::dvec3 
     const glm::dvec3& to = in[(i + 1) % 3];
     const double h_from = glm::dot(n, from), h_to = glm::dot(n, to);
     if (h_from >= 0) out[count++] = from;
-    if ((h_from >= 0) != (h_to >= 0)) out[count++] = from + (to - from) * (h_from / (h_from - h_to));
+    if ((h_from >= 0) != (h_to >= 0))
+      out[count++] = from + (to - from) * (h_from / (h_from - h_to));
   }
   return count;
 }
