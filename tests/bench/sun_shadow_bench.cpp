@@ -29,6 +29,12 @@
 //     of both. A picture whose shadow contrast is under a third of the
 //     reference's has no shadow: its region is empty. Also each against the
 //     geometric shadow (a ray to the sun's centre meets the ball).
+// (c) The light at the shadow's centre and on the sunlit floor beside it
+//     (Runtime::irradianceAt, lux): the masked runtime's before its first
+//     update (its lightmap alone: the sky and bounce, as baked without the
+//     ball there) and settled, the no-masks runtime's settled, and the
+//     reference's lightmap (svit-probe). The bakes' texel size says what
+//     a lightmap can show of a shadow the ball's size.
 //
 // usage: bench_sun_shadow --level LEVEL.json --work DIR --json OUT [--time 150]
 //        [--quality 1] [--ball-x -3.0177 --ball-z -1.8] [--width 1280 --height 720]
@@ -57,6 +63,7 @@
 #include "../gl/picture_metric.h"
 #include "bench_bake.h"
 #include "moved_level.h"
+#include "svit/baker/probe.h"
 #include "svit/gl_context.h"
 #include "svit/runtime.h"
 #include "svit/scene_renderer.h"
@@ -208,8 +215,15 @@ LinearFrame bakedView(const BakedLevel& level, const Camera& camera, const Optio
   return readLinearFrame(**renderer);
 }
 
+// Luminance of the irradiance at a floor point (facing up), lux.
+double floorLux(const Runtime& runtime, Vec3 point) {
+  const Rgb e = runtime.irradianceAt(point, Vec3{0, 1, 0});
+  return 0.2126 * e.r + 0.7152 * e.g + 0.0722 * e.b;
+}
+
 struct Shown {
   LinearFrame runtime, baked_only;
+  double centre_unsettled_lux = 0, centre_lux = 0, lit_lux = 0;  ///< floorLux
   int updates = 0;
   uint32_t pending = 0;
   double settle_ms = 0;
@@ -221,8 +235,8 @@ struct Shown {
 // nothing pending. Unbounded, Sponza's ~15,000 emitters the ball reaches
 // take over 10 minutes on llvmpipe; what is left pending is reported.
 // Runtime lights off (no bake has them).
-Shown settledRuntimeView(const BakedLevel& level, Vec3 ball, const Camera& camera,
-                         const Options& o) {
+Shown settledRuntimeView(const BakedLevel& level, Vec3 ball, const Camera& camera, Vec3 centre,
+                         Vec3 lit, const Options& o) {
   RuntimeSettings settings;
   settings.max_samples_per_frame = o.settle_samples;
   settings.delta_textures = false;
@@ -244,6 +258,7 @@ Shown settledRuntimeView(const BakedLevel& level, Vec3 ball, const Camera& camer
   view.near_m = camera.near_m;
   SVIT_SETUP_CHECK((*runtime)->setView(view).ok(), "view");
   Shown out;
+  out.centre_unsettled_lux = floorLux(**runtime, centre);
   const auto t0 = std::chrono::steady_clock::now();
   for (int frame = 0; frame < o.settle_updates; ++frame) {
     const FrameStats stats = (*runtime)->update(0);
@@ -254,6 +269,8 @@ Shown settledRuntimeView(const BakedLevel& level, Vec3 ball, const Camera& camer
   }
   out.settle_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  out.centre_lux = floorLux(**runtime, centre);
+  out.lit_lux = floorLux(**runtime, lit);
   SVIT_SETUP_CHECK((*renderer)->render(camera, ShadingView::kRuntime).ok(), "runtime render");
   out.runtime = readLinearFrame(**renderer);
   SVIT_SETUP_CHECK((*renderer)->render(camera, ShadingView::kBakedOnly).ok(), "baked-only");
@@ -579,8 +596,19 @@ int main(int argc, char** argv) {
 
   const LinearFrame ref_view = bakedView(reference, camera, o);
   const LinearFrame second_view = bakedView(second, camera, o);
-  const Shown before = settledRuntimeView(plain, ball, camera, o);
-  const Shown after = settledRuntimeView(masks, ball, camera, o);
+  // (c) A sunlit floor point beside the shadow, on the side away from the sun.
+  const Vec3 lit = centre + (2.0f * radius) * away;
+  const Shown before = settledRuntimeView(plain, ball, camera, centre, lit, o);
+  const Shown after = settledRuntimeView(masks, ball, camera, centre, lit, o);
+  Expected<std::vector<baker::ProbeResult>> reference_probes =
+      baker::probeBake(reference.dir, {{centre, {0, 1, 0}}, {lit, {0, 1, 0}}});
+  SVIT_SETUP_CHECK(reference_probes.ok(), reference_probes.status().message());
+  const auto probeLux = [&](size_t i) {
+    const Rgb& e = (*reference_probes)[i].irradiance;
+    return 0.2126 * e.r + 0.7152 * e.g + 0.0722 * e.b;
+  };
+  const double texels_per_m =
+      nlohmann::json::parse(std::ifstream(reference.dir + "/report.json"))["texels_per_m"];
   const LinearFrame& without = before.baked_only;  // the ball far away: no shadow here
 
   // The runtime frames show the ball where the reference has it.
@@ -706,6 +734,12 @@ int main(int argc, char** argv) {
                            o.exposure);
   (void)writeComparisonPng(o.work + "/after-vs-reference.png", after.runtime, ref_view, o.exposure);
 
+  std::printf(
+      "(c) at the shadow's centre, lux (bakes at %.2f texels/m, a texel %.0f cm): sunlit floor "
+      "beside it %.0f (after), %.0f (before), %.0f (reference); centre: reference %.0f, "
+      "before settled %.0f, after's lightmap alone %.0f, after settled %.0f\n",
+      texels_per_m, 100 / texels_per_m, after.lit_lux, before.lit_lux, probeLux(1), probeLux(0),
+      before.centre_lux, after.centre_unsettled_lux, after.centre_lux);
   nlohmann::json out = {
       {"level", o.level},
       {"renderer", gl},
@@ -746,7 +780,16 @@ int main(int argc, char** argv) {
       {"reference_contour_cm", 100 * ref_perimeter},
       {"geometric_shadow_area_cm2", 1e4 * geo_area_m2},
       {"geometric_contour_cm", 100 * geo_perimeter},
-      {"edges", edges}};
+      {"edges", edges},
+      {"at_centre_lux",
+       {{"texels_per_m", texels_per_m},
+        {"lit_after", after.lit_lux},
+        {"lit_before", before.lit_lux},
+        {"lit_reference", probeLux(1)},
+        {"reference", probeLux(0)},
+        {"before_settled", before.centre_lux},
+        {"after_lightmap_alone", after.centre_unsettled_lux},
+        {"after_settled", after.centre_lux}}}};
   std::ofstream(o.json) << out.dump(1) << "\n";
   return 0;
 }

@@ -96,13 +96,39 @@ for label, key in [("before: no masks, runtime settled", "before"), ("after: mas
                    ("second reference (noise floor)", "second reference"), ("reference", "reference")]:
     a, b = edge(key)
     lines.append(f"| {label} | {ed[key]['contrast']:.2f} | {a} | {b} |")
+c = r["at_centre_lux"]
+texel_cm = 100 / c["texels_per_m"]
 lines += [
     "",
-    "Read with care: at this bake budget the reference resolves the ball's sun shadow only as a "
-    "faint streak plus darkening spread over whole floor tiles (the footprint is mostly those tiles), "
-    "so errors against it are dominated by the reference itself; the geometric shadow is the sharper "
-    "truth for the edge. The after picture's shadow is darker than either reference (shadow/lit "
-    "ratio near 0 against 0.31), with most emitters still pending.",
+    "(c) Irradiance at the shadow's centre and on the sunlit floor "
+    f"{2 * r['ball_radius_m']:.1f} m beside it (luminance, lux; `Runtime::irradianceAt`, the "
+    "reference through svit-probe). These bakes spread about 256 k texels over the whole level: "
+    f"{c['texels_per_m']:.2f} texels per metre, a texel {texel_cm:.0f} cm, as wide as the ball's "
+    "radius.",
+    "",
+    "| | shadow's centre | sunlit floor beside it | centre / sunlit |",
+    "|---|---:|---:|---:|",
+    f"| reference (ball static there) | {c['reference']:.0f} | {c['lit_reference']:.0f} | "
+    f"{c['reference'] / c['lit_reference']:.3f} |",
+    f"| before, settled | {c['before_settled']:.0f} | {c['lit_before']:.0f} | "
+    f"{c['before_settled'] / c['lit_before']:.3f} |",
+    f"| after: its lightmap alone (sky and bounce, as baked without the ball) | "
+    f"{c['after_lightmap_alone']:.0f} | | {c['after_lightmap_alone'] / c['lit_after']:.3f} |",
+    f"| after, settled | {c['after_settled']:.0f} | {c['lit_after']:.0f} | "
+    f"{c['after_settled'] / c['lit_after']:.3f} |",
+    "",
+    "How to read it. A lightmap texel as wide as the ball's radius cannot hold the ball's shadow: "
+    "the reference averages it with the sunlit floor around it, so it shows a faint, wide "
+    f"darkening rather than a shadow ({c['reference'] / c['lit_reference']:.2f} of the sunlit "
+    f"floor at the centre, {ed['reference']['shadowed_ratio']:.2f} in the geometric shadow's core "
+    "in (b)). "
+    "The after picture's umbra is as dark as the baked sky and bounce "
+    "light under the ball, because those are all the light left when the sun is blocked: the "
+    "masked bake's lightmap there, with no sun in it, is the smooth part of the light, which 30 cm "
+    "texels do hold. The settled runtime changes it very little. The true umbra lies between "
+    "the two: what a finer reference would add to the after picture's is the light the ball "
+    "itself reflects onto the floor under it (and take the sky it hides), which the runtime "
+    "spreads over whole patches. The geometric shadow is the sharper truth for the edge.",
     "",
     "Reference, before and after (the view's central half):",
     "",
