@@ -34,8 +34,9 @@ std::string cornellLevel(const std::string& name, const std::string& lights, boo
   return path.string();
 }
 
-// Eight point lamps over the floor, 1 m up, on a 4 x 2 grid: every one lights
-// most of the floor, so each needs a channel of its own.
+// Eight point lamps over the floor, 1.5 m up (above the tall box), on a 4 x
+// 2 grid: every one lights most of the floor, so each needs a channel of
+// its own.
 std::string eightLamps() {
   std::string out;
   for (int i = 0; i < 8; ++i) {
@@ -43,7 +44,7 @@ std::string eightLamps() {
     if (i > 0) out += ", ";
     out += R"({"name": "lamp)" + std::to_string(i) +
            R"(", "type": "point", "color": [1, 1, 1], "intensity_cd": 0.3, "position": [)" +
-           std::to_string(x) + ", 1.0, " + std::to_string(z) + "]}";
+           std::to_string(x) + ", 1.5, " + std::to_string(z) + "]}";
   }
   return out;
 }

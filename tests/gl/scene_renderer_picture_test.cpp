@@ -18,6 +18,7 @@
 #include "gl_test_context.h"
 #include "picture_comparison_png.h"
 #include "picture_metric.h"
+#include "picture_views.h"
 #include "scene_renderer_test_util.h"
 #include "svit/runtime.h"
 #include "svit/scene_renderer.h"
@@ -43,13 +44,6 @@ constexpr TestBake kHouseSecondReferenceBake{3, 1, 10};
 // RuntimeSettings::max_samples_per_frame: deterministic frames
 constexpr int kSamplesPerFrame = 24;
 constexpr int kFrames = 16;  // the Cornell box settles in 11 at that budget
-
-std::string writeLevel(const std::string& name, const std::string& body) {
-  const fs::path path = fs::temp_directory_path() / "svit_scene_renderer_test" / (name + ".json");
-  fs::create_directories(path.parent_path());
-  std::ofstream(path) << body;
-  return path.string();
-}
 
 // The Cornell box with the tall box dynamic where the glTF has it.
 std::string cornellStillBoxLevel() {
@@ -77,49 +71,6 @@ std::string cornellPointLampLevel(bool box_dynamic, bool with_lamp = true) {
 // The tall box moved 25 cm and turned 30 degrees (the sample level's path key).
 constexpr Vec3 kMovedTranslation{0.25f, 0, 0.1f};
 constexpr Quat kMovedRotation{0, 0.2588190f, 0, 0.9659258f};
-
-SceneRendererSettings fixedExposure() {
-  SceneRendererSettings settings;
-  settings.width = 320;
-  settings.height = 180;
-  settings.auto_exposure = false;
-  settings.exposure = 1;
-  return settings;
-}
-
-// The baked view of `level` (no runtime): a reference picture.
-LinearFrame bakedPicture(const BakedLevel& level, const Camera& camera) {
-  auto renderer =
-      SceneRenderer::create(level.scene, level.bake, level.dir, nullptr, fixedExposure());
-  EXPECT_TRUE(renderer.ok()) << renderer.status().message();
-  if (!renderer.ok()) return {};
-  EXPECT_TRUE((*renderer)->render(camera, ShadingView::kBakedOnly).ok());
-  return readLinearFrame(**renderer);
-}
-
-// A runtime of `level` (the per-pixel delta lookup, as svit-walk shades)
-// with `samples_per_frame` (0: none) and a renderer over it.
-struct Viewer {
-  std::unique_ptr<Runtime> runtime;
-  std::unique_ptr<SceneRenderer> renderer;
-};
-
-Viewer makeViewer(const BakedLevel& level, int samples_per_frame) {
-  RuntimeSettings settings;
-  settings.max_samples_per_frame = samples_per_frame;
-  settings.delta_textures = false;
-  Viewer v;
-  Expected<std::unique_ptr<Runtime>> runtime =
-      Runtime::create(level.scene, level.bake, level.dir, settings);
-  EXPECT_TRUE(runtime.ok()) << runtime.status().message();
-  if (!runtime.ok()) return v;
-  v.runtime = std::move(runtime).value();
-  auto renderer =
-      SceneRenderer::create(level.scene, level.bake, level.dir, v.runtime.get(), fixedExposure());
-  EXPECT_TRUE(renderer.ok()) << renderer.status().message();
-  if (renderer.ok()) v.renderer = std::move(renderer).value();
-  return v;
-}
 
 RuntimeView viewOf(const Camera& camera) {
   RuntimeView view;
