@@ -198,7 +198,7 @@ Expected<nlohmann::ordered_json> addShadowMasks(BakeRun& run, const LoadedLevel&
   settings.seed = hashIds(run.options.seed, 0x5ad0);
   settings.threads = run.options.threads;
   settings.sun_samples = std::max(16u, run.plan.sun_samples);
-  settings.pages = bakePageSettings(atlas);
+  settings.pages = bakePageSettings(atlas, run.options);
   const double start = run.clock.elapsed();
   Expected<BakeShadowMasks> masks =
       buildShadowMasks(level.scene, level.geometry, *level.caster, atlas.atlas, atlas.texels,
@@ -300,6 +300,7 @@ nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
       {"page_width", in.texels.page_width},
       {"page_height", in.texels.page_height},
       {"atlas", in.atlas.authored ? "TEXCOORD_1" : "xatlas"},
+      {"indirect_filter", options.indirect_filter},
       {"covered_texels", counts.covered},
       {"dilated_texels", counts.dilated},
       {"buried_texels", counts.buried},
@@ -548,10 +549,11 @@ double referenceError(const TexelSet& texels, const std::vector<LightmapImage>& 
   return sum > 0 ? std::sqrt(difference / n) / (sum / n) : 0.0;
 }
 
-PageSettings bakePageSettings(const AtlasTexels& atlas) {
+PageSettings bakePageSettings(const AtlasTexels& atlas, const BakeOptions& options) {
   PageSettings settings;
   settings.dilation_texels = atlas.settings.padding_texels;
-  settings.edge_aware_filter = true;  // gather noise; never crosses charts or creases
+  // Gather noise; never crosses charts or creases.
+  settings.edge_aware_filter = options.indirect_filter;
   return settings;
 }
 
@@ -575,8 +577,9 @@ Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
                                 const std::vector<LightmapImage>& reference_pages,
                                 const nlohmann::ordered_json& extra_report) {
   run.clock.endStage("pages");
-  LightmapPages pages = buildLightmapPages(level.geometry, atlas.atlas, atlas.texels,
-                                           lighting.accumulator.mean(), bakePageSettings(atlas));
+  LightmapPages pages =
+      buildLightmapPages(level.geometry, atlas.atlas, atlas.texels, lighting.accumulator.mean(),
+                         bakePageSettings(atlas, run.options));
   const bool with_reference = !reference_pages.empty();
   if (with_reference && lighting.accumulator.passes() > 0) {
     lighting.series.back().ref_rel_error =

@@ -126,7 +126,7 @@ double referenceError(const TexelSet& texels, const std::vector<LightmapImage>& 
                       const std::vector<LightmapImage>& reference);
 
 /// How the bake's pages are made from its texels (dilation, filter).
-PageSettings bakePageSettings(const AtlasTexels& atlas);
+PageSettings bakePageSettings(const AtlasTexels& atlas, const BakeOptions& options);
 
 /// The texel lighting settings of the plan's pass `pass` (its seed, and
 /// the lights whose shadow masks hold their direct light).

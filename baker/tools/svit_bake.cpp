@@ -33,7 +33,7 @@ void usage(FILE* out) {
       out,
       "usage: svit-bake LEVEL -o OUT [--seed N] [--time SECONDS | --passes P] [--quality Q]\n"
       "                 [--texels-per-m T] [--threads N] [--reference REF_OUT]\n"
-      "                 [--sun JSON] [--sky JSON] [--no-shadow-masks] [--quiet]\n"
+      "                 [--sun JSON] [--sky JSON] [--no-shadow-masks] [--no-filter] [--quiet]\n"
       "       svit-bake plan LEVEL -o WORK --shards N [--passes P] [the options above]\n"
       "       svit-bake shard WORK I [--threads N] [--quiet]\n"
       "       svit-bake merge WORK -o OUT [--threads N] [--quiet]\n"
@@ -55,6 +55,8 @@ void usage(FILE* out) {
       "  --no-shadow-masks  keep the baked lights' direct light in the lightmap even\n"
       "                   with dynamic objects (their shadows from those lights are then\n"
       "                   per runtime patch, not per pixel)\n"
+      "  --no-filter      leave the gathered (indirect) light unfiltered; the filter\n"
+      "                   never crosses charts or creases and never touches direct light\n"
       "  --quiet          print nothing but errors\n"
       "Ctrl-C or SIGTERM cancels (exit 3) and leaves OUT as it was; a kill or a full\n"
       "disk leaves it the previous bake or the whole new one.\n"
@@ -147,6 +149,8 @@ int parseOptions(int argc, char** argv, int first, svit::baker::BakeOptions& opt
                             : options.sky_json) = argv[++i];
     } else if (arg == "--no-shadow-masks") {
       options.shadow_masks = false;
+    } else if (arg == "--no-filter") {
+      options.indirect_filter = false;
     } else if (arg == "--quiet") {
       quiet = true;
     } else if (!arg.empty() && arg[0] == '-') {
@@ -173,6 +177,8 @@ int checkCommand(const std::vector<std::string>& positional, svit::baker::BakeOp
     if (command.verb == "plan" && command.shards == 0) return badUsage("plan needs --shards N");
     if (command.verb == "plan" && !options.shadow_masks)
       return badUsage("--no-shadow-masks is for whole bakes only: a plan's shards always mask");
+    if (command.verb == "plan" && !options.indirect_filter)
+      return badUsage("--no-filter is for whole bakes only: a sharded bake's pages are filtered");
     const svit::Status s = command.verb == "plan"
                                ? svit::baker::validatePlanOptions(options, command.shards)
                                : svit::baker::validateBakeOptions(options);

@@ -26,6 +26,8 @@ expect_exit unknown_option 2 -- "$bake" "$cornell" -o "$work/x" --frobnicate
 grep -q "unknown option '--frobnicate'" "$work/err.txt" || fail "unknown option message"
 expect_exit plan_without_masks 2 -- "$bake" plan "$cornell" -o "$work/x" --shards 2 --no-shadow-masks
 grep -q "no-shadow-masks is for whole bakes only" "$work/err.txt" || fail "plan --no-shadow-masks message"
+expect_exit plan_without_filter 2 -- "$bake" plan "$cornell" -o "$work/x" --shards 2 --no-filter
+grep -q "no-filter is for whole bakes only" "$work/err.txt" || fail "plan --no-filter message"
 # Bad input: exit 1, message names the file.
 expect_exit missing_level 1 -- "$bake" "$work/nope.gltf" -o "$work/x"
 grep -q "nope.gltf" "$work/err.txt" || fail "missing level message names the file"
@@ -59,6 +61,12 @@ PY
 expect_exit bake_again 0 -- "$bake" "$cornell" -o "$work/b" --quality 0.2 --texels-per-m 24 --seed 7 --quiet --threads 1
 cmp -s "$work/a/lightmap-0.exr" "$work/b/lightmap-0.exr" && ok "same seed, same EXR bytes (1 vs all threads)" || fail "EXR differs between runs"
 cmp -s "$work/a/bake.svit" "$work/b/bake.svit" && ok "same seed, same bake.svit" || fail "bake.svit differs"
+# --no-filter: the same texels, the gathered light left unfiltered; the
+# report says which.
+expect_exit bake_unfiltered 0 -- "$bake" "$cornell" -o "$work/raw" --quality 0.2 --texels-per-m 24 --seed 7 --quiet --no-filter
+cmp -s "$work/a/lightmap-0.exr" "$work/raw/lightmap-0.exr" && fail "--no-filter changed nothing" || ok "--no-filter pages differ"
+python3 -c "import json; a = json.load(open('$work/a/report.json'))['lightmap']; r = json.load(open('$work/raw/report.json'))['lightmap']; assert a['indirect_filter'] is True and r['indirect_filter'] is False and a['covered_texels'] == r['covered_texels']" &&
+  ok "report.json says whether the indirect light was filtered" || fail "report.json indirect_filter"
 
 # Progress: plain lines when stderr is not a terminal.
 expect_exit bake_progress 0 -- "$bake" "$cornell" -o "$work/c" --quality 0.1 --texels-per-m 16

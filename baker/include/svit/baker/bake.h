@@ -51,6 +51,11 @@ struct BakeOptions {
   /// per pixel with the dynamic objects' shadows. false: they stay in the
   /// lightmap (--no-shadow-masks).
   bool shadow_masks = true;
+  /// The pages' edge-aware filter of the gathered (indirect) light, which
+  /// never crosses a chart or a crease and leaves direct light alone.
+  /// false: each texel's indirect light as gathered (--no-filter), to see
+  /// what the filter does; the error estimate then measures those pages.
+  bool indirect_filter = true;
 };
 
 /// Checks option ranges (what the tool reports as bad usage, exit 2).
