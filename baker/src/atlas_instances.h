@@ -29,6 +29,22 @@ inline std::vector<InstanceRange> instanceRanges(const BakeGeometry& geometry) {
   return ranges;
 }
 
+/// `ranges` with each range of more than `max_triangles` cut into equal
+/// consecutive pieces of at most that many (0: as they are). A mesh's
+/// triangle order is mostly spatially coherent (strips, rings, the order
+/// it was modelled in), so consecutive pieces are patches of its surface.
+inline std::vector<InstanceRange> rangePieces(const std::vector<InstanceRange>& ranges,
+                                              size_t max_triangles) {
+  std::vector<InstanceRange> pieces;
+  for (const InstanceRange& r : ranges) {
+    const size_t n = r.end - r.first;
+    const size_t count = max_triangles == 0 ? 1 : (n + max_triangles - 1) / max_triangles;
+    for (size_t k = 0; k < count; ++k)
+      pieces.push_back({r.instance, r.first + n * k / count, r.first + n * (k + 1) / count});
+  }
+  return pieces;
+}
+
 /// "level.gltf: instance 3 (mesh 'Crate')", for error messages.
 inline std::string instanceLabel(const Scene& scene, uint32_t instance) {
   const Instance& in = scene.instances[instance];

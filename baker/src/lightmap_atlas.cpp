@@ -220,7 +220,8 @@ Expected<LightmapAtlas> buildLightmapAtlas(const Scene& scene, const BakeGeometr
   const std::vector<InstanceRange> ranges = instanceRanges(geometry);
   if (authoredUvsUsable(scene, geometry, ranges))
     return buildAuthored(scene, geometry, ranges, settings);
-  return buildWithXatlas(scene, geometry, ranges, settings);
+  return buildWithXatlas(scene, geometry, rangePieces(ranges, settings.chart_piece_triangles),
+                         settings);
 }
 
 }  // namespace svit::baker

@@ -4,8 +4,10 @@
 // masks), in two steps so that charting, by far xatlas's slowest part, runs
 // on svit's workers; xatlas's own task scheduler races and is compiled out
 // (third_party_notes/xatlas.md, "Quirks"):
-// 1. chart: instances in groups of about kXatlasGroupTriangles, each group in an
-//    xatlas::Atlas of its own (AddMesh per instance, ComputeCharts, and a
+// 1. chart: instances, in pieces of at most AtlasSettings::chart_piece_triangles
+//    (chart growing is superlinear in a piece's faces), in groups of about
+//    kXatlasGroupTriangles, each group in an
+//    xatlas::Atlas of its own (AddMesh per piece, ComputeCharts, and a
 //    PackCharts that only lays the charts out so that xatlas writes their
 //    parameterization to its output), groups in parallel;
 // 2. pack: every group's charts as UV meshes of one more atlas (AddUvMesh,

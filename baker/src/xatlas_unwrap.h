@@ -14,11 +14,12 @@ namespace svit::baker {
 /// so groups only batch instances for the workers: 16k triangles gives
 /// Sponza (262k) about 16 groups to balance, while each atlas's fixed costs
 /// stay small. Fixed, never derived from the thread count: the groups, and
-/// so the atlas, are the same on every machine. An instance is never split:
-/// one above this is a group of its own.
+/// so the atlas, are the same on every machine. A range is never split
+/// here: one above this is a group of its own.
 constexpr size_t kXatlasGroupTriangles = 16384;
 
-/// Charts every instance of `ranges` (each separately, world positions at
+/// Charts every range of `ranges` (an instance or a piece of one, each
+/// separately, world positions at
 /// settings.texels_per_m) and packs all charts into pages of at most
 /// settings.max_page_size with settings.padding_texels. Uses
 /// settings.threads workers; the result does not depend on their number.

@@ -16,6 +16,7 @@
 #include "svit/baker/bake_geometry.h"
 #include "svit/baker/lightmap_atlas.h"
 #include "svit/baker/ray_caster.h"
+#include "atlas_instances.h"
 #include "lightmap_test_util.h"
 #include "test_scenes.h"
 #include "xatlas_unwrap.h"
@@ -189,6 +190,62 @@ TEST(LightmapAtlas, TwoInstancesOfOneMeshGetDisjointTexels) {
   EXPECT_GT(texels[1].size(), 200u);
   for (size_t t : texels[0]) EXPECT_EQ(texels[1].count(t), 0u) << "texel " << t << " is shared";
   EXPECT_NE(atlas->triangle_chart[0], atlas->triangle_chart[2]);
+}
+
+// A large instance is charted in consecutive pieces: every triangle once,
+// none over the piece size, in order.
+TEST(LightmapAtlas, RangePiecesCutLargeInstancesIntoConsecutivePieces) {
+  const std::vector<InstanceRange> ranges = {{0, 0, 512}, {1, 512, 530}};
+  const std::vector<InstanceRange> pieces = rangePieces(ranges, 100);
+  ASSERT_EQ(pieces.size(), 7u);  // 512 in 6 pieces of 85-86, 18 whole
+  size_t next = 0;
+  for (const InstanceRange& p : pieces) {
+    EXPECT_EQ(p.first, next);
+    EXPECT_GT(p.end, p.first);
+    EXPECT_LE(p.end - p.first, 100u);
+    EXPECT_EQ(p.instance, p.first < 512 ? 0u : 1u);
+    next = p.end;
+  }
+  EXPECT_EQ(next, 530u);
+  EXPECT_EQ(rangePieces(ranges, 0).size(), 2u);
+}
+
+// A 2 x 2 m floor of 512 triangles in one mesh, charted in pieces of at
+// most 100: every triangle placed at the texel density without overlap,
+// and no chart spans two pieces (charts end at piece borders).
+TEST(LightmapAtlas, PiecesOfAnInstanceAreChartedApartWithoutOverlap) {
+  SceneBuilder b;
+  const int grey = b.material({0.5f, 0.5f, 0.5f});
+  std::vector<Vec3> corners;
+  const int n = 16;
+  const float step = 2.0f / n;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const Vec3 a{i * step, 0, j * step}, c{(i + 1) * step, 0, (j + 1) * step};
+      const Vec3 b2{i * step, 0, (j + 1) * step}, d{(i + 1) * step, 0, j * step};
+      corners.insert(corners.end(), {a, b2, c, a, c, d});
+    }
+  }
+  b.addMesh("floor", corners, grey);
+  const BakeGeometry geometry = flatten(b.scene());
+  ASSERT_EQ(geometry.triangleCount(), 512u);
+  AtlasSettings settings;
+  settings.texels_per_m = 32;
+  settings.chart_piece_triangles = 100;
+  Expected<LightmapAtlas> atlas = buildLightmapAtlas(b.scene(), geometry, settings);
+  ASSERT_TRUE(atlas.ok()) << atlas.status().message();
+  ownerRaster(*atlas);
+  const std::vector<InstanceRange> pieces = rangePieces(instanceRanges(geometry), 100);
+  std::map<uint32_t, size_t> chart_piece;
+  for (size_t p = 0; p < pieces.size(); ++p) {
+    for (size_t t = pieces[p].first; t < pieces[p].end; ++t) {
+      const double expected = double(geometry.areas_m2[t]) * 32.0 * 32.0;
+      EXPECT_NEAR(texelArea(*atlas, t) / expected, 1.0, 0.2) << "triangle " << t;
+      const auto [it, first] = chart_piece.emplace(atlas->triangle_chart[t], p);
+      EXPECT_EQ(it->second, p) << "chart " << it->first << " spans pieces";
+    }
+  }
+  EXPECT_GE(chart_piece.size(), pieces.size());
 }
 
 TEST(LightmapAtlas, SmallPagesForceSeveralPages) {

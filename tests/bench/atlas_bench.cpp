@@ -3,6 +3,8 @@
 // size, charts and the texels its triangles cover (UV area), so a faster
 // unwrap can be checked not to buy its speed with a bigger atlas.
 // usage: bench_atlas LEVEL [--texels-per-m T] [--threads N] [--max-page-size P]
+//                   [--piece-triangles K]   (AtlasSettings::chart_piece_triangles; 0: whole
+//                   instances)
 // Without --texels-per-m, the density svit-bake picks (about 256k texels).
 // Prints one JSON object. Machine: note it with the run.
 
@@ -41,7 +43,7 @@ int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr,
                  "usage: bench_atlas LEVEL [--texels-per-m T] [--threads N] "
-                 "[--max-page-size P]\n");
+                 "[--max-page-size P] [--piece-triangles K]\n");
     return 2;
   }
   svit::baker::AtlasSettings settings;
@@ -53,6 +55,8 @@ int main(int argc, char** argv) {
       settings.threads = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--max-page-size"))
       settings.max_page_size = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--piece-triangles"))
+      settings.chart_piece_triangles = size_t(std::atol(argv[i + 1]));
     else {
       std::fprintf(stderr, "bench_atlas: unknown option %s\n", argv[i]);
       return 2;
@@ -88,11 +92,12 @@ int main(int argc, char** argv) {
   const std::set<uint32_t> charts(atlas->triangle_chart.begin(), atlas->triangle_chart.end());
   std::printf(
       "{\"level\": \"%s\", \"triangles\": %zu, \"texels_per_m\": %g, \"threads\": %d, "
+      "\"piece_triangles\": %zu, "
       "\"atlas_s\": %.3f, \"pages\": %d, \"page_width\": %d, \"page_height\": %d, "
       "\"page_texels\": %.0f, \"charts\": %zu, \"uv_texels\": %.0f}\n",
-      argv[1], geometry->triangleCount(), settings.texels_per_m, settings.threads, seconds,
-      atlas->page_count, atlas->page_width, atlas->page_height,
-      double(atlas->page_count) * atlas->page_width * atlas->page_height, charts.size(),
-      uvTexels(*atlas));
+      argv[1], geometry->triangleCount(), settings.texels_per_m, settings.threads,
+      settings.chart_piece_triangles, seconds, atlas->page_count, atlas->page_width,
+      atlas->page_height, double(atlas->page_count) * atlas->page_width * atlas->page_height,
+      charts.size(), uvTexels(*atlas));
   return 0;
 }
