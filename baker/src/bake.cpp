@@ -21,10 +21,11 @@ namespace fs = std::filesystem;
 // The pages the bake would write from the passes so far, against the
 // reference's (a page build per call, as long as the bake's "pages" stage).
 double pagesReferenceError(const LoadedLevel& level, const AtlasTexels& atlas,
-                           const PageSettings& settings, const TexelAccumulator& accumulator,
+                           const BakeOptions& options, const TexelAccumulator& accumulator,
                            const std::vector<LightmapImage>& reference) {
   const LightmapPages pages =
-      buildLightmapPages(level.geometry, atlas.atlas, atlas.texels, accumulator.mean(), settings);
+      buildLightmapPages(level.geometry, atlas.atlas, atlas.texels, accumulator.mean(),
+                         bakePageSettings(atlas, options, accumulator));
   return referenceError(atlas.texels, pages.images, reference);
 }
 
@@ -85,8 +86,7 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const LoadedLevel& leve
   LightingPasses out;
   out.solver_error = solver.estimatedRelativeError();
   out.series = solver.errorSeries();
-  const PageSettings pages = bakePageSettings(atlas, run.options);
-  LightmapErrorEstimator estimator(level, atlas, solver, pages);
+  LightmapErrorEstimator estimator(level, atlas, solver, run.options);
   const double solver_seconds = solver.stats().seconds;
   for (ErrorPoint& p : out.series) p.ref_rel_error = std::numeric_limits<double>::quiet_NaN();
   out.gather_rays = plan.gather_rays;
@@ -116,7 +116,7 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const LoadedLevel& leve
     point.rays = solver.stats().rays;
     if (!reference_pages.empty() && measuredPass(pass))
       point.ref_rel_error =
-          pagesReferenceError(level, atlas, pages, out.accumulator, reference_pages);
+          pagesReferenceError(level, atlas, run.options, out.accumulator, reference_pages);
     out.series.push_back(point);
   }
   if (out.accumulator.passes() > 0 && out.series.back().estimate != ErrorEstimate::kSplitHalfPages)

@@ -17,6 +17,7 @@
 #include "bake_output.h"
 #include "double_math.h"
 #include "file_output.h"
+#include "filter_guide.h"
 #include "light_sources.h"
 #include "random.h"
 
@@ -552,8 +553,17 @@ double referenceError(const TexelSet& texels, const std::vector<LightmapImage>& 
 PageSettings bakePageSettings(const AtlasTexels& atlas, const BakeOptions& options) {
   PageSettings settings;
   settings.dilation_texels = atlas.settings.padding_texels;
-  // Gather noise; never crosses charts or creases.
+  // Gather noise; never crosses charts, creases or edges of the light.
   settings.edge_aware_filter = options.indirect_filter;
+  return settings;
+}
+
+PageSettings bakePageSettings(const AtlasTexels& atlas, const BakeOptions& options,
+                              const TexelAccumulator& accumulator) {
+  PageSettings settings = bakePageSettings(atlas, options);
+  if (settings.edge_aware_filter)
+    settings.guide =
+        filterGuide(atlas.atlas, atlas.texels, accumulator, settings.filter_radius_texels);
   return settings;
 }
 
@@ -579,7 +589,7 @@ Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
   run.clock.endStage("pages");
   LightmapPages pages =
       buildLightmapPages(level.geometry, atlas.atlas, atlas.texels, lighting.accumulator.mean(),
-                         bakePageSettings(atlas, run.options));
+                         bakePageSettings(atlas, run.options, lighting.accumulator));
   const bool with_reference = !reference_pages.empty();
   if (with_reference && lighting.accumulator.passes() > 0) {
     lighting.series.back().ref_rel_error =

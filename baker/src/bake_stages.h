@@ -127,6 +127,10 @@ double referenceError(const TexelSet& texels, const std::vector<LightmapImage>& 
 
 /// How the bake's pages are made from its texels (dilation, filter).
 PageSettings bakePageSettings(const AtlasTexels& atlas, const BakeOptions& options);
+/// The same with the filter's guide from the passes in `accumulator` (the
+/// pages of those passes, or of their halves' difference).
+PageSettings bakePageSettings(const AtlasTexels& atlas, const BakeOptions& options,
+                              const TexelAccumulator& accumulator);
 
 /// The texel lighting settings of the plan's pass `pass` (its seed, and
 /// the lights whose shadow masks hold their direct light).

@@ -12,13 +12,15 @@ namespace {
 
 // The split-half estimate after the passes in `accumulator` (two or more),
 // the solution's unseen noise `unseen_solver_error` added.
-double splitHalfError(const LoadedLevel& level, const AtlasTexels& atlas, const PageSettings& pages,
-                      const TexelAccumulator& accumulator, double unseen_solver_error) {
+double splitHalfError(const LoadedLevel& level, const AtlasTexels& atlas,
+                      const BakeOptions& options, const TexelAccumulator& accumulator,
+                      double unseen_solver_error) {
   // The page build is linear (filter weights, dilation and seams depend on
-  // the geometry only), so the pages of the halves' difference are the
-  // difference of their pages: one build, not two.
-  const LightmapPages difference = buildLightmapPages(level.geometry, atlas.atlas, atlas.texels,
-                                                      accumulator.halfDifference(), pages);
+  // the geometry and the mean's guide only), so the pages of the halves'
+  // difference are the difference of their pages: one build, not two.
+  const LightmapPages difference =
+      buildLightmapPages(level.geometry, atlas.atlas, atlas.texels, accumulator.halfDifference(),
+                         bakePageSettings(atlas, options, accumulator));
   const std::vector<TexelIrradiance> mean = accumulator.mean();
   double squares = 0, sum = 0;
   for (size_t i = 0; i < atlas.texels.samples.size(); ++i) {
@@ -42,10 +44,10 @@ double splitHalfError(const LoadedLevel& level, const AtlasTexels& atlas, const 
 
 LightmapErrorEstimator::LightmapErrorEstimator(const LoadedLevel& level, const AtlasTexels& atlas,
                                                const RadiositySolver& solver,
-                                               const PageSettings& pages)
+                                               const BakeOptions& options)
     : level_(level),
       atlas_(atlas),
-      pages_(pages),
+      options_(options),
       unseen_solver_error_(solver.hasSolutionHalves() ? 0.0 : solver.estimatedRelativeError()) {}
 
 double LightmapErrorEstimator::texelSpread(double texel_error) const {
@@ -56,7 +58,8 @@ void LightmapErrorEstimator::estimate(const TexelAccumulator& accumulator, doubl
                                       bool split_half, ErrorPoint& point) {
   const double spread = texelSpread(texel_error);
   if (split_half && accumulator.passes() >= 2) {
-    point.est_rel_error = splitHalfError(level_, atlas_, pages_, accumulator, unseen_solver_error_);
+    point.est_rel_error =
+        splitHalfError(level_, atlas_, options_, accumulator, unseen_solver_error_);
     point.estimate = ErrorEstimate::kSplitHalfPages;
     ratio_ = spread > 0 ? point.est_rel_error / spread : 0.0;
   } else if (ratio_ > 0) {

@@ -28,9 +28,9 @@ namespace svit::baker {
 // solution's does not fall and only the split-half sees it.
 class LightmapErrorEstimator {
  public:
-  /// `pages`: how the bake builds its pages from the texels.
+  /// `options`: how the bake builds its pages from the texels.
   LightmapErrorEstimator(const LoadedLevel& level, const AtlasTexels& atlas,
-                         const RadiositySolver& solver, const PageSettings& pages);
+                         const RadiositySolver& solver, const BakeOptions& options);
 
   /// The texel-spread estimate from the texels' relative spread `texel_error`.
   double texelSpread(double texel_error) const;
@@ -49,7 +49,7 @@ class LightmapErrorEstimator {
  private:
   const LoadedLevel& level_;
   const AtlasTexels& atlas_;
-  PageSettings pages_;
+  const BakeOptions& options_;
   /// The solution's noise where the passes' spread cannot see it (frozen
   /// into every pass when there are no halves to gather from), else 0.
   double unseen_solver_error_ = 0;

@@ -12,6 +12,7 @@
 #include <unordered_map>
 
 #include "random.h"
+#include "texel_neighbours.h"
 
 namespace svit::baker {
 namespace {
@@ -104,40 +105,41 @@ LightmapPages blankPages(const TexelSet& texels) {
   return pages;
 }
 
+// How much of neighbour j the filter mixes into texel i: noise (guide
+// luminances within a few standard errors) yes, an edge of the light no.
+double rangeWeight(const FilterGuide& guide, size_t i, size_t j, double k) {
+  const double d = double(guide.luminance[j]) - double(guide.luminance[i]);
+  const double variance =
+      double(guide.sigma[i]) * guide.sigma[i] + double(guide.sigma[j]) * guide.sigma[j];
+  if (!(variance > 0)) return d == 0 ? 1.0 : 0.0;
+  return std::exp(-d * d / (2.0 * k * k * variance));
+}
+
 // Indirect light, optionally smoothed within charts (cross-bilateral on
-// normal and chart: it never blurs across a chart border or a crease).
+// normal, chart and the guide's noise: it never blurs across a chart
+// border, a crease or an edge of the light that is not noise).
 std::vector<Rgb> filteredIndirect(const LightmapAtlas& atlas, const TexelSet& texels,
                                   const std::vector<TexelIrradiance>& lighting,
                                   const PageSettings& settings) {
-  const int w = texels.page_width, h = texels.page_height;
   std::vector<Rgb> indirect(lighting.size());
   for (size_t i = 0; i < lighting.size(); ++i) indirect[i] = lighting[i].indirect;
-  if (!settings.edge_aware_filter) return indirect;
+  const FilterGuide* guide = settings.guide.get();
+  if (!settings.edge_aware_filter || guide == nullptr ||
+      guide->sigma.size() != texels.samples.size())
+    return indirect;
   const int r = settings.filter_radius_texels;
   for (size_t i = 0; i < texels.samples.size(); ++i) {
-    const TexelSample& s = texels.samples[i];
-    const uint32_t chart = atlas.triangle_chart[s.face];
     double sum[3] = {0, 0, 0}, weight_sum = 0;
-    for (int dy = -r; dy <= r; ++dy) {
-      for (int dx = -r; dx <= r; ++dx) {
-        const int x = int(s.x) + dx, y = int(s.y) + dy;
-        if (x < 0 || y < 0 || x >= w || y >= h) continue;
-        const int32_t j = texels.sampleAt(s.page, uint32_t(x), uint32_t(y));
-        if (j < 0) continue;
-        const TexelSample& o = texels.samples[size_t(j)];
-        if (atlas.triangle_chart[o.face] != chart) continue;
-        const double c =
-            s.normal.x * o.normal.x + s.normal.y * o.normal.y + s.normal.z * o.normal.z;
-        if (c <= 0) continue;
-        const double spatial = std::exp(-double(dx * dx + dy * dy) / (2.0 * r * r));
-        const double weight = spatial * std::pow(c, settings.filter_normal_power);
-        const Rgb& v = lighting[size_t(j)].indirect;
-        sum[0] += weight * v.r;
-        sum[1] += weight * v.g;
-        sum[2] += weight * v.b;
-        weight_sum += weight;
-      }
-    }
+    forEachChartNeighbour(atlas, texels, i, r, [&](size_t j, int dx, int dy, double c) {
+      const double spatial = std::exp(-double(dx * dx + dy * dy) / (2.0 * r * r));
+      const double weight = spatial * std::pow(c, settings.filter_normal_power) *
+                            rangeWeight(*guide, i, j, settings.filter_noise_sigmas);
+      const Rgb& v = lighting[j].indirect;
+      sum[0] += weight * v.r;
+      sum[1] += weight * v.g;
+      sum[2] += weight * v.b;
+      weight_sum += weight;
+    });
     if (weight_sum > 0)
       indirect[i] = {float(sum[0] / weight_sum), float(sum[1] / weight_sum),
                      float(sum[2] / weight_sum)};

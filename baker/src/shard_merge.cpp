@@ -115,8 +115,7 @@ LightingPasses lightingFromShards(const LoadedPlan& loaded, MergedShards& merged
   out.series = loaded.solver->errorSeries();
   for (ErrorPoint& p : out.series) p.ref_rel_error = std::numeric_limits<double>::quiet_NaN();
   const double solver_seconds = loaded.solver->stats().seconds;
-  LightmapErrorEstimator estimator(*loaded.level, loaded.atlas, *loaded.solver,
-                                   bakePageSettings(loaded.atlas, run.options));
+  LightmapErrorEstimator estimator(*loaded.level, loaded.atlas, *loaded.solver, run.options);
   for (uint32_t p = 0; p < loaded.plan.passes; ++p) {
     ErrorPoint point;
     point.t_s = solver_seconds + merged.lighting_seconds * double(p + 1) / loaded.plan.passes;

@@ -4,6 +4,7 @@
 // texels on both sides of a UV seam agree, and dilation into the padding so
 // bilinear filtering never reads an empty texel.
 
+#include <memory>
 #include <vector>
 
 #include "svit/baker/bake_geometry.h"
@@ -13,11 +14,27 @@
 
 namespace svit::baker {
 
+/// What tells the edge-aware filter noise from light: per texel (TexelSet
+/// order), the luminance of its mean indirect light and that mean's
+/// standard error, lux (filter_guide.h builds it from a bake's passes).
+struct FilterGuide {
+  std::vector<float> luminance, sigma;
+};
+
 struct PageSettings {
   int dilation_texels = 2;         ///< rings of empty texels filled around every chart
   bool edge_aware_filter = false;  ///< smooth gather noise in the indirect light
   int filter_radius_texels = 2;
   double filter_normal_power = 16;  ///< weight cos(normal angle)^power
+  /// The filter mixes a neighbour in by exp(-d^2 / (2 k^2 (s_i^2 + s_j^2)))
+  /// for guide luminances that differ by d and standard errors s: noise
+  /// (d within a few s) is smoothed, a real edge of the indirect light (a
+  /// contact shadow, the sky's edge under a roof) is left sharp. k is this.
+  double filter_noise_sigmas = 2;
+  /// Without a guide the filter is off: nothing tells noise from an edge.
+  /// The weights depend on the guide and the geometry only, so the filter
+  /// is linear in the light it filters (the split-half estimate needs that).
+  std::shared_ptr<const FilterGuide> guide;
   int seam_iterations = 4;
 };
 
