@@ -58,8 +58,8 @@ struct Errors {
 };
 
 Errors errorsOf(const SteppedLight& s, const PageSettings& settings) {
-  const LightmapPages pages = buildLightmapPages(s.quad.geometry, s.quad.atlas, s.texels,
-                                                 s.accumulator.mean(), settings);
+  const LightmapPages pages =
+      buildLightmapPages(s.quad.geometry, s.quad.atlas, s.texels, s.accumulator.mean(), settings);
   const double texel_m = 1.0 / 56.0;
   std::vector<double> column_error(64, 0.0), column_count(64, 0.0);
   double flat_squares = 0, flat_count = 0;
@@ -96,7 +96,8 @@ TEST(FilterGuide, SmoothsNoiseAndKeepsAnEdgeOfTheLightSharp) {
   auto everything_noise = std::make_shared<FilterGuide>(*guided.guide);
   for (float& sigma : everything_noise->sigma) sigma = 1e30f;
   blind.guide = everything_noise;
-  const Errors none = errorsOf(*s, plain), with = errorsOf(*s, guided), without = errorsOf(*s, blind);
+  const Errors none = errorsOf(*s, plain), with = errorsOf(*s, guided),
+               without = errorsOf(*s, blind);
   std::printf("edge bias: unfiltered %.3f, guided %.3f, blind %.3f; flat RMS: %.4f, %.4f, %.4f\n",
               none.edge_bias, with.edge_bias, without.edge_bias, none.flat_rms, with.flat_rms,
               without.flat_rms);

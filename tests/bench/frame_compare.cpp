@@ -87,7 +87,9 @@ int crop(char** argv) {
   for (int y = 0; y < out_h; ++y) {
     for (int x = 0; x < out_w; ++x) {
       const size_t from = (size_t(rect.y + y / scale) * size_t(width) + size_t(rect.x + x / scale));
-      for (int c = 0; c < 3; ++c) out[(size_t(y) * size_t(out_w) + size_t(x)) * 3 + size_t(c)] = in.get()[from * 3 + size_t(c)];
+      for (int c = 0; c < 3; ++c)
+        out[(size_t(y) * size_t(out_w) + size_t(x)) * 3 + size_t(c)] =
+            in.get()[from * 3 + size_t(c)];
     }
   }
   if (stbi_write_png(argv[1], out_w, out_h, 3, out.data(), out_w * 3) == 0)
