@@ -34,10 +34,10 @@ for level in "${levels[@]}"; do
     "$bench" "$level" "${density[@]}" --threads "$threads" --piece-triangles "$k" >>"$work/runs.jsonl"
   done
 done
-python3 - "$work/runs.jsonl" "$work/atlas_pieces.md" "$root/docs/performance.md" "$pieces" "$(uptime)" <<'PY'
-import json, math, re, sys
+python3 - "$work/runs.jsonl" "$work/atlas_pieces.md" "$pieces" "$(uptime)" <<'PY'
+import json, math, sys
 runs = [json.loads(line) for line in open(sys.argv[1])]
-out, doc, pieces, load = sys.argv[2], sys.argv[3], int(sys.argv[4]), sys.argv[5]
+out, pieces, load = sys.argv[2], int(sys.argv[3]), sys.argv[4]
 def row(level, k):
     return next(r for r in runs if r["level"] == level and r["piece_triangles"] == k)
 def slope(points):
@@ -64,9 +64,5 @@ lines.append(f"bench_atlas --threads {runs[0]['threads']}, the two settings alte
 table = "\n".join(lines) + "\n"
 open(out, "w").write(table)
 print(table)
-text = open(doc).read()
-begin, end = "<!-- atlas_pieces.sh: begin -->", "<!-- atlas_pieces.sh: end -->"
-if begin in text:
-    text = re.sub(re.escape(begin) + ".*?" + re.escape(end), lambda m: begin + "\n" + table + end, text, flags=re.S)
-    open(doc, "w").write(text)
 PY
+python3 "$root/tests/bench/doc_section.py" "$root/docs/performance.md" atlas_pieces.sh "$work/atlas_pieces.md"

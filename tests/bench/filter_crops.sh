@@ -83,13 +83,4 @@ for crop in "${crops[@]}"; do
   unset error
 done
 cat "$table"
-python3 - "$root/docs/performance.md" "$table" <<'PY'
-import re, sys
-doc, table = sys.argv[1], open(sys.argv[2]).read()
-text = open(doc).read()
-begin, end = "<!-- filter_crops.sh: begin -->", "<!-- filter_crops.sh: end -->"
-if begin not in text:
-    sys.exit("filter_crops.sh: docs/performance.md has no filter_crops.sh markers")
-text = re.sub(re.escape(begin) + ".*?" + re.escape(end), lambda m: begin + "\n" + table + end, text, flags=re.S)
-open(doc, "w").write(text)
-PY
+python3 "$root/tests/bench/doc_section.py" "$root/docs/performance.md" filter_crops.sh "$table"

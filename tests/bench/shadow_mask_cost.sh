@@ -40,9 +40,9 @@ for name in "${levels[@]}"; do
     cp "$work/$name-$variant-stats.json" "$work/$name-$variant-stats-$(date +%s%N).json"
   done
 done
-python3 - "$work" "$root/docs/performance.md" "$frames" "${levels[@]}" <<'PY'
-import glob, json, re, sys
-work, doc, frames, levels = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4:]
+python3 - "$work" "$frames" "${levels[@]}" <<'PY'
+import glob, json, sys
+work, frames, levels = sys.argv[1], int(sys.argv[2]), sys.argv[3:]
 rows = []
 for name in levels:
     row = {"level": name}
@@ -74,9 +74,6 @@ for r in rows:
                  f"{m['shading_ms']:.0f} ms / {p['shading_ms']:.0f} ms ({m['shading_ms'] / p['shading_ms']:.2f}×) |")
 table = "\n".join(lines) + f"\n\n{frames} frames of each level's walk per run, two runs of each bake alternated, on {rows[0]['masks']['renderer']}.\n"
 print(table)
-text = open(doc).read()
-begin, end = "<!-- shadow_mask_cost.sh: begin -->", "<!-- shadow_mask_cost.sh: end -->"
-if begin in text:
-    text = re.sub(re.escape(begin) + ".*?" + re.escape(end), begin + "\n" + table + end, text, flags=re.S)
-    open(doc, "w").write(text)
+open(f"{work}/shadow_mask_cost.md", "w").write(table)
 PY
+python3 "$root/tests/bench/doc_section.py" "$root/docs/performance.md" shadow_mask_cost.sh "$work/shadow_mask_cost.md"
