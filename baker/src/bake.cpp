@@ -18,14 +18,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The pages the bake would write from the passes so far, against the
-// reference's (a page build per call, as long as the bake's "pages" stage).
+// The pages the bake would write from `passes`, against the reference's
+// (a page build per call, as long as the bake's "pages" stage).
 double pagesReferenceError(const LoadedLevel& level, const AtlasTexels& atlas,
-                           const BakeOptions& options, const TexelAccumulator& accumulator,
+                           const BakeOptions& options, const FilteredPasses& passes,
                            const std::vector<LightmapImage>& reference) {
-  const LightmapPages pages =
-      buildLightmapPages(level.geometry, atlas.atlas, atlas.texels, accumulator.mean(),
-                         bakePageSettings(atlas, options, accumulator));
+  const LightmapPages pages = buildLightmapPages(level.geometry, atlas.atlas, atlas.texels,
+                                                 passes.mean, bakePageSettings(atlas, options));
   return referenceError(atlas.texels, pages.images, reference);
 }
 
@@ -112,15 +111,22 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const LoadedLevel& leve
     pass_seconds = run.clock.elapsed() - pass_start;
     ErrorPoint point;
     point.t_s = solver_seconds + (run.clock.elapsed() - stage_start);
-    estimator.estimate(out.accumulator, out.accumulator.relativeError(), measuredPass(pass), point);
+    // One filtering of the passes for both measures.
+    const FilteredPasses passes =
+        measuredPass(pass) ? bakeLighting(atlas, run.options, out.accumulator) : FilteredPasses{};
+    estimator.estimate(out.accumulator, out.accumulator.relativeError(),
+                       measuredPass(pass) ? &passes : nullptr, point);
     point.rays = solver.stats().rays;
     if (!reference_pages.empty() && measuredPass(pass))
-      point.ref_rel_error =
-          pagesReferenceError(level, atlas, run.options, out.accumulator, reference_pages);
+      point.ref_rel_error = pagesReferenceError(level, atlas, run.options, passes, reference_pages);
     out.series.push_back(point);
   }
-  if (out.accumulator.passes() > 0 && out.series.back().estimate != ErrorEstimate::kSplitHalfPages)
-    estimator.estimate(out.accumulator, out.accumulator.relativeError(), true, out.series.back());
+  if (out.accumulator.passes() > 0 &&
+      out.series.back().estimate != ErrorEstimate::kSplitHalfPages) {
+    const FilteredPasses passes = bakeLighting(atlas, run.options, out.accumulator);
+    estimator.estimate(out.accumulator, out.accumulator.relativeError(), &passes,
+                       out.series.back());
+  }
   return out;  // finishBake measures the last pass's true error on the pages it writes
 }
 

@@ -17,7 +17,6 @@
 #include "bake_output.h"
 #include "double_math.h"
 #include "file_output.h"
-#include "filter_guide.h"
 #include "light_sources.h"
 #include "random.h"
 
@@ -87,6 +86,7 @@ nlohmann::ordered_json seriesJson(const std::vector<ErrorPoint>& series, bool wi
     point["t_s"] = p.t_s;
     point["est_rel_error"] = p.est_rel_error;
     point["estimate"] = estimateName(p.estimate);
+    if (std::isfinite(p.est_filter_bias)) point["est_filter_bias"] = p.est_filter_bias;
     if (with_reference)
       point["ref_rel_error"] =
           std::isfinite(p.ref_rel_error) ? nlohmann::ordered_json(p.ref_rel_error) : nullptr;
@@ -302,6 +302,9 @@ nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
       {"page_height", in.texels.page_height},
       {"atlas", in.atlas.authored ? "TEXCOORD_1" : "xatlas"},
       {"indirect_filter", options.indirect_filter},
+      {"filter_noise_sigmas", in.lighting.filter_noise_sigmas > 0
+                                  ? nlohmann::ordered_json(in.lighting.filter_noise_sigmas)
+                                  : nlohmann::ordered_json(nullptr)},
       {"covered_texels", counts.covered},
       {"dilated_texels", counts.dilated},
       {"buried_texels", counts.buried},
@@ -555,18 +558,15 @@ PageSettings bakePageSettings(const AtlasTexels& atlas, const BakeOptions& optio
   settings.dilation_texels = atlas.settings.padding_texels;
   // Gather noise; never crosses charts, creases or edges of the light.
   settings.edge_aware_filter = options.indirect_filter;
+  settings.threads = options.threads;
   return settings;
 }
 
-PageSettings bakePageSettings(const AtlasTexels& atlas, const BakeOptions& options,
-                              const TexelAccumulator& accumulator) {
-  PageSettings settings = bakePageSettings(atlas, options);
-  if (settings.edge_aware_filter)
-    settings.guide =
-        filterGuide(atlas.atlas, atlas.texels, accumulator, settings.filter_radius_texels);
-  return settings;
+FilteredPasses bakeLighting(const AtlasTexels& atlas, const BakeOptions& options,
+                            const TexelAccumulator& accumulator) {
+  return bestFilteredPasses(atlas.atlas, atlas.texels, accumulator,
+                            bakePageSettings(atlas, options), kFilterNoiseSigmaChoices);
 }
-
 TexelLightingSettings passLightingSettings(const BakeRun& run, const LoadedLevel& level,
                                            uint32_t pass) {
   TexelLightingSettings settings;
@@ -587,9 +587,10 @@ Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
                                 const std::vector<LightmapImage>& reference_pages,
                                 const nlohmann::ordered_json& extra_report) {
   run.clock.endStage("pages");
-  LightmapPages pages =
-      buildLightmapPages(level.geometry, atlas.atlas, atlas.texels, lighting.accumulator.mean(),
-                         bakePageSettings(atlas, run.options, lighting.accumulator));
+  const FilteredPasses passes = bakeLighting(atlas, run.options, lighting.accumulator);
+  lighting.filter_noise_sigmas = passes.noise_sigmas;
+  LightmapPages pages = buildLightmapPages(level.geometry, atlas.atlas, atlas.texels, passes.mean,
+                                           bakePageSettings(atlas, run.options));
   const bool with_reference = !reference_pages.empty();
   if (with_reference && lighting.accumulator.passes() > 0) {
     lighting.series.back().ref_rel_error =

@@ -25,6 +25,7 @@
 #include "svit/baker/texel_lighting.h"
 #include "svit/scene.h"
 #include "bake_plan.h"
+#include "filtered_passes.h"
 #include "texel_accumulator.h"
 
 namespace svit::baker {
@@ -127,10 +128,11 @@ double referenceError(const TexelSet& texels, const std::vector<LightmapImage>& 
 
 /// How the bake's pages are made from its texels (dilation, filter).
 PageSettings bakePageSettings(const AtlasTexels& atlas, const BakeOptions& options);
-/// The same with the filter's guide from the passes in `accumulator` (the
-/// pages of those passes, or of their halves' difference).
-PageSettings bakePageSettings(const AtlasTexels& atlas, const BakeOptions& options,
-                              const TexelAccumulator& accumulator);
+/// The passes in `accumulator` as the pages hold them (the filter of
+/// `options` applied crosswise), and their halves' difference filtered
+/// alike: build the pages of either with bakePageSettings.
+FilteredPasses bakeLighting(const AtlasTexels& atlas, const BakeOptions& options,
+                            const TexelAccumulator& accumulator);
 
 /// The texel lighting settings of the plan's pass `pass` (its seed, and
 /// the lights whose shadow masks hold their direct light).
@@ -144,6 +146,8 @@ struct LightingPasses {
   std::vector<ErrorPoint> series;
   uint32_t gather_rays = 0;  ///< per texel and pass
   double solver_error = 0;   ///< the solver's estimated relative error
+  /// the filter's k in the pages written (FilteredPasses::noise_sigmas); 0 unfiltered
+  double filter_noise_sigmas = 0;
 };
 
 /// Writes the bake: pages (filtered, stitched, dilated), bake file, the

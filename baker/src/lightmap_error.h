@@ -10,13 +10,20 @@
 //   ones, each filtered as the pages written and gathered from its own
 //   half of the solver's passes (SolutionHalf), so it counts what is left
 //   after the filter and the solution's noise too. One page build a call
-//   (of the halves' difference).
+//   (of the halves' difference). The halves are filtered alike, so what
+//   the filter shifts (light it smooths across an edge it took for noise)
+//   is invisible to them; it is estimated apart and added in quadrature:
+//   the filter's change to the mean less the part of it that is noise,
+//   which its change to the halves' difference measures. Both need the
+//   filter crosswise (filtered_passes.h): a self-guided one hides its noise
+//   from the halves.
 // Internal.
 
 #include <vector>
 
 #include "svit/baker/radiosity.h"
 #include "bake_stages.h"
+#include "filtered_passes.h"
 #include "texel_accumulator.h"
 
 namespace svit::baker {
@@ -37,13 +44,16 @@ class LightmapErrorEstimator {
 
   /// `point`'s estimate after the passes in `accumulator`, whose texels'
   /// relative spread is `texel_error` (TexelAccumulator::relativeError, or
-  /// a sharded bake's merged spreads): the split-half when `split_half` and
-  /// there are two or more passes.
-  void estimate(const TexelAccumulator& accumulator, double texel_error, bool split_half,
-                ErrorPoint& point);
+  /// a sharded bake's merged spreads): the split-half of `split_half`
+  /// (bakeLighting of those passes) when given and there are two or more
+  /// passes.
+  void estimate(const TexelAccumulator& accumulator, double texel_error,
+                const FilteredPasses* split_half, ErrorPoint& point);
   /// Scales the unscaled texel-spread estimates of `series` from index
   /// `first` on (those of two or more passes, made before any split-half)
-  /// by the last split-half's ratio, if one was measured.
+  /// by the last split-half's ratio, if one was measured; those of fewer
+  /// passes than the filter needs (kFilteredPasses) by the last unfiltered
+  /// split-half's, if one was.
   void scaleEarlier(std::vector<ErrorPoint>& series, size_t first) const;
 
  private:
@@ -54,6 +64,7 @@ class LightmapErrorEstimator {
   /// into every pass when there are no halves to gather from), else 0.
   double unseen_solver_error_ = 0;
   double ratio_ = 0;  ///< split-half over texel spread at the last split-half; 0: none yet
+  double unfiltered_ratio_ = 0;  ///< the same at the last split-half of unfiltered passes
 };
 
 }  // namespace svit::baker

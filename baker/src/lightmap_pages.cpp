@@ -11,6 +11,7 @@
 #include <map>
 #include <unordered_map>
 
+#include "parallel_for.h"
 #include "random.h"
 #include "texel_neighbours.h"
 
@@ -115,12 +116,33 @@ double rangeWeight(const FilterGuide& guide, size_t i, size_t j, double k) {
   return std::exp(-d * d / (2.0 * k * k * variance));
 }
 
-// Indirect light, optionally smoothed within charts (cross-bilateral on
-// normal, chart and the guide's noise: it never blurs across a chart
-// border, a crease or an edge of the light that is not noise).
-std::vector<Rgb> filteredIndirect(const LightmapAtlas& atlas, const TexelSet& texels,
-                                  const std::vector<TexelIrradiance>& lighting,
-                                  const PageSettings& settings) {
+// Texel i's indirect light, filtered: its chart neighbours within `r`
+// texels, weighted by distance, normal and the guide.
+Rgb filteredTexel(const LightmapAtlas& atlas, const TexelSet& texels,
+                  const std::vector<TexelIrradiance>& lighting, const PageSettings& settings,
+                  const FilterGuide& guide, size_t i, int r) {
+  double sum[3] = {0, 0, 0}, weight_sum = 0;
+  forEachChartNeighbour(atlas, texels, i, r, [&](size_t j, int dx, int dy, double c) {
+    const double spatial = std::exp(-double(dx * dx + dy * dy) / (2.0 * r * r));
+    const double weight = spatial * std::pow(c, settings.filter_normal_power) *
+                          rangeWeight(guide, i, j, settings.filter_noise_sigmas);
+    const Rgb& v = lighting[j].indirect;
+    sum[0] += weight * v.r;
+    sum[1] += weight * v.g;
+    sum[2] += weight * v.b;
+    weight_sum += weight;
+  });
+  if (!(weight_sum > 0)) return lighting[i].indirect;
+  return {float(sum[0] / weight_sum), float(sum[1] / weight_sum), float(sum[2] / weight_sum)};
+}
+
+}  // namespace
+
+// Cross-bilateral on normal, chart and the guide's noise: it never blurs
+// across a chart border, a crease or an edge of the light that is not noise.
+std::vector<Rgb> filterIndirect(const LightmapAtlas& atlas, const TexelSet& texels,
+                                const std::vector<TexelIrradiance>& lighting,
+                                const PageSettings& settings) {
   std::vector<Rgb> indirect(lighting.size());
   for (size_t i = 0; i < lighting.size(); ++i) indirect[i] = lighting[i].indirect;
   const FilterGuide* guide = settings.guide.get();
@@ -128,24 +150,15 @@ std::vector<Rgb> filteredIndirect(const LightmapAtlas& atlas, const TexelSet& te
       guide->sigma.size() != texels.samples.size())
     return indirect;
   const int r = settings.filter_radius_texels;
-  for (size_t i = 0; i < texels.samples.size(); ++i) {
-    double sum[3] = {0, 0, 0}, weight_sum = 0;
-    forEachChartNeighbour(atlas, texels, i, r, [&](size_t j, int dx, int dy, double c) {
-      const double spatial = std::exp(-double(dx * dx + dy * dy) / (2.0 * r * r));
-      const double weight = spatial * std::pow(c, settings.filter_normal_power) *
-                            rangeWeight(*guide, i, j, settings.filter_noise_sigmas);
-      const Rgb& v = lighting[j].indirect;
-      sum[0] += weight * v.r;
-      sum[1] += weight * v.g;
-      sum[2] += weight * v.b;
-      weight_sum += weight;
-    });
-    if (weight_sum > 0)
-      indirect[i] = {float(sum[0] / weight_sum), float(sum[1] / weight_sum),
-                     float(sum[2] / weight_sum)};
-  }
+  parallelFor(texels.samples.size(), 4096, resolveThreads(settings.threads),
+              [&](size_t begin, size_t end) {
+                for (size_t i = begin; i < end; ++i)
+                  indirect[i] = filteredTexel(atlas, texels, lighting, settings, *guide, i, r);
+              });
   return indirect;
 }
+
+namespace {
 
 void writeSamples(const TexelSet& texels, const std::vector<TexelIrradiance>& lighting,
                   const std::vector<Rgb>& indirect, LightmapPages& pages) {
@@ -235,7 +248,7 @@ LightmapPages buildLightmapPages(const BakeGeometry& geometry, const LightmapAtl
                                  const std::vector<TexelIrradiance>& lighting,
                                  const PageSettings& settings) {
   LightmapPages pages = blankPages(texels);
-  writeSamples(texels, lighting, filteredIndirect(atlas, texels, lighting, settings), pages);
+  writeSamples(texels, lighting, filterIndirect(atlas, texels, lighting, settings), pages);
   for (int p = 0; p < texels.page_count; ++p) {
     dilatePage(settings.dilation_texels, pages.images[size_t(p)], pages.valid[size_t(p)]);
   }

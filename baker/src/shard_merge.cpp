@@ -2,6 +2,7 @@
 // (sharded_bake.h). Checks every shard against the plan, puts their texel
 // sums side by side, and finishes as a whole bake does (finishBake).
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -68,6 +69,7 @@ double numberOr(const nlohmann::ordered_json& json, const char* key, double fall
 // All shards' sums in texel order, their spreads summed per pass, and their reports.
 struct MergedShards {
   std::vector<TexelIrradiance> sums, odd_sums;
+  std::array<std::vector<TexelIrradiance>, 2> quarter_sums;
   std::vector<PassSpread> spreads;
   nlohmann::ordered_json reports = nlohmann::ordered_json::array();
   double lighting_seconds = 0;  ///< summed over shards, from their reports
@@ -79,6 +81,7 @@ Expected<MergedShards> mergeShards(BakeRun& run, const std::string& work_dir,
   MergedShards out;
   out.sums.resize(plan.texel_count);
   out.odd_sums.resize(plan.texel_count);
+  for (std::vector<TexelIrradiance>& q : out.quarter_sums) q.resize(plan.texel_count);
   out.spreads.resize(plan.passes);
   for (uint32_t shard = 0; shard < plan.shards; ++shard) {
     const std::vector<uint32_t> texels = plan.shardTexels(shard);
@@ -87,6 +90,7 @@ Expected<MergedShards> mergeShards(BakeRun& run, const std::string& work_dir,
     for (size_t k = 0; k < texels.size(); ++k) {
       out.sums[texels[k]] = lighting->sums[k];
       out.odd_sums[texels[k]] = lighting->odd_sums[k];
+      for (int q = 0; q < 2; ++q) out.quarter_sums[q][texels[k]] = lighting->quarter_sums[q][k];
     }
     for (uint32_t p = 0; p < plan.passes; ++p) {
       out.spreads[p].variance_sum += lighting->spreads[p].variance_sum;
@@ -108,8 +112,8 @@ Expected<MergedShards> mergeShards(BakeRun& run, const std::string& work_dir,
 LightingPasses lightingFromShards(const LoadedPlan& loaded, MergedShards& merged,
                                   const BakeRun& run) {
   LightingPasses out;
-  out.accumulator =
-      TexelAccumulator(std::move(merged.sums), std::move(merged.odd_sums), loaded.plan.passes);
+  out.accumulator = TexelAccumulator(std::move(merged.sums), std::move(merged.odd_sums),
+                                     std::move(merged.quarter_sums), loaded.plan.passes);
   out.gather_rays = run.plan.gather_rays;
   out.solver_error = loaded.solver->estimatedRelativeError();
   out.series = loaded.solver->errorSeries();
@@ -124,8 +128,18 @@ LightingPasses lightingFromShards(const LoadedPlan& loaded, MergedShards& merged
     point.rays = loaded.solver->stats().rays;
     out.series.push_back(point);
   }
-  estimator.estimate(out.accumulator, merged.spreads.back().relativeError(loaded.plan.passes), true,
-                     out.series.back());
+  // The passes before the filter starts were unfiltered in the whole bake:
+  // their spreads scale by the unfiltered split-half's ratio, measured here
+  // on the same sums (scaleEarlier).
+  const double last_spread = merged.spreads.back().relativeError(loaded.plan.passes);
+  PageSettings unfiltered = bakePageSettings(loaded.atlas, run.options);
+  unfiltered.edge_aware_filter = false;
+  const FilteredPasses raw =
+      filterPasses(loaded.atlas.atlas, loaded.atlas.texels, out.accumulator, unfiltered);
+  ErrorPoint raw_point;
+  estimator.estimate(out.accumulator, last_spread, &raw, raw_point);
+  const FilteredPasses passes = bakeLighting(loaded.atlas, run.options, out.accumulator);
+  estimator.estimate(out.accumulator, last_spread, &passes, out.series.back());
   const size_t two_passes = out.series.size() - loaded.plan.passes + 1;
   estimator.scaleEarlier(out.series, two_passes);
   return out;

@@ -54,6 +54,7 @@ Expected<ShardLighting> lightShard(BakeRun& run, const LoadedPlan& loaded, uint3
   }
   out.sums = accumulator.sums();
   out.odd_sums = accumulator.oddSums();
+  out.quarter_sums = accumulator.quarterSums();
   return out;
 }
 

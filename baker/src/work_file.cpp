@@ -17,8 +17,9 @@ namespace {
 constexpr char kMagic[8] = {'S', 'V', 'I', 'T', 'W', 'O', 'R', 'K'};
 // Bumped whenever any payload's layout changes: a work file is read only by
 // the build that wrote it (shards and merge run the plan's svit-bake).
-// 2: the odd passes' sums and solution; 3: the backs of double-sided triangles
-constexpr uint32_t kWorkFormatVersion = 3;
+// 2: the odd passes' sums and solution; 3: the backs of double-sided triangles;
+// 4: the sums of quarters 2 and 3 (the filter's guides)
+constexpr uint32_t kWorkFormatVersion = 4;
 // magic, version, kind, plan id, payload bytes, payload checksum
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8 + 8;
 

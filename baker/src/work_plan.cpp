@@ -174,6 +174,7 @@ std::vector<uint8_t> encodeShard(const ShardLighting& s) {
   w.put(s.passes);
   w.putVector(s.sums);
   w.putVector(s.odd_sums);
+  for (const std::vector<TexelIrradiance>& q : s.quarter_sums) w.putVector(q);
   w.putVector(s.spreads);
   return w.take();
 }
@@ -186,8 +187,12 @@ Expected<ShardLighting> decodeShard(const std::vector<uint8_t>& payload, const s
   s.passes = r.get<uint32_t>();
   s.sums = r.getVector<TexelIrradiance>();
   s.odd_sums = r.getVector<TexelIrradiance>();
+  for (std::vector<TexelIrradiance>& q : s.quarter_sums) q = r.getVector<TexelIrradiance>();
   s.spreads = r.getVector<PassSpread>();
-  if (!r.atEnd() || s.spreads.size() != s.passes || s.odd_sums.size() != s.sums.size())
+  const bool sums_fit = s.odd_sums.size() == s.sums.size() &&
+                        s.quarter_sums[0].size() == s.sums.size() &&
+                        s.quarter_sums[1].size() == s.sums.size();
+  if (!r.atEnd() || s.spreads.size() != s.passes || !sums_fit)
     return notFitting(path, "the shard's texels");
   return s;
 }

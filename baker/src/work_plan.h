@@ -5,6 +5,7 @@
 // and ranges, so a payload that passed its checksum but does not fit (a bug,
 // or a file from another build) is an error, not a crash. Internal.
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -59,7 +60,9 @@ struct ShardLighting {
   uint32_t passes = 0;
   std::vector<TexelIrradiance> sums;      ///< per texel of the shard, in its order: sum over passes
   std::vector<TexelIrradiance> odd_sums;  ///< the same over the odd passes (1, 3, ...)
-  std::vector<PassSpread> spreads;        ///< after each pass, over the shard's texels
+  /// the same over passes 2, 6, ... and over passes 3, 7, ...
+  std::array<std::vector<TexelIrradiance>, 2> quarter_sums;
+  std::vector<PassSpread> spreads;  ///< after each pass, over the shard's texels
 };
 
 std::vector<uint8_t> encodeShard(const ShardLighting& shard);

@@ -48,12 +48,34 @@ TEST(TexelAccumulator, UnequalHalvesAndAnAccumulatorRebuiltFromItsSums) {
   EXPECT_FLOAT_EQ(accumulator.halfMean(true)[0].direct.r, 7.0f);  // (4 + 10) / 2
   EXPECT_FLOAT_EQ(accumulator.halfMean(true)[1].indirect.g, 140.0f);
 
-  const TexelAccumulator rebuilt(accumulator.sums(), accumulator.oddSums(), accumulator.passes());
+  const TexelAccumulator rebuilt(accumulator.sums(), accumulator.oddSums(),
+                                 accumulator.quarterSums(), accumulator.passes());
   for (bool odd : {false, true}) {
     EXPECT_FLOAT_EQ(rebuilt.halfMean(odd)[1].direct.b, accumulator.halfMean(odd)[1].direct.b);
     EXPECT_EQ(rebuilt.halfPasses(odd), accumulator.halfPasses(odd));
   }
   EXPECT_FLOAT_EQ(rebuilt.mean()[0].indirect.r, accumulator.mean()[0].indirect.r);
+  EXPECT_FLOAT_EQ(rebuilt.quarterDifference(true)[0].direct.g,
+                  accumulator.quarterDifference(true)[0].direct.g);
+}
+
+TEST(TexelAccumulator, QuartersSplitEachHalfInTwo) {
+  TexelAccumulator accumulator;
+  EXPECT_EQ(accumulator.quarterDifference(false).size(), 0u);
+  for (int p = 1; p <= 7; ++p) accumulator.add(pass(float(p * p)));
+  // Passes 0..6 carry 1, 4, 9, 16, 25, 36, 49: quarter 0 is passes 0 and 4
+  // (mean 13), quarter 2 passes 2 and 6 (29), quarter 1 passes 1 and 5
+  // (20), quarter 3 pass 3 (16).
+  EXPECT_EQ(accumulator.quarterPasses(0), 2u);
+  EXPECT_EQ(accumulator.quarterPasses(2), 2u);
+  EXPECT_EQ(accumulator.quarterPasses(1), 2u);
+  EXPECT_EQ(accumulator.quarterPasses(3), 1u);
+  EXPECT_FLOAT_EQ(accumulator.quarterDifference(false)[0].direct.r, 13.0f - 29.0f);
+  EXPECT_FLOAT_EQ(accumulator.quarterDifference(true)[1].indirect.b, 20.0f * (20.0f - 16.0f));
+  TexelAccumulator three;
+  for (int p = 1; p <= 3; ++p) three.add(pass(float(p)));
+  EXPECT_EQ(three.quarterPasses(3), 0u);
+  EXPECT_FLOAT_EQ(three.quarterDifference(true)[0].direct.r, 0.0f);  // no quarter 3 yet
 }
 
 }  // namespace

@@ -62,10 +62,12 @@ expect_exit bake_again 0 -- "$bake" "$cornell" -o "$work/b" --quality 0.2 --texe
 cmp -s "$work/a/lightmap-0.exr" "$work/b/lightmap-0.exr" && ok "same seed, same EXR bytes (1 vs all threads)" || fail "EXR differs between runs"
 cmp -s "$work/a/bake.svit" "$work/b/bake.svit" && ok "same seed, same bake.svit" || fail "bake.svit differs"
 # --no-filter: the same texels, the gathered light left unfiltered; the
-# report says which.
-expect_exit bake_unfiltered 0 -- "$bake" "$cornell" -o "$work/raw" --quality 0.2 --texels-per-m 24 --seed 7 --quiet --no-filter
-cmp -s "$work/a/lightmap-0.exr" "$work/raw/lightmap-0.exr" && fail "--no-filter changed nothing" || ok "--no-filter pages differ"
-python3 -c "import json; a = json.load(open('$work/a/report.json'))['lightmap']; r = json.load(open('$work/raw/report.json'))['lightmap']; assert a['indirect_filter'] is True and r['indirect_filter'] is False and a['covered_texels'] == r['covered_texels']" &&
+# report says which, and with what strength it filtered. The filter needs
+# four passes (two a half); with fewer a bake is unfiltered either way.
+expect_exit bake_filtered 0 -- "$bake" "$cornell" -o "$work/f4" --passes 4 --quality 0.2 --texels-per-m 24 --seed 7 --quiet
+expect_exit bake_unfiltered 0 -- "$bake" "$cornell" -o "$work/raw" --passes 4 --quality 0.2 --texels-per-m 24 --seed 7 --quiet --no-filter
+cmp -s "$work/f4/lightmap-0.exr" "$work/raw/lightmap-0.exr" && fail "--no-filter changed nothing" || ok "--no-filter pages differ"
+python3 -c "import json; a = json.load(open('$work/f4/report.json'))['lightmap']; r = json.load(open('$work/raw/report.json'))['lightmap']; assert a['indirect_filter'] is True and r['indirect_filter'] is False and a['covered_texels'] == r['covered_texels']; assert a['filter_noise_sigmas'] in (0.75, 1.0, 1.5, 2.0) and r['filter_noise_sigmas'] is None, (a, r)" &&
   ok "report.json says whether the indirect light was filtered" || fail "report.json indirect_filter"
 
 # Progress: plain lines when stderr is not a terminal.

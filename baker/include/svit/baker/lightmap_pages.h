@@ -15,8 +15,9 @@
 namespace svit::baker {
 
 /// What tells the edge-aware filter noise from light: per texel (TexelSet
-/// order), the luminance of its mean indirect light and that mean's
-/// standard error, lux (filter_guide.h builds it from a bake's passes).
+/// order), the luminance of a mean of its indirect light and that mean's
+/// standard error, lux (filtered_passes.h makes one of each half of a
+/// bake's passes, to filter the other half).
 struct FilterGuide {
   std::vector<float> luminance, sigma;
 };
@@ -36,6 +37,7 @@ struct PageSettings {
   /// is linear in the light it filters (the split-half estimate needs that).
   std::shared_ptr<const FilterGuide> guide;
   int seam_iterations = 4;
+  int threads = 0;  ///< the filter's workers, 0: all cores; the result does not depend on it
 };
 
 struct LightmapPages {
@@ -43,6 +45,13 @@ struct LightmapPages {
   /// per page texel: 1 covered, 2 dilated, 3 buried (black), 0 empty
   std::vector<std::vector<uint8_t>> valid;
 };
+
+/// The indirect light of `lighting` (TexelSet order) as the pages hold it:
+/// smoothed within charts where `settings` asks for the filter and gives a
+/// guide, else as it is. Linear in `lighting` for a given guide.
+std::vector<Rgb> filterIndirect(const LightmapAtlas& atlas, const TexelSet& texels,
+                                const std::vector<TexelIrradiance>& lighting,
+                                const PageSettings& settings);
 
 LightmapPages buildLightmapPages(const BakeGeometry& geometry, const LightmapAtlas& atlas,
                                  const TexelSet& texels,

@@ -100,6 +100,9 @@ enum class ErrorEstimate {
 struct ErrorPoint {
   double t_s = 0;              ///< solver wall time so far
   double est_rel_error = 1.0;  ///< estimate, made as `estimate` says
+  /// Split-half points: the page filter's estimated bias, relative, the
+  /// part of est_rel_error the halves cannot see (lightmap_error.h); else NaN.
+  double est_filter_bias = std::numeric_limits<double>::quiet_NaN();
   double ref_rel_error = std::numeric_limits<double>::quiet_NaN();  ///< with a reference
   uint64_t rays = 0;
   ErrorEstimate estimate = ErrorEstimate::kSolverPasses;
