@@ -2,23 +2,30 @@
 # The lightmap's error against time on the real levels of issue 22 (items 1
 # and 2): each level baked for BUDGET seconds with the filter and without
 # it (--no-filter), one bake after the other, against an unfiltered
-# reference of another seed: its true error (the reference's own noise, its
-# split-half estimate, taken out in quadrature), the bake's estimate, and
-# their ratio. Unfiltered, so the reference counts what a filter shifts.
+# reference of another seed baked for REF_S seconds: its true error (the
+# reference's own noise, its split-half estimate, taken out in quadrature),
+# the bake's estimate, and their ratio. Unfiltered, so the reference counts
+# what a filter shifts; time-budgeted like the bakes, so its radiosity
+# solution is at least as fine as theirs (a --passes reference gets the
+# quality plan's coarser solver, whose subdivision error is the
+# reference's, not the bake's, and which no split-half sees).
 # Writes WORK/estimate_honesty.md (and WORK/LEVEL/{reference,filtered,
 # unfiltered}/) and puts the table into docs/performance.md between its
 # estimate_honesty.sh markers. A reference already in WORK is kept (its
-# time is no part of the results). About 10 minutes a level on the 2-core
-# machine, more for a reference; levels whose glTF is absent (../shared)
-# are skipped and said so.
-# usage: tests/bench/estimate_honesty.sh BUILD_DIR WORK [BUDGET_S] [LEVELS...]
-#   LEVELS: sponza city vinc3r house (the default: all four)
+# time is no part of the results; delete WORK/LEVEL/reference to bake it
+# again). About 5 minutes a level on the 2-core machine, plus REF_S for a
+# reference; levels whose glTF is absent (../shared) are skipped and said
+# so. Rows of levels not rerun are kept from WORK/runs.jsonl.
+# usage: tests/bench/estimate_honesty.sh BUILD_DIR WORK [BUDGET_S] [REF_S] [LEVELS...]
+#   REF_S: the reference's --time (480); LEVELS: sponza city vinc3r house
+#   (the default: all four)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-build="${1:?usage: estimate_honesty.sh BUILD_DIR WORK [BUDGET_S] [LEVELS...]}"
-work="${2:?usage: estimate_honesty.sh BUILD_DIR WORK [BUDGET_S] [LEVELS...]}"
-budget="${3:-120}"
-shift $(($# < 3 ? $# : 3))
+usage="usage: estimate_honesty.sh BUILD_DIR WORK [BUDGET_S] [REF_S] [LEVELS...]"
+build="${1:?$usage}"
+work="${2:?$usage}"
+budget="${3:-120}" reference_s="${4:-480}"
+shift $(($# < 4 ? $# : 4))
 levels=("$@")
 ((${#levels[@]})) || levels=(sponza city vinc3r house)
 bake="$build/baker/svit-bake"
@@ -43,9 +50,8 @@ needed_gltf() {
     house) echo "$root/samples/levels/house/house.gltf" ;;
   esac
 }
-reference_passes() { [[ "$1" == city ]] && echo 256 || echo 128; }
 
-: >"$work/runs.jsonl"
+touch "$work/runs.jsonl"
 for name in "${levels[@]}"; do
   level="$(level_file "$name")"
   if [[ ! -e "$(needed_gltf "$name")" ]]; then
@@ -55,9 +61,11 @@ for name in "${levels[@]}"; do
   dir="$work/$name"
   mkdir -p "$dir"
   if [[ ! -f "$dir/reference/report.json" ]]; then
-    "$bake" "$level" -o "$dir/reference" --seed 1 --passes "$(reference_passes "$name")" \
-      --no-filter --quiet
+    "$bake" "$level" -o "$dir/reference" --seed 1 --time "$reference_s" --no-filter --quiet
   fi
+  # This level's rows are replaced by the runs below.
+  python3 -c "import json, sys; rows = [l for l in open(sys.argv[1]) if json.loads(l)['level'] != sys.argv[2]]; open(sys.argv[1], 'w').writelines(rows)" \
+    "$work/runs.jsonl" "$name"
   for variant in filtered unfiltered; do
     flags=()
     [[ "$variant" == unfiltered ]] && flags=(--no-filter)
@@ -75,8 +83,8 @@ runs = [json.loads(line) for line in open(sys.argv[1])]
 out, budget, load = sys.argv[2], sys.argv[3], sys.argv[4]
 def report(path):
     return json.load(open(path + "/report.json"))
-lines = [f"| level | filter | wall s | passes | true | true, reference noise removed | estimated | estimated / true |",
-         "|---|---|---:|---:|---:|---:|---:|---:|"]
+lines = [f"| level | reference | filter | wall s | passes | true | true, reference noise removed | estimated | estimated / true |",
+         "|---|---|---|---:|---:|---:|---:|---:|---:|"]
 for run in runs:
     bake = report(f"{run['dir']}/{run['variant']}")
     ref = report(f"{run['dir']}/reference")
@@ -84,15 +92,19 @@ for run in runs:
     last = bake["error_vs_time"][-1]
     true = last["ref_rel_error"]
     removed = math.sqrt(max(0.0, true * true - noise * noise))
+    budget_s = ref["time_budget_s"]
+    made = f"{budget_s:g} s" if budget_s else f"{ref['lightmap']['lighting_passes']} passes"
+    made += f", {ref['radiosity']['leaves']:,} leaves"
     k = bake["lightmap"].get("filter_noise_sigmas")
     filt = f"k = {k:g}" if k else "none"
-    lines.append(f"| {run['level']} | {filt} | {run['wall_s']:.0f} | {bake['lightmap']['lighting_passes']} | "
+    lines.append(f"| {run['level']} | {made} | {filt} | {run['wall_s']:.0f} | {bake['lightmap']['lighting_passes']} | "
                  f"{100 * true:.2f}% | {100 * removed:.2f}% | {100 * last['est_rel_error']:.2f}% | "
                  f"{last['est_rel_error'] / removed if removed > 0 else float('nan'):.2f} |")
 text = "\n".join(lines) + "\n\n" + \
-    (f"svit-bake --seed 7 --time {budget} --reference (seed 1, unfiltered, 128 passes, city 256), "
-     f"the two variants one after the other per level; the reference's noise is its own "
-     f"split-half estimate. Load after the run: {load.split('load average:')[-1].strip()}.\n")
+    (f"svit-bake --seed 7 --time {budget} --reference (seed 1, unfiltered, its --time or --passes "
+     f"and its radiosity leaves in the table), the two variants one after the other per level; "
+     f"the reference's noise is its own split-half estimate. Load after the last run: "
+     f"{load.split('load average:')[-1].strip()}.\n")
 open(out, "w").write(text)
 print(text)
 PY
