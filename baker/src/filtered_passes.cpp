@@ -21,20 +21,35 @@ std::vector<TexelIrradiance> withIndirect(std::vector<TexelIrradiance> lighting,
   return lighting;
 }
 
+// One half of the passes and its own guide: what its filter reads, the
+// same for every k.
+struct Half {
+  std::vector<TexelIrradiance> raw;
+  std::shared_ptr<const FilterGuide> guide;
+};
+
+Half halfOf(const LightmapAtlas& atlas, const TexelSet& texels, const TexelAccumulator& accumulator,
+            bool odd, int radius) {
+  return {accumulator.halfMean(odd),
+          std::make_shared<FilterGuide>(halfGuide(atlas, texels, accumulator, odd, radius))};
+}
+
+std::array<Half, 2> bothHalves(const LightmapAtlas& atlas, const TexelSet& texels,
+                               const TexelAccumulator& accumulator, int radius) {
+  return {halfOf(atlas, texels, accumulator, false, radius),
+          halfOf(atlas, texels, accumulator, true, radius)};
+}
+
 // One half of the passes and its indirect light filtered by its own guide.
 struct FilteredHalf {
-  std::vector<TexelIrradiance> raw;
+  const std::vector<TexelIrradiance>& raw;
   std::vector<Rgb> indirect;
 };
 
-FilteredHalf filteredHalf(const LightmapAtlas& atlas, const TexelSet& texels,
-                          const TexelAccumulator& accumulator, bool odd, PageSettings settings) {
-  settings.guide = std::make_shared<FilterGuide>(
-      halfGuide(atlas, texels, accumulator, odd, settings.filter_radius_texels));
-  FilteredHalf half;
-  half.raw = accumulator.halfMean(odd);
-  half.indirect = filterIndirect(atlas, texels, half.raw, settings);
-  return half;
+FilteredHalf filteredHalf(const LightmapAtlas& atlas, const TexelSet& texels, const Half& half,
+                          PageSettings settings) {
+  settings.guide = half.guide;
+  return {half.raw, filterIndirect(atlas, texels, half.raw, settings)};
 }
 
 // FilteredPasses::bias_squares of the two halves.
@@ -93,14 +108,17 @@ FilterGuide halfGuide(const LightmapAtlas& atlas, const TexelSet& texels,
   return guide;
 }
 
-FilteredPasses filterPasses(const LightmapAtlas& atlas, const TexelSet& texels,
-                            const TexelAccumulator& accumulator, const PageSettings& settings) {
+namespace {
+
+// filterPasses with both halves and their guides already made.
+FilteredPasses filterHalves(const LightmapAtlas& atlas, const TexelSet& texels,
+                            const TexelAccumulator& accumulator, const PageSettings& settings,
+                            const std::array<Half, 2>& halves) {
   FilteredPasses out;
   out.mean = accumulator.mean();
   out.difference = accumulator.halfDifference();
-  if (!settings.edge_aware_filter || accumulator.passes() < kFilteredPasses) return out;
-  const FilteredHalf even = filteredHalf(atlas, texels, accumulator, false, settings);
-  const FilteredHalf odd = filteredHalf(atlas, texels, accumulator, true, settings);
+  const FilteredHalf even = filteredHalf(atlas, texels, halves[0], settings);
+  const FilteredHalf odd = filteredHalf(atlas, texels, halves[1], settings);
   // The mean of all passes weighs each half by its passes.
   const float n_even = float(accumulator.halfPasses(false));
   const float n_odd = float(accumulator.halfPasses(true));
@@ -120,21 +138,37 @@ FilteredPasses filterPasses(const LightmapAtlas& atlas, const TexelSet& texels,
   return out;
 }
 
+bool filters(const TexelAccumulator& accumulator, const PageSettings& settings) {
+  return settings.edge_aware_filter && accumulator.passes() >= kFilteredPasses;
+}
+
+}  // namespace
+
+FilteredPasses filterPasses(const LightmapAtlas& atlas, const TexelSet& texels,
+                            const TexelAccumulator& accumulator, const PageSettings& settings) {
+  if (!filters(accumulator, settings)) return {accumulator.mean(), accumulator.halfDifference()};
+  const std::array<Half, 2> halves =
+      bothHalves(atlas, texels, accumulator, settings.filter_radius_texels);
+  return filterHalves(atlas, texels, accumulator, settings, halves);
+}
+
 FilteredPasses bestFilteredPasses(const LightmapAtlas& atlas, const TexelSet& texels,
                                   const TexelAccumulator& accumulator, const PageSettings& settings,
                                   const std::array<double, 4>& choices) {
+  if (!filters(accumulator, settings)) return filterPasses(atlas, texels, accumulator, settings);
+  const std::array<Half, 2> halves =
+      bothHalves(atlas, texels, accumulator, settings.filter_radius_texels);
   FilteredPasses best;
   double best_error = std::numeric_limits<double>::infinity();
   for (double k : choices) {
     PageSettings with_k = settings;
     with_k.filter_noise_sigmas = k;
-    FilteredPasses passes = filterPasses(atlas, texels, accumulator, with_k);
+    FilteredPasses passes = filterHalves(atlas, texels, accumulator, with_k, halves);
     const double error = estimatedSquares(passes, accumulator);
     if (error < best_error) {
       best_error = error;
       best = std::move(passes);
     }
-    if (!best.filtered) break;  // no filter: every k gives the raw passes
   }
   return best;
 }
