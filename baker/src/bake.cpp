@@ -111,21 +111,25 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const LoadedLevel& leve
     pass_seconds = run.clock.elapsed() - pass_start;
     ErrorPoint point;
     point.t_s = solver_seconds + (run.clock.elapsed() - stage_start);
-    // One filtering of the passes for both measures.
-    const FilteredPasses passes =
-        measuredPass(pass) ? bakeLighting(atlas, run.options, out.accumulator) : FilteredPasses{};
+    // One filtering of the passes for both measures (and, after the last
+    // pass, for the pages).
+    const bool measured = measuredPass(pass);
+    out.filtered = measured ? bakeLighting(atlas, run.options, out.accumulator) : FilteredPasses{};
     estimator.estimate(out.accumulator, out.accumulator.relativeError(),
-                       measuredPass(pass) ? &passes : nullptr, point);
+                       measured ? &out.filtered : nullptr, point);
     point.rays = solver.stats().rays;
-    if (!reference_pages.empty() && measuredPass(pass))
-      point.ref_rel_error = pagesReferenceError(level, atlas, run.options, passes, reference_pages);
+    if (!reference_pages.empty() && measured)
+      point.ref_rel_error =
+          pagesReferenceError(level, atlas, run.options, out.filtered, reference_pages);
     out.series.push_back(point);
   }
-  if (out.accumulator.passes() > 0 &&
+  // The last pass unmeasured: its filtering for the pages, and its split-half.
+  if (out.accumulator.passes() == 0 ||
       out.series.back().estimate != ErrorEstimate::kSplitHalfPages) {
-    const FilteredPasses passes = bakeLighting(atlas, run.options, out.accumulator);
-    estimator.estimate(out.accumulator, out.accumulator.relativeError(), &passes,
-                       out.series.back());
+    out.filtered = bakeLighting(atlas, run.options, out.accumulator);
+    if (out.accumulator.passes() > 0)
+      estimator.estimate(out.accumulator, out.accumulator.relativeError(), &out.filtered,
+                         out.series.back());
   }
   return out;  // finishBake measures the last pass's true error on the pages it writes
 }

@@ -302,8 +302,8 @@ nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
       {"page_height", in.texels.page_height},
       {"atlas", in.atlas.authored ? "TEXCOORD_1" : "xatlas"},
       {"indirect_filter", options.indirect_filter},
-      {"filter_noise_sigmas", in.lighting.filter_noise_sigmas > 0
-                                  ? nlohmann::ordered_json(in.lighting.filter_noise_sigmas)
+      {"filter_noise_sigmas", in.lighting.filtered.filtered
+                                  ? nlohmann::ordered_json(in.lighting.filtered.noise_sigmas)
                                   : nlohmann::ordered_json(nullptr)},
       {"covered_texels", counts.covered},
       {"dilated_texels", counts.dilated},
@@ -587,10 +587,9 @@ Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
                                 const std::vector<LightmapImage>& reference_pages,
                                 const nlohmann::ordered_json& extra_report) {
   run.clock.endStage("pages");
-  const FilteredPasses passes = bakeLighting(atlas, run.options, lighting.accumulator);
-  lighting.filter_noise_sigmas = passes.noise_sigmas;
-  LightmapPages pages = buildLightmapPages(level.geometry, atlas.atlas, atlas.texels, passes.mean,
-                                           bakePageSettings(atlas, run.options));
+  LightmapPages pages =
+      buildLightmapPages(level.geometry, atlas.atlas, atlas.texels, lighting.filtered.mean,
+                         bakePageSettings(atlas, run.options));
   const bool with_reference = !reference_pages.empty();
   if (with_reference && lighting.accumulator.passes() > 0) {
     lighting.series.back().ref_rel_error =

@@ -146,8 +146,8 @@ struct LightingPasses {
   std::vector<ErrorPoint> series;
   uint32_t gather_rays = 0;  ///< per texel and pass
   double solver_error = 0;   ///< the solver's estimated relative error
-  /// the filter's k in the pages written (FilteredPasses::noise_sigmas); 0 unfiltered
-  double filter_noise_sigmas = 0;
+  /// bakeLighting of `accumulator`: the texels the pages are built from
+  FilteredPasses filtered;
 };
 
 /// Writes the bake: pages (filtered, stitched, dilated), bake file, the

@@ -138,8 +138,8 @@ LightingPasses lightingFromShards(const LoadedPlan& loaded, MergedShards& merged
       filterPasses(loaded.atlas.atlas, loaded.atlas.texels, out.accumulator, unfiltered);
   ErrorPoint raw_point;
   estimator.estimate(out.accumulator, last_spread, &raw, raw_point);
-  const FilteredPasses passes = bakeLighting(loaded.atlas, run.options, out.accumulator);
-  estimator.estimate(out.accumulator, last_spread, &passes, out.series.back());
+  out.filtered = bakeLighting(loaded.atlas, run.options, out.accumulator);
+  estimator.estimate(out.accumulator, last_spread, &out.filtered, out.series.back());
   const size_t two_passes = out.series.size() - loaded.plan.passes + 1;
   estimator.scaleEarlier(out.series, two_passes);
   return out;
