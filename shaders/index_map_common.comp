@@ -2,7 +2,7 @@
 // Shared by index_map_reduce.comp and index_map_fallback.comp, linked into
 // each program as a second compute shader object: the per-sample records,
 // the cube faces, the lobe profiles and the fixed-point accumulators. The
-// CPU twin is runtime/src/gl/index_map_layouts.cpp; keep them in step.
+// CPU twin is runtime/src/indexmaps/index_map_layouts.cpp; keep them in step.
 
 const uint kNone = 0xffffffffu;
 const uint kLobeCosine = 0u;

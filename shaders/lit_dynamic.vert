@@ -3,7 +3,7 @@
 // triangles with per-triangle albedo and emission, and the runtime's
 // irradiance of each triangle's patch (w = 1 once the runtime has lit the
 // object). Vertex layout:
-// runtime/src/gl/scene_renderer_dynamic_objects.h (DynamicVertex).
+// runtime/src/render/scene_renderer_dynamic_objects.h (DynamicVertex).
 
 layout(location = 0) in vec3 a_position;  // world, metres
 layout(location = 1) in vec3 a_normal;    // world, unit, front side

@@ -4,7 +4,7 @@
 // fragment shader finds the runtime's delta at (svit_runtime_delta.frag).
 // Vertices are unshared, 3 per triangle in corner order, so a corner's
 // index within its triangle is gl_VertexID % 3. Vertex layout:
-// runtime/src/gl/scene_renderer_static_mesh.h (StaticVertex).
+// runtime/src/render/scene_renderer_static_mesh.h (StaticVertex).
 
 layout(location = 0) in vec3 a_position;    // world, metres
 layout(location = 1) in vec3 a_normal;      // world, unit, front side

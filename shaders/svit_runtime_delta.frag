@@ -4,10 +4,10 @@
 // triangle side, at the resolution of the runtime patches: the n x n
 // sub-triangle of the bake element under the point, and the delta
 // interpolated between its welded vertices, as Runtime::irradianceAt does
-// (runtime/src/gl/runtime_patches.cpp RuntimePatches::subTriangle; tables
-// built by runtime/src/gl/delta_surface.cpp). A host links this file and
+// (runtime/src/receivers/runtime_patches.cpp RuntimePatches::subTriangle; tables
+// built by runtime/src/receivers/delta_surface.cpp). A host links this file and
 // binds Runtime::shadingResources()' delta_elements, delta_slots and
-// vertex_deltas at these bindings (runtime/src/gl/scene_renderer_bindings.h).
+// vertex_deltas at these bindings (runtime/src/render/scene_renderer_bindings.h).
 
 layout(std430, binding = 1) readonly buffer DeltaElements { uvec2 delta_element[]; };  // (n, first slot)
 layout(std430, binding = 2) readonly buffer DeltaSlots { uvec4 delta_slot[]; };  // 3 welded vertices, used

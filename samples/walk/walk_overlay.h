@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "gl_handle.h"
+#include "gl/gl_handle.h"
 #include "svit/status.h"
 #include "walk_stats.h"
 

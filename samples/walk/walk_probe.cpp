@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "file_output.h"
+#include "scene/file_output.h"
 
 namespace svit::walk {
 

@@ -5,7 +5,7 @@
 
 #include "svit/gl_context.h"
 #include "svit/level.h"
-#include "file_output.h"
+#include "scene/file_output.h"
 #include "walk_camera.h"
 
 namespace svit::walk {

@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "file_output.h"
+#include "scene/file_output.h"
 #include "walk_script.h"
 
 namespace svit::walk {

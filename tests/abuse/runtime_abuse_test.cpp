@@ -12,9 +12,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "gl_test_context.h"
+#include "runtime/gl_test_context.h"
 #include "runtime_abuse_driver.h"
-#include "runtime_test_util.h"
+#include "runtime/runtime_test_util.h"
 
 namespace svit {
 namespace {

@@ -11,7 +11,7 @@
 #include <sstream>
 #include <string>
 
-#include "../gl/runtime_test_util.h"
+#include "runtime/runtime_test_util.h"
 #include "svit/bake_file.h"
 #include "svit/baker/bake.h"
 #include "svit/level.h"

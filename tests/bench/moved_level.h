@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "../gl/cornell_probes.h"
+#include "runtime/cornell_probes.h"
 #include "svit/level.h"
 
 namespace svit::test {

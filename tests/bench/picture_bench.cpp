@@ -2,7 +2,7 @@
 // dynamic objects follow their paths and the camera its path, as svit-walk
 // plays them headless, with a deterministic sample budget per frame. At the
 // reference frames, the runtime view and the baked-only view (doing
-// nothing) are compared in linear radiance (tests/gl/picture_metric.h)
+// nothing) are compared in linear radiance (tests/runtime/picture_metric.h)
 // with the baked view of a bake in which every dynamic object is static
 // where it is at that frame. Also time to the first frame and per-frame
 // times. Runtime lights are switched off (neither bake has them).
@@ -23,9 +23,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "../gl/gl_test_context.h"
-#include "../gl/picture_comparison_png.h"
-#include "../gl/picture_metric.h"
+#include "runtime/gl_test_context.h"
+#include "runtime/picture_comparison_png.h"
+#include "runtime/picture_metric.h"
 #include "bench_bake.h"
 #include "moved_level.h"
 #include "svit/gl_context.h"

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "parallel_for.h"
-#include "random.h"
-#include "sampling.h"
+#include "util/parallel_for.h"
+#include "util/random.h"
+#include "util/sampling.h"
 #include "svit/baker/radiosity.h"
 #include "svit/level.h"
 

@@ -27,7 +27,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "../gl/cornell_probes.h"
+#include "runtime/cornell_probes.h"
 #include "svit/gl_context.h"
 #include "svit/runtime.h"
 

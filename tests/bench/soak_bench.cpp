@@ -20,7 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "house_soak.h"
+#include "soak/house_soak.h"
 #include "svit/bake_file.h"
 #include "svit/level.h"
 

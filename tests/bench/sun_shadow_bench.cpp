@@ -9,7 +9,7 @@
 // the texels' static visibility times a caster map of the dynamic objects).
 // A second reference (seed 9) against the first gives the noise floor.
 //
-// (a) Picture error (tests/gl/picture_metric.h: RMS of the luminance
+// (a) Picture error (tests/runtime/picture_metric.h: RMS of the luminance
 //     difference over static pixels relative to the reference's mean
 //     there), split by the shadow's footprint: the static pixels where the
 //     reference is darker than the "without" picture by more than
@@ -58,9 +58,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "../gl/gl_test_context.h"
-#include "../gl/picture_comparison_png.h"
-#include "../gl/picture_metric.h"
+#include "runtime/gl_test_context.h"
+#include "runtime/picture_comparison_png.h"
+#include "runtime/picture_metric.h"
 #include "bench_bake.h"
 #include "moved_level.h"
 #include "svit/baker/probe.h"

@@ -65,7 +65,7 @@ lines = [
     f"{cam['elevation_rad'] * 57.29578:.0f}° down, vertical field of view {cam['yfov_rad']:.2f} rad, "
     f"{cam['width']}×{cam['height']}.",
     "",
-    "(a) Relative RMS of the luminance difference (tests/gl/picture_metric.h) over static pixels, "
+    "(a) Relative RMS of the luminance difference (tests/runtime/picture_metric.h) over static pixels, "
     f"split by the shadow's footprint: the {r['footprint_pixels']} pixels where the reference is "
     f"darker by more than {100 * r['footprint_darkening']:.0f} % than the picture without that "
     "shadow (the no-masks bake's baked view, its ball far away at the start).",

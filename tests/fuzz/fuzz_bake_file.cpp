@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "bake_file_decode.h"
-#include "bake_file_validate.h"
+#include "scene/bake_file_decode.h"
+#include "scene/bake_file_validate.h"
 #include "fuzz_support.h"
 #include "svit/bake_file.h"
 #include "svit/baked_surfaces.h"

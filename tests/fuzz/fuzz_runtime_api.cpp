@@ -20,7 +20,7 @@
 #include <string>
 
 #include "fuzz_support.h"
-#include "runtime_abuse_driver.h"
+#include "abuse/runtime_abuse_driver.h"
 #include "svit/bake_file.h"
 #include "svit/level.h"
 

@@ -1,7 +1,7 @@
 #pragma once
 // The promises a successful load makes (svit/scene.h, svit/level.h), checked
 // element by element: the oracle of the import fuzz targets
-// (fuzz_level_import.cpp) and of tests/scene/fuzz_regressions_test.cpp, so
+// (fuzz_level_import.cpp) and of tests/runtime/scene/fuzz_regressions_test.cpp, so
 // the fuzzers find wrong results, not only crashes. Header-only.
 
 #include <cmath>

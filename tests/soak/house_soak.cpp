@@ -7,8 +7,8 @@
 #include <cmath>
 #include <deque>
 
-#include "abuse_draws.h"
-#include "box_mesh.h"
+#include "abuse/abuse_draws.h"
+#include "abuse/box_mesh.h"
 
 namespace svit::soak {
 namespace {

@@ -13,9 +13,9 @@
 #include <cstring>
 #include <vector>
 
-#include "gl_test_context.h"
+#include "runtime/gl_test_context.h"
 #include "house_soak.h"
-#include "runtime_house_util.h"
+#include "runtime/runtime_house_util.h"
 
 namespace svit {
 namespace {

@@ -15,7 +15,7 @@
 
 #include <glm/glm.hpp>
 
-#include "random.h"
+#include "util/random.h"
 #include "stability_util.h"
 #include "svit/baker/lightmap_atlas.h"
 #include "svit/baker/texel_lighting.h"
@@ -55,7 +55,7 @@ double emittedFlux(const Scene& scene, const BakeGeometry& g) {
 }
 
 // ---------------------------------------------------------------------------
-// Ray origins: the offset of baker/src/ray_offset.cpp never self-intersects.
+// Ray origins: the offset of baker/src/rays/ray_offset.cpp never self-intersects.
 
 void addTriangle(BakeGeometry& g, const Vec3& a, const Vec3& b, const Vec3& c) {
   g.positions.insert(g.positions.end(), {a, b, c});

@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "random.h"
+#include "util/random.h"
 #include "stability_util.h"
 #include "svit/baker/lightmap_atlas.h"
 #include "svit/baker/texel_lighting.h"
@@ -261,7 +261,7 @@ TEST(Origin, LevelTenKilometresFromTheOrigin) {
   reportFigure("triangle irradiance RMS rel. difference", tri.rms_rel);
   reportFigure("captured fraction of surface rays", far.solved->solver->stats().captured_fraction);
   // Ray origins move 16 ULPs of 1e4 m = 1.6 cm off their surfaces there
-  // (baker/src/ray_offset.cpp); averaged over 6 seed pairs that biases the
+  // (baker/src/rays/ray_offset.cpp); averaged over 6 seed pairs that biases the
   // floor by +0.2%, the +x wall by -0.3%, the box by +0.6% and the panel,
   // 1 cm under the ceiling, by +1.0% (0.25 m and up to 13% before the
   // offset was made relative). Two runs then differ by at most 0.42% RMS

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "random.h"
+#include "util/random.h"
 #include "stability_util.h"
 
 namespace svit::baker {
@@ -115,7 +115,7 @@ TEST(Stiff, ClosedRoomWithABoxOnTheFloorConservesFluxAtAlbedo0p999) {
   // which closes the balance exactly for uniform albedo in a closed room.
   // What breaks it is flux lost on the way, amplified ~1/(1 - rho) = 1000
   // times: before reflected rays from the hidden floor under the box were
-  // shot again (baker/src/radiosity_solver.cpp, step 3b) they went into
+  // shot again (baker/src/radiosity/radiosity_solver.cpp, step 3b) they went into
   // the box's black insides and the balance was -85%. 1% is the issue's
   // bound; measured now: -3e-7.
   EXPECT_LT(std::abs(balance), 0.01);

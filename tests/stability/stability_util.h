@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "../baker/solver_fixture.h"
-#include "../baker/test_scenes.h"
+#include "baker/solver_fixture.h"
+#include "baker/test_scenes.h"
 #include "svit/baker/radiosity.h"
 
 namespace svit::test {
