@@ -3,9 +3,9 @@
 #include <filesystem>
 #include <utility>
 
+#include "scene/file_output.h"
 #include "svit/gl_context.h"
 #include "svit/level.h"
-#include "scene/file_output.h"
 #include "walk_camera.h"
 
 namespace svit::walk {

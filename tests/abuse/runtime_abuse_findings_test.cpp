@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "runtime/gl_test_context.h"
-#include "runtime_abuse_driver.h"
 #include "runtime/runtime_test_util.h"
+#include "runtime_abuse_driver.h"
 
 namespace svit {
 namespace {

@@ -13,8 +13,8 @@
 #include <string>
 
 #include "runtime/gl_test_context.h"
-#include "runtime_abuse_driver.h"
 #include "runtime/runtime_test_util.h"
+#include "runtime_abuse_driver.h"
 
 namespace svit {
 namespace {

@@ -14,11 +14,11 @@
 #include <string>
 #include <vector>
 
+#include "svit/baker/radiosity.h"
+#include "svit/level.h"
 #include "util/parallel_for.h"
 #include "util/random.h"
 #include "util/sampling.h"
-#include "svit/baker/radiosity.h"
-#include "svit/level.h"
 
 namespace {
 

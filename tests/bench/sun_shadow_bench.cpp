@@ -58,11 +58,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench_bake.h"
+#include "moved_level.h"
 #include "runtime/gl_test_context.h"
 #include "runtime/picture_comparison_png.h"
 #include "runtime/picture_metric.h"
-#include "bench_bake.h"
-#include "moved_level.h"
 #include "svit/baker/probe.h"
 #include "svit/gl_context.h"
 #include "svit/runtime.h"

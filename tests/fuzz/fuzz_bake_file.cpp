@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
+#include "fuzz_support.h"
 #include "scene/bake_file_decode.h"
 #include "scene/bake_file_validate.h"
-#include "fuzz_support.h"
 #include "svit/bake_file.h"
 #include "svit/baked_surfaces.h"
 #include "svit/level.h"

@@ -19,8 +19,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "fuzz_support.h"
 #include "abuse/runtime_abuse_driver.h"
+#include "fuzz_support.h"
 #include "svit/bake_file.h"
 #include "svit/level.h"
 

@@ -13,8 +13,8 @@
 #include <cstring>
 #include <vector>
 
-#include "runtime/gl_test_context.h"
 #include "house_soak.h"
+#include "runtime/gl_test_context.h"
 #include "runtime/runtime_house_util.h"
 
 namespace svit {

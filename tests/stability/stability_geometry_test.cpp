@@ -15,10 +15,10 @@
 
 #include <glm/glm.hpp>
 
-#include "util/random.h"
 #include "stability_util.h"
 #include "svit/baker/lightmap_atlas.h"
 #include "svit/baker/texel_lighting.h"
+#include "util/random.h"
 
 namespace svit::baker {
 namespace {

@@ -21,10 +21,10 @@
 #include <string>
 #include <vector>
 
-#include "util/random.h"
 #include "stability_util.h"
 #include "svit/baker/lightmap_atlas.h"
 #include "svit/baker/texel_lighting.h"
+#include "util/random.h"
 
 namespace svit::baker {
 namespace {

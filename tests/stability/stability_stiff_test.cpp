@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "util/random.h"
 #include "stability_util.h"
+#include "util/random.h"
 
 namespace svit::baker {
 namespace {

@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "util/parallel_for.h"
 #include "svit/baker/lightmap_atlas.h"
+#include "util/parallel_for.h"
 
 namespace svit::baker {
 namespace {

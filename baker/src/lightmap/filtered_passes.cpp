@@ -8,8 +8,8 @@
 #include <memory>
 #include <vector>
 
-#include "util/double_math.h"
 #include "atlas/texel_neighbours.h"
+#include "util/double_math.h"
 
 namespace svit::baker {
 namespace {

@@ -11,9 +11,9 @@
 #include <map>
 #include <unordered_map>
 
+#include "atlas/texel_neighbours.h"
 #include "util/parallel_for.h"
 #include "util/random.h"
-#include "atlas/texel_neighbours.h"
 
 namespace svit::baker {
 namespace {

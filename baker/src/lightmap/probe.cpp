@@ -7,9 +7,9 @@
 
 #include "svit/bake_file.h"
 #include "svit/baked_surfaces.h"
-#include "svit/masked_lights.h"
 #include "svit/level.h"
 #include "svit/lightmap_image.h"
+#include "svit/masked_lights.h"
 
 namespace svit::baker {
 namespace {

@@ -3,8 +3,8 @@
 // flux), and a one-bounce final gather against the interpolated radiosity
 // solution for indirect light, with rays that escape seeing the sky.
 
-#include "util/double_math.h"
 #include "svit/baker/texel_lighting.h"
+#include "util/double_math.h"
 
 #include <algorithm>
 #include <cmath>

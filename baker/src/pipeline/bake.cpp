@@ -5,13 +5,13 @@
 #include <cmath>
 #include <filesystem>
 
+#include "bake_output.h"
+#include "bake_stages.h"
+#include "lightmap_error.h"
 #include "svit/bake_file.h"
 #include "svit/level.h"
 #include "svit/lightmap_image.h"
-#include "bake_output.h"
-#include "bake_stages.h"
 #include "util/double_math.h"
-#include "lightmap_error.h"
 
 namespace svit::baker {
 namespace {

@@ -8,16 +8,16 @@
 #include <filesystem>
 #include <map>
 
+#include "bake_output.h"
+#include "radiosity/light_sources.h"
+#include "scene/file_output.h"
 #include "svit/bake_file.h"
 #include "svit/baker/lightmap_pages.h"
 #include "svit/baker/runtime_sections.h"
 #include "svit/baker/shadow_masks.h"
 #include "svit/level.h"
 #include "svit/lightmap_image.h"
-#include "bake_output.h"
 #include "util/double_math.h"
-#include "scene/file_output.h"
-#include "radiosity/light_sources.h"
 #include "util/random.h"
 
 namespace svit::baker {

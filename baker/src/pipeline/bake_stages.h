@@ -16,6 +16,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bake_plan.h"
+#include "lightmap/filtered_passes.h"
+#include "lightmap/texel_accumulator.h"
 #include "svit/baker/bake.h"
 #include "svit/baker/bake_geometry.h"
 #include "svit/baker/lightmap_atlas.h"
@@ -24,9 +27,6 @@
 #include "svit/baker/ray_caster.h"
 #include "svit/baker/texel_lighting.h"
 #include "svit/scene.h"
-#include "bake_plan.h"
-#include "lightmap/filtered_passes.h"
-#include "lightmap/texel_accumulator.h"
 
 namespace svit::baker {
 

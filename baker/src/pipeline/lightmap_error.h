@@ -21,10 +21,10 @@
 
 #include <vector>
 
-#include "svit/baker/radiosity.h"
 #include "bake_stages.h"
 #include "lightmap/filtered_passes.h"
 #include "lightmap/texel_accumulator.h"
+#include "svit/baker/radiosity.h"
 
 namespace svit::baker {
 

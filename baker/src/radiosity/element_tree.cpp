@@ -3,8 +3,8 @@
 // asks for T-vertex-free meshes), textured-emitter splitting and point
 // location.
 
-#include "util/double_math.h"
 #include "element_tree.h"
+#include "util/double_math.h"
 #include "util/random.h"
 
 #include <algorithm>

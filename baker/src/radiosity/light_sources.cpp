@@ -1,5 +1,5 @@
-#include "util/double_math.h"
 #include "light_sources.h"
+#include "util/double_math.h"
 
 #include <algorithm>
 #include <cmath>

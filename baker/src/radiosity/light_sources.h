@@ -9,10 +9,10 @@
 
 #include <glm/glm.hpp>
 
-#include "util/random.h"
 #include "svit/baker/bake_geometry.h"
 #include "svit/scene.h"
 #include "svit/status.h"
+#include "util/random.h"
 
 namespace svit::baker {
 

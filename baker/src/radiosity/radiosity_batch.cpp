@@ -10,10 +10,10 @@
 #include <map>
 #include <unordered_map>
 
-#include "util/double_math.h"
-#include "scene/glm_interop.h"
-#include "util/parallel_for.h"
 #include "radiosity_state.h"
+#include "scene/glm_interop.h"
+#include "util/double_math.h"
+#include "util/parallel_for.h"
 #include "util/random.h"
 #include "util/sampling.h"
 

@@ -10,9 +10,9 @@
 
 #include <cstring>
 
-#include "util/byte_stream.h"
 #include "radiosity_state.h"
 #include "svit/bake_file.h"
+#include "util/byte_stream.h"
 
 namespace svit::baker {
 namespace {

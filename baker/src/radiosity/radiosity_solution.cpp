@@ -7,8 +7,8 @@
 #include <cmath>
 #include <functional>
 
-#include "util/double_math.h"
 #include "radiosity_state.h"
+#include "util/double_math.h"
 
 namespace svit::baker {
 namespace {

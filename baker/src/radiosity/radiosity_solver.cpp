@@ -12,13 +12,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "radiosity_state.h"
+#include "scene/glm_interop.h"
+#include "scene/texture_sampling.h"
 #include "util/double_math.h"
 #include "util/parallel_for.h"
-#include "radiosity_state.h"
 #include "util/random.h"
 #include "util/sampling.h"
-#include "scene/texture_sampling.h"
-#include "scene/glm_interop.h"
 
 namespace svit::baker {
 namespace {

@@ -11,11 +11,11 @@
 
 #include <glm/glm.hpp>
 
-#include "util/double_math.h"
 #include "element_tree.h"
 #include "light_reach.h"
 #include "light_sources.h"
 #include "svit/baker/radiosity.h"
+#include "util/double_math.h"
 
 namespace svit::baker {
 

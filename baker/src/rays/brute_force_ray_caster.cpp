@@ -8,8 +8,8 @@
 #include <cmath>
 
 #include "ray_rules.h"
-#include "svit/baker/ray_caster.h"
 #include "scene/svit_check.h"
+#include "svit/baker/ray_caster.h"
 
 namespace svit::baker {
 namespace {

@@ -15,8 +15,8 @@
 
 #include "embree_handles.h"
 #include "ray_rules.h"
-#include "svit/baker/ray_caster.h"
 #include "scene/svit_check.h"
+#include "svit/baker/ray_caster.h"
 
 namespace svit::baker {
 namespace {

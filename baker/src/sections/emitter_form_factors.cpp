@@ -11,11 +11,11 @@
 
 #include <glm/glm.hpp>
 
-#include "util/double_math.h"
 #include "radiosity/light_sources.h"
+#include "runtime_sections_internal.h"
+#include "util/double_math.h"
 #include "util/parallel_for.h"
 #include "util/random.h"
-#include "runtime_sections_internal.h"
 #include "util/sampling.h"
 
 namespace svit::baker {

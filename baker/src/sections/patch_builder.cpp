@@ -11,9 +11,9 @@
 
 #include <glm/glm.hpp>
 
-#include "util/double_math.h"
 #include "radiosity/element_tree.h"
 #include "runtime_sections_internal.h"
+#include "util/double_math.h"
 
 namespace svit::baker {
 namespace {

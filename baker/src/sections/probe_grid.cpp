@@ -16,10 +16,10 @@
 
 #include <glm/glm.hpp>
 
+#include "runtime_sections_internal.h"
 #include "util/double_math.h"
 #include "util/parallel_for.h"
 #include "util/random.h"
-#include "runtime_sections_internal.h"
 #include "util/sampling.h"
 
 namespace svit::baker {

@@ -15,12 +15,12 @@
 
 #include <glm/glm.hpp>
 
-#include "util/double_math.h"
 #include "rays/nearest_side_index.h"
-#include "util/parallel_for.h"
-#include "util/random.h"
 #include "runtime_sections_internal.h"
 #include "simplify_mesh.h"
+#include "util/double_math.h"
+#include "util/parallel_for.h"
+#include "util/random.h"
 
 namespace svit::baker {
 namespace {

@@ -8,8 +8,8 @@
 #include <memory>
 #include <string>
 
-#include "svit/baker/radiosity.h"
 #include "pipeline/bake_stages.h"
+#include "svit/baker/radiosity.h"
 #include "work_plan.h"
 
 namespace svit::baker {

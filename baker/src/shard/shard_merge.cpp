@@ -12,11 +12,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "svit/baker/sharded_bake.h"
+#include "loaded_plan.h"
 #include "pipeline/bake_output.h"
 #include "pipeline/bake_stages.h"
 #include "pipeline/lightmap_error.h"
-#include "loaded_plan.h"
+#include "svit/baker/sharded_bake.h"
 #include "work_file.h"
 
 namespace svit::baker {

@@ -16,11 +16,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "svit/baker/sharded_bake.h"
+#include "loaded_plan.h"
 #include "pipeline/bake_output.h"
 #include "pipeline/bake_stages.h"
 #include "scene/file_output.h"
-#include "loaded_plan.h"
+#include "svit/baker/sharded_bake.h"
 #include "work_file.h"
 #include "work_plan.h"
 

@@ -7,9 +7,9 @@
 #include <fstream>
 #include <iterator>
 
+#include "scene/file_output.h"
 #include "svit/bake_file.h"
 #include "util/byte_stream.h"
-#include "scene/file_output.h"
 
 namespace svit::baker {
 namespace {

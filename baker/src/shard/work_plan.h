@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "lightmap/texel_accumulator.h"
+#include "pipeline/bake_stages.h"
 #include "svit/baker/bake.h"
 #include "svit/baker/lightmap_atlas.h"
 #include "svit/baker/texel_lighting.h"
-#include "pipeline/bake_stages.h"
-#include "lightmap/texel_accumulator.h"
 #include "work_file.h"
 
 namespace svit::baker {

@@ -7,9 +7,9 @@
 #include <string>
 
 #include "lighting/aabb_ops.h"
-#include "scene/numeric.h"
 #include "runtime_checks.h"
 #include "runtime_impl.h"
+#include "scene/numeric.h"
 #include "svit/gl_context.h"
 
 namespace svit {

@@ -2,8 +2,8 @@
 // what it adds through its current shares and takes back through its
 // baseline, by kind. DeltaAccumulator (delta_accumulator.h) sums them.
 
-#include "scene/numeric.h"
 #include "runtime_impl.h"
+#include "scene/numeric.h"
 
 namespace svit {
 namespace {

@@ -6,8 +6,8 @@
 #include <chrono>
 
 #include "lighting/aabb_ops.h"
-#include "scene/numeric.h"
 #include "runtime_impl.h"
+#include "scene/numeric.h"
 
 namespace svit {
 namespace {

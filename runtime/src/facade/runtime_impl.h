@@ -23,22 +23,22 @@
 
 #include <glm/glm.hpp>
 
-#include "lighting/bounce_solver.h"
 #include "change_tracker.h"
+#include "indexmaps/emitter_samples.h"
+#include "indexmaps/index_map_culling.h"
+#include "indexmaps/index_map_renderer.h"
+#include "lighting/bounce_solver.h"
 #include "lighting/delta_accumulator.h"
 #include "lighting/emitter.h"
 #include "lighting/emitter_importance.h"
-#include "indexmaps/emitter_samples.h"
 #include "lighting/emitter_set.h"
-#include "indexmaps/index_map_culling.h"
-#include "indexmaps/index_map_renderer.h"
 #include "lighting/light_scale.h"
+#include "lighting/static_level.h"
 #include "object_slots.h"
 #include "receivers/receivers.h"
-#include "refresh_scheduler.h"
 #include "receivers/runtime_patches.h"
 #include "receivers/shading_outputs.h"
-#include "lighting/static_level.h"
+#include "refresh_scheduler.h"
 #include "svit/runtime.h"
 
 namespace svit {

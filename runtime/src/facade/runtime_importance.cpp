@@ -10,9 +10,9 @@
 
 #include "lighting/aabb_ops.h"
 #include "lighting/emitter_importance.h"
+#include "runtime_impl.h"
 #include "scene/glm_interop.h"
 #include "scene/numeric.h"
-#include "runtime_impl.h"
 
 namespace svit {
 

@@ -12,8 +12,8 @@
 #define GLM_ENABLE_EXPERIMENTAL  // glm/gtx: intersectRayTriangle
 #include <glm/gtx/intersect.hpp>
 
-#include "scene/glm_interop.h"
 #include "runtime_impl.h"
+#include "scene/glm_interop.h"
 
 namespace svit {
 namespace {

@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <chrono>
 
+#include "runtime_impl.h"
 #include "scene/glm_interop.h"
 #include "scene/numeric.h"
-#include "runtime_impl.h"
 
 namespace svit {
 namespace {

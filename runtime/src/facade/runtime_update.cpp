@@ -10,8 +10,8 @@
 #include <cmath>
 #include <limits>
 
-#include "scene/numeric.h"
 #include "runtime_impl.h"
+#include "scene/numeric.h"
 
 namespace svit {
 namespace {

@@ -5,9 +5,9 @@
 
 #include <glm/glm.hpp>
 
+#include "sample_random.h"
 #include "scene/glm_interop.h"
 #include "scene/numeric.h"
-#include "sample_random.h"
 
 namespace svit::gl {
 namespace {

@@ -22,12 +22,13 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "facade/runtime_checks.h"
 #include "gl/gl_handle.h"
 #include "gl/gl_memory.h"
 #include "gl/gl_program.h"
+#include "gl/shader_sources.h"
 #include "scene/glm_interop.h"
 #include "scene/numeric.h"
-#include "facade/runtime_checks.h"
 #include "scene_renderer_bindings.h"
 #include "scene_renderer_dynamic_objects.h"
 #include "scene_renderer_lightmaps.h"
@@ -37,7 +38,6 @@
 #include "scene_renderer_shadow_maps.h"
 #include "scene_renderer_static_mesh.h"
 #include "scene_renderer_target.h"
-#include "gl/shader_sources.h"
 #include "svit/gl_context.h"
 #include "svit/runtime.h"
 

@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "gl/gl_program.h"
-#include "scene_renderer_bindings.h"
 #include "scene/numeric.h"
+#include "scene_renderer_bindings.h"
 #include "svit/baked_surfaces.h"
 #include "svit/masked_lights.h"
 

@@ -13,13 +13,13 @@
 #include <string>
 #include <vector>
 
+#include "atlas/atlas_instances.h"
+#include "atlas/xatlas_unwrap.h"
+#include "baker/lightmap_test_util.h"
+#include "baker/test_scenes.h"
 #include "svit/baker/bake_geometry.h"
 #include "svit/baker/lightmap_atlas.h"
 #include "svit/baker/ray_caster.h"
-#include "atlas/atlas_instances.h"
-#include "baker/lightmap_test_util.h"
-#include "baker/test_scenes.h"
-#include "atlas/xatlas_unwrap.h"
 
 namespace svit::baker {
 namespace {

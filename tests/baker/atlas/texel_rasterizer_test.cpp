@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "baker/lightmap_test_util.h"
+#include "baker/test_scenes.h"
 #include "svit/baker/bake_geometry.h"
 #include "svit/baker/lightmap_atlas.h"
 #include "svit/baker/ray_caster.h"
-#include "baker/test_scenes.h"
 
 namespace svit::baker {
 namespace {

@@ -13,10 +13,10 @@
 #include <cmath>
 #include <vector>
 
-#include "scene/numeric.h"
 #include "baker/solver_fixture.h"
-#include "svit/baker/texel_lighting.h"
 #include "baker/test_scenes.h"
+#include "scene/numeric.h"
+#include "svit/baker/texel_lighting.h"
 
 namespace svit::baker {
 namespace {

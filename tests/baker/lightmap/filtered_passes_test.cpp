@@ -11,12 +11,12 @@
 #include <memory>
 #include <vector>
 
+#include "baker/lightmap_test_util.h"
+#include "lightmap/filtered_passes.h"
+#include "lightmap/texel_accumulator.h"
 #include "svit/baker/lightmap_pages.h"
 #include "svit/baker/ray_caster.h"
-#include "lightmap/filtered_passes.h"
-#include "baker/lightmap_test_util.h"
 #include "util/random.h"
-#include "lightmap/texel_accumulator.h"
 
 namespace svit::baker {
 namespace {

@@ -9,10 +9,10 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "baker/test_scenes.h"
 #include "svit/baker/bake.h"
 #include "svit/baker/probe.h"
 #include "svit/level.h"
-#include "baker/test_scenes.h"
 
 namespace svit::baker {
 namespace {

@@ -7,12 +7,12 @@
 #include <cmath>
 #include <cstdio>
 
+#include "baker/test_scenes.h"
 #include "svit/baker/lightmap_atlas.h"
 #include "svit/baker/lightmap_pages.h"
 #include "svit/baker/radiosity.h"
 #include "svit/baker/texel_lighting.h"
 #include "svit/level.h"
-#include "baker/test_scenes.h"
 
 namespace svit::baker {
 namespace {

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "baker/test_scenes.h"
 #include "svit/baked_surfaces.h"
 #include "svit/baker/bake.h"
-#include "baker/test_scenes.h"
 
 namespace svit::test {
 

@@ -14,12 +14,12 @@
 #include <set>
 #include <vector>
 
+#include "baker/radiosity_test_util.h"
+#include "baker/test_scenes.h"
 #include "radiosity/element_tree.h"
 #include "scene/numeric.h"
-#include "baker/radiosity_test_util.h"
-#include "util/random.h"
 #include "svit/baker/radiosity.h"
-#include "baker/test_scenes.h"
+#include "util/random.h"
 
 namespace svit::baker {
 namespace {

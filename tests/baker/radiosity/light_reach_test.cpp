@@ -8,10 +8,10 @@
 
 #include <vector>
 
+#include "baker/test_scenes.h"
 #include "radiosity/light_reach.h"
 #include "radiosity/light_sources.h"
 #include "svit/baker/bake_geometry.h"
-#include "baker/test_scenes.h"
 
 namespace svit::baker {
 namespace {

@@ -9,11 +9,11 @@
 #include <memory>
 #include <vector>
 
+#include "baker/radiosity_test_util.h"
+#include "baker/test_scenes.h"
 #include "radiosity/light_sources.h"
 #include "scene/numeric.h"
-#include "baker/radiosity_test_util.h"
 #include "svit/baker/radiosity.h"
-#include "baker/test_scenes.h"
 
 namespace svit::baker {
 namespace {

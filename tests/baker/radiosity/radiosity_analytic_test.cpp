@@ -6,9 +6,9 @@
 #include <chrono>
 #include <cstdio>
 
-#include "svit/baker/radiosity.h"
 #include "baker/solver_fixture.h"
 #include "baker/test_scenes.h"
+#include "svit/baker/radiosity.h"
 
 namespace svit::baker {
 namespace {

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "baker/radiosity_test_util.h"
-#include "util/random.h"
 #include "svit/baker/radiosity.h"
+#include "util/random.h"
 
 namespace svit::baker {
 namespace {

@@ -9,11 +9,11 @@
 #include <limits>
 #include <vector>
 
-#include "util/double_math.h"
 #include "rays/embree_handles.h"
 #include "rays/nearest_side_index.h"
-#include "util/random.h"
 #include "svit/baker/bake_geometry.h"
+#include "util/double_math.h"
+#include "util/random.h"
 
 namespace svit::baker {
 namespace {

@@ -15,10 +15,10 @@
 #include <memory>
 #include <set>
 
-#include "sections/runtime_sections_internal.h"
-#include "svit/baker/runtime_sections.h"
 #include "baker/solver_fixture.h"
 #include "baker/test_scenes.h"
+#include "sections/runtime_sections_internal.h"
+#include "svit/baker/runtime_sections.h"
 
 namespace svit::baker {
 namespace {

@@ -13,8 +13,8 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "baker/test_scenes.h"
-#include "runtime/gl_test_context.h"
 #include "runtime/cornell_probes.h"
+#include "runtime/gl_test_context.h"
 #include "runtime/runtime_test_util.h"
 #include "svit/baked_surfaces.h"
 #include "svit/runtime.h"

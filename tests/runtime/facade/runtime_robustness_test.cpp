@@ -16,8 +16,8 @@
 
 #include "abuse/box_mesh.h"
 #include "runtime/gl_test_context.h"
-#include "scene/numeric.h"
 #include "runtime/runtime_test_util.h"
+#include "scene/numeric.h"
 #include "svit/runtime.h"
 
 namespace svit {

@@ -23,8 +23,8 @@
 #include <string>
 #include <tuple>
 
-#include "runtime/gl_test_context.h"
 #include "index_map_test_util.h"
+#include "runtime/gl_test_context.h"
 #include "shared_scene.h"
 #include "svit/level.h"
 

@@ -11,8 +11,8 @@
 #include <limits>
 #include <tuple>
 
-#include "runtime/gl_test_context.h"
 #include "index_map_test_util.h"
+#include "runtime/gl_test_context.h"
 
 namespace svit::test {
 namespace {

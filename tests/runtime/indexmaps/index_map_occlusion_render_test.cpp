@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "runtime/gl_test_context.h"
 #include "index_map_test_util.h"
+#include "runtime/gl_test_context.h"
 
 namespace svit::test {
 namespace {

@@ -10,8 +10,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "lighting/bounce_solver.h"
 #include "indexmaps/sample_random.h"
+#include "lighting/bounce_solver.h"
 
 namespace svit::gl {
 namespace {

@@ -6,8 +6,8 @@
 
 #include <algorithm>
 
-#include "lighting/emitter_importance.h"
 #include "indexmaps/sample_random.h"
+#include "lighting/emitter_importance.h"
 
 namespace svit::gl {
 namespace {

@@ -6,8 +6,8 @@
 
 #include "runtime/gl_test_context.h"
 #include "scene_renderer_test_util.h"
-#include "svit/scene_renderer.h"
 #include "svit/runtime.h"
+#include "svit/scene_renderer.h"
 
 namespace svit {
 namespace {

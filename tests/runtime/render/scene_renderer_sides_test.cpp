@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "runtime/gl_test_context.h"
 #include "baker/pipeline/leak_levels.h"
+#include "runtime/gl_test_context.h"
 #include "svit/baker/bake.h"
 #include "svit/level.h"
 #include "svit/scene_renderer.h"
