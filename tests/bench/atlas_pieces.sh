@@ -6,8 +6,8 @@
 # 1M triangles, 25 texels/m) and on Sponza (its default density, when
 # ../shared/scenes is there): seconds, charts, page texels, and the growth
 # exponent of the seconds against triangles (all points / top three).
-# Writes WORK/atlas_pieces.md and puts it in docs/performance.md between
-# its atlas_pieces.sh markers.
+# Writes WORK/atlas_pieces.md and puts it in docs/bench/atlas_pieces.md
+# between its atlas_pieces.sh markers.
 # usage: tests/bench/atlas_pieces.sh BUILD_DIR WORK [K] [THREADS]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -65,4 +65,4 @@ table = "\n".join(lines) + "\n"
 open(out, "w").write(table)
 print(table)
 PY
-python3 "$root/tests/bench/doc_section.py" "$root/docs/performance.md" atlas_pieces.sh "$work/atlas_pieces.md"
+python3 "$root/tests/bench/doc_section.py" "$root/docs/bench/atlas_pieces.md" atlas_pieces.sh "$work/atlas_pieces.md"

@@ -10,8 +10,8 @@
 # quality plan's coarser solver, whose subdivision error is the
 # reference's, not the bake's, and which no split-half sees).
 # Writes WORK/estimate_honesty.md (and WORK/LEVEL/{reference,filtered,
-# unfiltered}/) and puts the table into docs/performance.md between its
-# estimate_honesty.sh markers. A reference already in WORK is kept (its
+# unfiltered}/) and puts the table into docs/bench/estimate_honesty.md
+# between its estimate_honesty.sh markers. A reference already in WORK is kept (its
 # time is no part of the results; delete WORK/LEVEL/reference to bake it
 # again). About 5 minutes a level on the 2-core machine, plus REF_S for a
 # reference; levels whose glTF is absent (../shared) are skipped and said
@@ -108,5 +108,5 @@ text = "\n".join(lines) + "\n\n" + \
 open(out, "w").write(text)
 print(text)
 PY
-python3 "$root/tests/bench/doc_section.py" "$root/docs/performance.md" estimate_honesty.sh \
+python3 "$root/tests/bench/doc_section.py" "$root/docs/bench/estimate_honesty.md" estimate_honesty.sh \
   "$work/estimate_honesty.md"

@@ -11,7 +11,7 @@
 # are compared in linear luminance against the reference (RMS of the
 # difference over the reference's mean, bench_frame_compare) and cut out
 # 3x as PNGs into docs/images/filter-CROP-BAKE.png. The table goes into
-# docs/performance.md between its filter_crops.sh markers.
+# docs/bench/filter_crops.md between its filter_crops.sh markers.
 # The reference's own noise is estimated from the unfiltered bakes: the
 # two differ by e^2 = n^2 (1 + PASSES / REF_PASSES) for per-bake noise n
 # at PASSES, so the reference carries n^2 PASSES / REF_PASSES.
@@ -83,4 +83,4 @@ for crop in "${crops[@]}"; do
   unset error
 done
 cat "$table"
-python3 "$root/tests/bench/doc_section.py" "$root/docs/performance.md" filter_crops.sh "$table"
+python3 "$root/tests/bench/doc_section.py" "$root/docs/bench/filter_crops.md" filter_crops.sh "$table"

@@ -5,8 +5,8 @@
 # (bytes) and left out (why) from report.json, and the runtime's and
 # renderer's buffers allocated (bytes) and left out (why) from svit-walk's
 # stats JSON (Runtime::resources(), SceneRenderer::resources()).
-# Writes OUT/audit.md (the table in docs/performance.md, and with
-# resource_audit_header.md docs/resource-audit.md), OUT/audit.json and per level
+# Writes OUT/audit.md (with resource_audit_header.md it becomes
+# docs/resource-audit.md, this bench's page), OUT/audit.json and per level
 # OUT/LEVEL/{bake,stats.json}.
 # usage: tests/bench/left_out_audit.sh [BUILD_DIR] [OUT_DIR]
 # (SVIT_AUDIT_REUSE=1 keeps bakes already in OUT_DIR.)

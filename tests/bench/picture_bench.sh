@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Picture error against time along the demo walk (Cornell box), the house's
 # walk and, when ../shared/scenes is there, a Sponza walk: bench_picture per level, then
-# docs/performance.md's picture section and docs/images/picture_error.svg
-# regenerated from the JSON (picture_report.py). Headless: under xvfb-run
+# the tables of docs/bench/picture_bench.md (between its picture_report.py
+# markers) and docs/images/picture_error.svg regenerated from the JSON
+# (picture_report.py). Headless: under xvfb-run
 # without a display. Bakes are kept in WORK and reused.
 # usage: tests/bench/picture_bench.sh BUILD_BENCH_DIR WORK [sponza-seconds]
 #   BUILD_BENCH_DIR: a build with -DSVIT_BUILD_BENCH=ON (its tests/bench/bench_picture)
@@ -33,5 +34,5 @@ if [[ "$sponza_s" != 0 && -f "$root/../shared/scenes/sponza/Sponza.gltf" ]]; the
 else
   echo "picture_bench.sh: Sponza skipped (no ../shared/scenes/sponza, or sponza-seconds 0)"
 fi
-python3 "$root/tests/bench/picture_report.py" "$root/docs/performance.md" "$root/docs/images/picture_error.svg" "${runs[@]}"
-echo "picture_bench.sh: wrote docs/performance.md (picture section) and docs/images/picture_error.svg"
+python3 "$root/tests/bench/picture_report.py" "$root/docs/bench/picture_bench.md" "$root/docs/images/picture_error.svg" "${runs[@]}"
+echo "picture_bench.sh: wrote docs/bench/picture_bench.md (its tables) and docs/images/picture_error.svg"

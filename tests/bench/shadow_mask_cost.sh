@@ -6,7 +6,7 @@
 # memory, and the mean shading time per frame (caster maps plus the
 # masked lights' per-pixel shading against the lightmap alone). Writes
 # WORK/shadow_mask_cost.json, prints a Markdown table and puts it in
-# docs/performance.md between its shadow_mask_cost.sh markers. Sponza is
+# docs/bench/shadow_mask_cost.md between its shadow_mask_cost.sh markers. Sponza is
 # skipped (and says so) without ../shared/scenes.
 # Levels: the Cornell box (its lamp masked as area lights), the house, Sponza.
 # usage: tests/bench/shadow_mask_cost.sh BUILD_DIR WORK [FRAMES] [BAKE_PASSES]
@@ -76,4 +76,4 @@ table = "\n".join(lines) + f"\n\n{frames} frames of each level's walk per run, t
 print(table)
 open(f"{work}/shadow_mask_cost.md", "w").write(table)
 PY
-python3 "$root/tests/bench/doc_section.py" "$root/docs/performance.md" shadow_mask_cost.sh "$work/shadow_mask_cost.md"
+python3 "$root/tests/bench/doc_section.py" "$root/docs/bench/shadow_mask_cost.md" shadow_mask_cost.sh "$work/shadow_mask_cost.md"

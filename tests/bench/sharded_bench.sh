@@ -3,7 +3,8 @@
 # skipped with a note when ../shared/scenes is absent) and a generated
 # 16 x 16-room house (issue 23 item 4): per-shard wall time and peak memory,
 # the total work of the shards against one bake, the balance, and byte
-# identity. Rewrites the sharded section of docs/performance.md.
+# identity. Rewrites the table of docs/bench/sharded_bench.md (between its
+# sharded_bench.sh markers, sharded_report.py).
 # usage: tests/bench/sharded_bench.sh BUILD_DIR OUT_DIR [SHARDS]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -23,5 +24,5 @@ if [[ -f "$root/../shared/scenes/sponza/Sponza.gltf" ]]; then
 else
   echo "sharded_bench.sh: ../shared/scenes/sponza is absent; Sponza skipped" >&2
 fi
-python3 "$root/tests/bench/sharded_report.py" "$root/docs/performance.md" "$results"
-echo "sharded_bench.sh: wrote docs/performance.md (sharded section); figures in $results"
+python3 "$root/tests/bench/sharded_report.py" "$root/docs/bench/sharded_bench.md" "$results"
+echo "sharded_bench.sh: wrote docs/bench/sharded_bench.md (its table); figures in $results"

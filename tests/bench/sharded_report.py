@@ -1,8 +1,13 @@
 #!/usr/bin/env python3
-"""Tables sharded_bench.py's figures into docs/performance.md (between the
-sharded_bench.sh markers). usage: sharded_report.py PERFORMANCE_MD RESULTS.jsonl"""
+"""Tables sharded_bench.py's figures into docs/bench/sharded_bench.md (between
+its `<!-- sharded_bench.sh: begin -->` and `<!-- sharded_bench.sh: end -->`
+markers, doc_section.py). usage: sharded_report.py DOC RESULTS.jsonl"""
 import json
+import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from doc_section import put_section  # noqa: E402
 
 
 def mb(b):
@@ -40,19 +45,12 @@ def main():
     for r in rows:
         lines += case_rows(r)
     options = "; ".join(f"{r['name']}: `{r['options']}`" for r in rows)
-    begin, end = "<!-- sharded_bench.sh: begin -->", "<!-- sharded_bench.sh: end -->"
-    section = (f"{begin}\n## Sharded bakes: plan, shards, merge against one bake (`tests/bench/sharded_bench.sh`)\n\n"
-               "Each step run on the 2-core machine with both cores, one after the other. Work is CPU time "
+    section = ("Each step run on the 2-core machine with both cores, one after the other. Work is CPU time "
                "(user + system, from each process's rusage): what N machines spend together, and unlike wall "
                "time not inflated by other load on the machine (wall times are given too). Peak memory is each "
                "process's maximum resident set. The balance is the longest shard against the mean (targets: "
-               f"overhead ≤ 10 %, balance ≤ 1.2). Options: {options}.\n\n" + "\n".join(lines) + f"\n{end}\n")
-    text = open(path).read()
-    if begin in text and end in text:
-        text = text[:text.index(begin)] + section + text[text.index(end) + len(end) + 1:]
-    else:
-        text = text.rstrip("\n") + "\n\n" + section
-    open(path, "w").write(text)
+               f"overhead ≤ 10 %, balance ≤ 1.2). Options: {options}.\n\n" + "\n".join(lines) + "\n")
+    put_section(path, "sharded_bench.sh", section)
     print("\n".join(lines))
 
 

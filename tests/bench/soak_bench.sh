@@ -2,8 +2,10 @@
 # The long soak (issue 24): bakes the 2 x 2 house (samples/levels/house) as
 # the GL tests do, runs bench_soak for FRAMES frames under Xvfb, twice with
 # the same seed (the replay), and writes OUT/soak.json and OUT/soak.md, the
-# table docs/performance.md shows (resources() totals, the heap glibc
-# reports in use, the emitter records, and host bytes by resources() line).
+# tables (resources() totals, the heap glibc reports in use, the emitter
+# records, and host bytes by resources() line) that it also puts into
+# docs/bench/soak_bench.md between its soak_bench.sh markers
+# (tests/bench/doc_section.py).
 # usage: tests/bench/soak_bench.sh [BUILD_DIR] [OUT_DIR] [FRAMES]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -57,4 +59,5 @@ print(f"Frame time (update(), llvmpipe): {early:.2f} ms per frame in the first q
       f"{late:.2f} ms in the last ({(late / early - 1) * 100:+.1f} %).")
 PY
 cat "$out/soak.md"
+python3 "$root/tests/bench/doc_section.py" "$root/docs/bench/soak_bench.md" soak_bench.sh "$out/soak.md"
 exit $status

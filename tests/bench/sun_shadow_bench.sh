@@ -2,8 +2,9 @@
 # The ball's shadow in the sun on Sponza, before and after shadow masks:
 # bench_sun_shadow (tests/bench/sun_shadow_bench.cpp says what it measures)
 # with the ball moved to BALL_X, then WORK/sun_shadow.json, the crops
-# docs/images/sun-shadow-{reference,before,after}.png and docs/performance.md's
-# section between its sun_shadow_bench.sh markers. Builds nothing; headless
+# docs/images/sun-shadow-{reference,before,after}.png, WORK/sun_shadow.md and
+# its tables in docs/bench/sun_shadow_bench.md, between its sun_shadow_bench.sh
+# markers (tests/bench/doc_section.py). Builds nothing; headless
 # under xvfb-run without a display. Bakes are kept in WORK and reused while
 # their stamp matches. Skipped (and says so) without ../shared/scenes/sponza.
 # usage: tests/bench/sun_shadow_bench.sh BUILD_DIR WORK [bake-seconds]
@@ -28,9 +29,9 @@ mkdir -p "$work"
 "${xvfb[@]}" "$bench" --level "$root/samples/levels/sponza/level.json" --work "$work" \
   --json "$work/sun_shadow.json" --time "$bake_s" --ball-x "$ball_x" \
   --png-prefix "$root/docs/images/sun-shadow" | tee "$work/sun_shadow.txt"
-python3 - "$work/sun_shadow.json" "$root/docs/performance.md" "$bake_s" "$ball_x" <<'PY'
-import json, re, sys
-path, doc, bake_s, ball_x = sys.argv[1:5]
+python3 - "$work/sun_shadow.json" "$work/sun_shadow.md" "$bake_s" "$ball_x" <<'PY'
+import json, sys
+path, out, bake_s, ball_x = sys.argv[1:5]
 r = json.load(open(path))
 pe, ed, cam = r["picture_error"], r["edges"], r["camera"]
 f = lambda v: f"{v:.4f}"
@@ -45,9 +46,6 @@ rows = [("before: no masks, runtime settled", "before"), ("after: masks, runtime
         ("before's bake, baked-only", "before_baked_only"), ("after's bake, baked-only", "after_baked_only"),
         ("second reference (noise floor)", "noise_floor")]
 lines = [
-    "<!-- sun_shadow_bench.sh -->",
-    "### Sponza: the ball's shadow in the sun, before and after shadow masks",
-    "",
     f"`tests/bench/sun_shadow_bench.sh build/bench /tmp/sunshadow {bake_s}` "
     f"({r['renderer']}, 2-core CPU; four Sponza bakes of {float(r['bake_time_s']):.0f} s, quality "
     f"{r['bake_quality']}, {r['bakes_wall_s']:.0f} s of baking in this run, 0 when reused). "
@@ -132,20 +130,12 @@ lines += [
     "",
     "Reference, before and after (the view's central half):",
     "",
-    "![reference](images/sun-shadow-reference.png) ![before](images/sun-shadow-before.png) "
-    "![after](images/sun-shadow-after.png)",
-    "<!-- /sun_shadow_bench.sh -->",
+    "![reference](../images/sun-shadow-reference.png) ![before](../images/sun-shadow-before.png) "
+    "![after](../images/sun-shadow-after.png)",
 ]
-section = "\n".join(lines)
-text = open(doc).read()
-pattern = re.compile(r"<!-- sun_shadow_bench\.sh -->.*?<!-- /sun_shadow_bench\.sh -->", re.S)
-if pattern.search(text):
-    text = pattern.sub(lambda m: section, text)
-else:  # first run: right after the picture sections' tables
-    anchor = "<!-- picture_report.py: end -->\n"
-    assert anchor in text, "docs/performance.md: no picture_report.py end marker"
-    text = text.replace(anchor, anchor + "\n" + section + "\n", 1)
-open(doc, "w").write(text)
+section = "\n".join(lines) + "\n"
+open(out, "w").write(section)
 print(section)
 PY
-echo "sun_shadow_bench.sh: wrote $work/sun_shadow.json, docs/images/sun-shadow-*.png and docs/performance.md's section"
+python3 "$root/tests/bench/doc_section.py" "$root/docs/bench/sun_shadow_bench.md" sun_shadow_bench.sh "$work/sun_shadow.md"
+echo "sun_shadow_bench.sh: wrote $work/sun_shadow.json, docs/images/sun-shadow-*.png and docs/bench/sun_shadow_bench.md's tables"

@@ -3,7 +3,8 @@
 
 usage: check_doc_links.py [REPO_ROOT] [FILE.md ...]
 
-Without files it checks README.md and docs/*.md. Every relative link or
+Without files it checks README.md, docs/*.md and, where those folders
+exist, docs/bench/*.md and docs/architecture/*.md. Every relative link or
 image, [text](path) or ![alt](path), must name an existing file or folder
 (relative to the file that links); a #fragment into a Markdown file must
 name one of its headings, spelled as GitHub makes heading anchors. Links
@@ -114,8 +115,10 @@ def main(argv):
     files = argv[2:]
     if not files:
         files = [os.path.join(root, "README.md")]
-        docs = os.path.join(root, "docs")
-        files += sorted(os.path.join(docs, n) for n in os.listdir(docs) if n.endswith(".md"))
+        for folder in ("docs", os.path.join("docs", "bench"), os.path.join("docs", "architecture")):
+            docs = os.path.join(root, folder)
+            if os.path.isdir(docs):
+                files += sorted(os.path.join(docs, n) for n in os.listdir(docs) if n.endswith(".md"))
     problems = []
     checkout = repository_files(root)
     for path in files:
