@@ -39,11 +39,11 @@ struct MaskedAreaSample {
 /// Point samples of an area light for the dynamic objects' shadow: the
 /// solid angle the light subtends at the casters over this, rounded up,
 /// 1..kMaxAreaSamples (a far lamp casts as a point; a near one needs its
-/// penumbra resolved). Each of the Cornell lamp's two patches subtends
-/// about 0.05 sr at the moved tall box: 12 samples, where the picture
-/// error stops falling (0.0200 with 3 samples a patch, 0.0186 with 6,
-/// 0.0180 with 12, 0.0178 with 16 and 24;
-/// RuntimePicture.AreaLampShadowOfTheMovedBoxIsPerPixel).
+/// penumbra resolved). Tuned on the Cornell lamp, whose two patches each
+/// subtend about 0.05 sr at the moved tall box: 12 samples a patch, where
+/// the picture error against the reference stops falling
+/// (RuntimePicture.AreaLampShadowOfTheMovedBoxIsPerPixel;
+/// docs/bench/runtime_picture.md).
 inline constexpr double kAreaSampleSolidAngleSr = 0.004;
 inline constexpr uint32_t kMaxAreaSamples = 16;
 

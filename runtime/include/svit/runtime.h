@@ -1,10 +1,11 @@
 #pragma once
 // svit::Runtime — what a game links to keep the baked lighting right while
-// objects and lights move (thesis ch. 5, docs/architecture.md §8). The bake
-// holds the static solution; the runtime tracks per-patch irradiance deltas
-// against it, computed from index shadow maps rendered from point samples
-// of emitters, bounced, and compensated as ambient; the host shades with the
-// lightmaps plus those deltas (GLSL in shaders/, see shadingSources()).
+// objects and lights move (thesis ch. 5, docs/architecture/runtime-facade.md
+// "The runtime pipeline"). The bake holds the static solution; the runtime
+// tracks per-patch irradiance deltas against it, computed from index shadow
+// maps rendered from point samples of emitters, bounced, and compensated as
+// ambient; the host shades with the lightmaps plus those deltas (GLSL in
+// shaders/, see shadingSources()).
 //
 // Threading: every member needs the GL context that was current at create()
 // to be current on the calling thread; no member is thread-safe.
@@ -84,8 +85,8 @@ struct RuntimeSettings {
   /// visible patch; each emitter's cached shares give its importance for
   /// that view (light it puts on visible pixels, directly and through the
   /// secondary emitters it lights); emitters whose maps are out of date
-  /// refresh most important first, the rest at intervals that double as
-  /// their importance halves. Off (or no view): brightest first.
+  /// refresh most important first, the rest at intervals that double each
+  /// time their importance falls by 4x. Off (or no view): brightest first.
   bool importance_caching = true;
   int view_pass_width = 128;      ///< id pass pixels across (height by aspect), 16..1024
   int max_refresh_interval = 32;  ///< frames an unimportant out-of-date emitter may wait, 1..1024

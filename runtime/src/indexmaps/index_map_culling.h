@@ -29,9 +29,9 @@ inline constexpr uint32_t kChunkTriangles = 32;
 /// of a k-d split of the centroids (longest axis, at a multiple of the run
 /// length near the middle), in tree order, so neighbouring runs are near
 /// each other too. Deterministic (ties kept in index order). A level's
-/// triangles come in whatever order its patches were made in: on the
-/// sample house a run of 32 spanned a whole room (5.5 m boxes), so no face
-/// could leave any part of a room out.
+/// triangles come in whatever order its patches were made in, where 32
+/// consecutive ones may span a whole room, and a face can then leave no
+/// part of the room out.
 std::vector<uint32_t> spatialRunOrder(std::span<const glm::vec3> centroids);
 
 /// A run of triangles [first, first + count) and its world box, m.
@@ -104,10 +104,10 @@ struct Box {
 /// closed level a ray from the sample that meets a dynamic triangle goes on
 /// to a static one the same sample saw without it, which is in the set and
 /// the face, so the dynamic triangle lies between the eye and that static
-/// one (the assumption the runtime's reach tests make too). On the 8 x 8
-/// sample house doors and tables were four fifths of what set samples drew:
-/// every one in the emitter's reach and the face's frustum, behind walls or
-/// not.
+/// one (the assumption the runtime's reach tests make too). Without this a
+/// set sample draws every dynamic triangle in the emitter's reach and the
+/// face's frustum, behind walls or not: in a furnished level, most of what
+/// it draws.
 void keepDynamicBeforeSet(std::span<const TriangleChunk> chunks, const glm::dvec3& eye,
                           std::span<const Box> seen, std::vector<uint32_t>& face_chunks);
 

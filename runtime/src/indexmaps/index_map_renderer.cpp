@@ -1,5 +1,6 @@
 // Index shadow maps (thesis "Radiosity in dynamic scenes", Hrbek 2000, ch.
-// 5.2; docs/architecture.md "Runtime: index shadow maps"). Per batch of point samples:
+// 5.2; docs/architecture/runtime-indexmaps.md "Index shadow maps"). Per
+// batch of point samples:
 //   1. raster: each face of each sample's layout into one layer of an RG32UI
 //      array (receiver, triangle) with a reversed float depth array, drawing
 //      only the triangle runs whose boxes meet the face (index_map_culling),

@@ -1,10 +1,11 @@
 #pragma once
-// Index shadow maps (thesis 5.2, docs/architecture.md "Runtime: index shadow maps"):
-// from each point sample of an emitter, rasterise the scene with receiver
-// ids as colour into an integer target laid out over the sample's emission
-// lobe, then reduce every map on the GPU into per-receiver shares of the
-// sample's flux (solid angle x normalised lobe weight per texel). Only the
-// reduced per-receiver sums come back to the CPU, never a map.
+// Index shadow maps (thesis 5.2, docs/architecture/runtime-indexmaps.md
+// "Index shadow maps"): from each point sample of an emitter, rasterise the
+// scene with receiver ids as colour into an integer target laid out over the
+// sample's emission lobe, then reduce every map on the GPU into per-receiver
+// shares of the sample's flux (solid angle x normalised lobe weight per
+// texel). Only the reduced per-receiver sums come back to the CPU, never a
+// map.
 //
 // Internal to svit::runtime; needs a current OpenGL 4.5 core context on the
 // calling thread for every call, destruction included (the Runtime checks it

@@ -208,10 +208,10 @@ Status applySparseFloats(const tinygltf::Model& model, const tinygltf::Accessor&
     return invalid(what + ": sparse count " + std::to_string(sparse.count) + " > count " +
                    std::to_string(count));
   }
-  // Sparse indices are unsigned byte, short or int. An unknown type gave
-  // 0-byte elements and a division by zero (found by fuzz_gltf and
-  // fuzz_glb); a signed byte or short one made decodeIndex read 4 bytes of
-  // a 1- or 2-byte element.
+  // Sparse indices are unsigned byte, short or int. An unknown type would
+  // give 0-byte elements and a division by zero (found by fuzz_gltf and
+  // fuzz_glb); decodeIndex would read a signed byte or short one as 4 bytes
+  // of a 1- or 2-byte element.
   if (!isIndexComponentType(sparse.indices.componentType)) {
     return invalid(what + ": sparse indices componentType " +
                    std::to_string(sparse.indices.componentType) +

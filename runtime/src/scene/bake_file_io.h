@@ -27,9 +27,10 @@ class LittleEndianEncoder {
     const uint8_t b[2] = {uint8_t(v), uint8_t(v >> 8)};
     sink().put(b, 2);
   }
-  /// `count` u16 values in order. Shadow masks run to ~10 M values (Sponza),
-  /// so a little-endian host hands the array over in one put(): its bytes
-  /// already are the encoding. Other hosts go value by value.
+  /// `count` u16 values in order. Shadow masks hold 4 values per texel and layer,
+  /// millions on a large level, so a little-endian host hands the array over in
+  /// one put(): its bytes already are the encoding. Other hosts go value by
+  /// value.
   void u16s(const uint16_t* values, size_t count) {
     if constexpr (std::endian::native == std::endian::little) {
       sink().put(reinterpret_cast<const uint8_t*>(values), count * sizeof(uint16_t));

@@ -24,8 +24,9 @@ const std::set<std::string>& supportedExtensions() {
 }
 
 // tinygltf's image callback: keep the encoded bytes and decode later, only
-// for the images that base-colour or emissive textures use (Sponza's normal
-// and roughness maps would otherwise cost seconds and gigabytes).
+// for the images that base-colour or emissive textures use (a PBR level's
+// normal and roughness maps, often most of its texels, would otherwise cost
+// seconds and gigabytes for nothing the bake reads).
 // Images stored in a bufferView are not read here: tinygltf 2.7 hands over
 // buffer bytes [byteOffset, byteOffset + byteLength) without checking them
 // against the buffer's size (a heap overread found by fuzz_glb), so

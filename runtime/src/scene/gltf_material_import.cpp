@@ -21,8 +21,8 @@ WrapMode wrapMode(int gl_wrap) {
 }
 
 // stb_image's reason as printable ASCII: for an unknown PNG chunk it is the
-// chunk's four raw type bytes (found by fuzz_gltf: a warning that was not
-// UTF-8 made svit-info --json throw).
+// chunk's four raw type bytes, and a warning must be text a reader (and
+// svit-info --json) can take (found by fuzz_gltf).
 std::string printableReason(const char* reason) {
   std::string out = reason ? reason : "no reason given";
   for (char& c : out) {
@@ -146,8 +146,8 @@ Status readTextureRef(ImportContext& context, const tinygltf::TextureInfo& info,
     set << texcoord;
     context.scene.warnings.push_back(what + ": TEXCOORD_" + set.str() +
                                      " is not supported (only 0 and 1); texture ignored");
-    // No texture, and a UV set that is one (TextureRef's contract; found
-    // by fuzz_glb: texcoord 5 was left beside texture -1).
+    // No texture, and a UV set that is one (TextureRef's contract: never
+    // an unsupported set beside texture -1; found by fuzz_glb).
     ref.texture = -1;
     ref.texcoord = 0;
   } else {

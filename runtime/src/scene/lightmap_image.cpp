@@ -104,9 +104,10 @@ namespace {
 constexpr int64_t kMaxLightmapSide = 16384;
 // Decoded bytes (as floats) allowed per file byte. zlib (EXR's ZIP)
 // expands at most ~1032:1 and RLE 64:1; half channels double that as
-// floats. An all-black 4096^2 page written by writeLightmapExr measures
-// 980:1, so 4096 leaves 4x margin and still refuses a 1 KB file that claims
-// gigabytes of pixels before they are allocated.
+// floats. The most compressible page writeLightmapExr writes, an all-black
+// 4096^2 one, expands about 1000:1, so 4096 leaves 4x margin and still
+// refuses a 1 KB file that claims gigabytes of pixels before they are
+// allocated.
 constexpr int64_t kMaxExpansion = 4096;
 
 std::string exrMessage(const char* error) {
@@ -233,7 +234,7 @@ Status parseHeader(const std::vector<unsigned char>& bytes, const EXRVersion& ve
 // svit-bake writes ZIP; uncompressed, RLE and single-line ZIP are as
 // simple. PIZ is refused: tinyexr 1.0.1's Huffman decoder reads its table
 // header past the end of a short chunk (heap overread, found by
-// fuzz_lightmap_exr), and its other decoders were never needed here.
+// fuzz_lightmap_exr), and svit writes none of the other compressions.
 Status checkCompression(const EXRHeader& h, const std::string& path) {
   if (h.compression_type != TINYEXR_COMPRESSIONTYPE_NONE &&
       h.compression_type != TINYEXR_COMPRESSIONTYPE_RLE &&
@@ -293,7 +294,7 @@ Status checkImageSize(const EXRHeader& h, size_t file_bytes, const std::string& 
   }
   // The offset table holds one 8-byte offset per chunk of at least one
   // scanline; tinyexr sizes it from a chunkCount attribute if there is one
-  // (825 million for 9 scanlines asked for 6.6 GB: found by
+  // (825 million for 9 scanlines would ask for 6.6 GB: found by
   // fuzz_lightmap_exr).
   if (h.chunk_count < 0 || h.chunk_count > height ||
       int64_t(h.chunk_count) * 8 > int64_t(file_bytes)) {
@@ -343,7 +344,7 @@ Expected<LightmapImage> copyRgbPlanes(const EXRImage& exr, const int rgb_channel
     const float* plane = reinterpret_cast<const float*>(exr.images[rgb_channel[k]]);
     for (size_t i = 0; i < texels; ++i) {
       // NaN or Inf would spread through every bilinear lookup that touches
-      // the texel (found by fuzz_lightmap_exr: such pages were accepted).
+      // the texel (found by fuzz_lightmap_exr).
       if (!std::isfinite(plane[i])) {
         return invalidExr(path, "texel (" + std::to_string(i % size_t(width)) + ", " +
                                     std::to_string(i / size_t(width)) + ") channel " + "RGB"[k] +
