@@ -10,12 +10,12 @@
 
 namespace svit::baker {
 
-/// Triangles per charting group. xatlas charts each instance on its own,
-/// so groups only batch instances for the workers: 16k triangles gives
-/// Sponza (262k) about 16 groups to balance, while each atlas's fixed costs
-/// stay small. Fixed, never derived from the thread count: the groups, and
-/// so the atlas, are the same on every machine. A range is never split
-/// here: one above this is a group of its own.
+/// Triangles per charting group. xatlas charts each instance on its own, so
+/// groups only batch instances for the workers: 16k triangles gives a level of
+/// a quarter million triangles about 16 groups to balance, while each atlas's
+/// fixed costs stay small. Fixed, never derived from the thread count: the
+/// groups, and so the atlas, are the same on every machine. A range is never
+/// split here: one above this is a group of its own.
 constexpr size_t kXatlasGroupTriangles = 16384;
 
 /// Charts every range of `ranges` (an instance or a piece of one, each

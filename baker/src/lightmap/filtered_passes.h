@@ -12,11 +12,9 @@
 // filter does. A filter whose weights come from both halves (one guide made
 // from the mean, or each half guided by the other) adapts to the very
 // noise the halves' difference measures, and that difference shrinks more
-// than the mean's noise does. Measured on Sponza at 16 passes: the filter
-// guided by the mean left 3.07 % true error where its estimate read 1.76 %,
-// each half guided by the other 3.03 % against 1.82 %; the same estimate of
-// a filter whose weights ignore the light was exact (12.645 % against
-// 12.634 %).
+// than the mean's noise does: such an estimate reads well below the true
+// error, while the same estimate of a filter whose weights ignore the light
+// stays exact (docs/bench/estimate_honesty.md).
 //
 // The bias, what the filter shifts alike in both halves (light smoothed
 // across an edge it took for noise), is invisible to their difference. Its
@@ -52,8 +50,8 @@ struct FilteredPasses {
 /// The filter strengths a bake chooses among (PageSettings::filter_noise_sigmas):
 /// a larger k smooths more noise and more of the light's real detail. The
 /// best k falls as passes are added and the noise falls while the bias
-/// stays (Sponza, 16 passes, true error: k = 0.5 3.09 %, 1 2.68 %, 1.5
-/// 2.66 %, 2 2.87 %, unfiltered 3.40 %; the estimate within 2 % of it at each).
+/// stays; the split-half estimate tracks the true error at every k
+/// (docs/bench/estimate_honesty.md), so a bake can choose by it.
 inline constexpr std::array<double, 4> kFilterNoiseSigmaChoices = {0.75, 1.0, 1.5, 2.0};
 
 /// The passes in `accumulator` filtered as `settings` says (edge_aware_filter,

@@ -1,4 +1,6 @@
-// The bake pipeline behind svit-bake (docs/architecture.md "Command-line contracts").
+// The bake pipeline behind svit-bake (docs/architecture/baker-pipeline.md
+// "The bake pipeline"; its command line: docs/architecture.md
+// "Command-line contracts").
 
 #include "svit/baker/bake.h"
 

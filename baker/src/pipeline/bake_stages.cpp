@@ -1,5 +1,5 @@
 // The stages a whole bake and a sharded one share (bake_stages.h;
-// docs/architecture.md "Command-line contracts").
+// docs/architecture/baker-pipeline.md "The bake pipeline", "Sharded bakes").
 
 #include "bake_stages.h"
 

@@ -1,12 +1,12 @@
 #pragma once
 // Elements and clusters as one tree (thesis ch. 4, static part;
-// docs/architecture.md "Elements and clusters"): every static object with two or more triangle
-// elements is a cluster split top-down into a binary tree; triangles
-// subdivide into halves across their longest edge. A double-sided triangle
-// is two elements, one per side, so light received on one side is reflected
-// on that side only. Subdivision is conforming (Rivara's longest-edge
-// bisection): a split propagates to the neighbours across the split edge so
-// no T-vertex survives.
+// docs/architecture/baker-radiosity.md "Elements and clusters"): every static
+// object with two or more triangle elements is a cluster split top-down into
+// a binary tree; triangles subdivide into halves across their longest edge. A
+// double-sided triangle is two elements, one per side, so light received on
+// one side is reflected on that side only. Subdivision is conforming
+// (Rivara's longest-edge bisection): a split propagates to the neighbours
+// across the split edge so no T-vertex survives.
 
 #include <cstdint>
 #include <functional>

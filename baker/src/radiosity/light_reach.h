@@ -7,8 +7,8 @@
 // spread onto its element from the lit part (an element of a floor that
 // runs under a wall from the sunlit outside into a closed room, a cluster
 // holding both rooms of a partition). The solver shoots no light from such
-// points and the final gather reads them as black (docs/architecture.md
-// "Leaks").
+// points and the final gather reads them as black
+// (docs/architecture/baker-radiosity.md "Leaks").
 //
 // Surfaces mark every voxel they pass through (a conservative raster along
 // each triangle's dominant axis), so even a wall of zero thickness is a

@@ -3,7 +3,8 @@
 // (candela), directional lights and the sun (lux, the sun with an angular
 // radius), and the sky (cd/m2 at infinity). Each knows its flux entering the
 // scene and samples rays whose luminous flux is equal; sun and sky shoot
-// from a disk that encloses the scene (docs/architecture.md "Light sources").
+// from a disk that encloses the scene (docs/architecture/baker-radiosity.md
+// "Light sources").
 
 #include <vector>
 

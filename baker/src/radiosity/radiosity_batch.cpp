@@ -419,8 +419,8 @@ SubtreeHits RadiositySolver::State::sumSubtreeHits(const BinnedHits& binned) {
 // hands up most of its flux and gets back only its area share of the pool
 // while its larger sibling keeps its own, and with small batches (stiff
 // scenes shoot ~1000 generations of a few hundred rays) that never averages
-// out: the faces of a box in an albedo-0.999 room came out 0.5 to 1.5 times
-// their true irradiance (tests/stability, Stiff.EstimatedErrorIsNeverBelow...).
+// out: the faces of a box in an albedo-0.999 room come out 0.5 to 1.5 times
+// their true irradiance that way (tests/stability, Stiff.EstimatedErrorIsNeverBelow...).
 void RadiositySolver::State::depositHits(SubtreeHits& subtrees) {
   std::map<int, AccumulatedHits>& accumulated = subtrees.accumulated;
   std::vector<int>& tops = subtrees.tops;

@@ -141,14 +141,13 @@ class EmbreeRayCaster final : public RayCaster {
   /// Closest hits, `front` left unset.
   void traceAll(std::span<const Ray> rays, std::span<RayHit> hits) const {
     const FlushDenormalsScope denormals;
-    // One rtcIntersect1 per ray, not packets: on the 2-core AVX2 machine
-    // Embree emulates 16-wide packets (third_party_notes/embree.md), and
-    // rtcIntersect16 and rtcIntersect8 traced no faster than single rays on
-    // Sponza and virtual_city, for random and shooting ray patterns. Single
-    // rays win on determinism: a single ray's BVH traversal order depends on
-    // that ray alone, so which of two exactly equidistant triangles is
-    // reported cannot depend on which other rays share its packet, i.e. on
-    // how the caller batched them.
+    // One rtcIntersect1 per ray, not packets: the baker's rays (random and
+    // shooting patterns) are incoherent, which leaves packets little to share,
+    // and on AVX2 Embree emulates 16-wide packets (third_party_notes/embree.md).
+    // Single rays also win on determinism: a single ray's BVH traversal order
+    // depends on that ray alone, so which of two exactly equidistant triangles is
+    // reported cannot depend on which other rays share its packet, i.e. on how
+    // the caller batched them.
     RTCIntersectContext context;  // per call: concurrent calls share nothing
     rtcInitIntersectContext(&context);
     for (size_t i = 0; i < rays.size(); ++i) {

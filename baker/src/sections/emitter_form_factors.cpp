@@ -1,9 +1,10 @@
-// Per-emitter baseline form factors (docs/architecture.md "Sector-free
-// importance caching", thesis 5.10): which patches each static emitter lights and with
-// what share of its flux. Monte Carlo like the shooter (thesis 4.2): every
-// ray of an emitter carries the same luminous flux, so the share a patch
-// receives is (rays whose first hit lies on it) / (rays shot). Lights sample
-// the solver's own emission distributions (light_sources.h).
+// Per-emitter baseline form factors (docs/architecture/runtime-lighting.md
+// "Sector-free importance caching", thesis 5.10): which patches each static
+// emitter lights and with what share of its flux. Monte Carlo like the
+// shooter (thesis 4.2): every ray of an emitter carries the same luminous
+// flux, so the share a patch receives is (rays whose first hit lies on it) /
+// (rays shot). Lights sample the solver's own emission distributions
+// (light_sources.h).
 
 #include <algorithm>
 #include <cmath>

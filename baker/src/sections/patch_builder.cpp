@@ -1,9 +1,9 @@
 // Patches: the cluster-tree nodes of bounded area and similar normal that the
-// runtime tracks radiosity deltas for (docs/architecture.md "Runtime:
-// Patches"; thesis ch. 5 works on such groups of elements). A top-down walk of each object's
-// tree (element_tree.h) stops at the first node that is small and flat
-// enough, so patches follow the solver's own clustering, and the cluster
-// nodes above them become the runtime's cluster trees.
+// runtime tracks radiosity deltas for (docs/architecture/baker-sections.md
+// "Patches"; thesis ch. 5 works on such groups of elements). A top-down walk
+// of each object's tree (element_tree.h) stops at the first node that is
+// small and flat enough, so patches follow the solver's own clustering, and
+// the cluster nodes above them become the runtime's cluster trees.
 
 #include <algorithm>
 #include <cmath>

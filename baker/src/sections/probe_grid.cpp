@@ -1,9 +1,9 @@
 // The L1 spherical-harmonic probe grid dynamic objects take their indirect
-// light from (docs/architecture.md "Dynamic objects receive light"). Each probe gathers
-// radiance over the sphere from the solved radiosity and projects it onto
-// the first two SH bands (Ramamoorthi & Hanrahan 2001, "An Efficient
-// Representation for Irradiance Environment Maps": irradiance is radiance
-// SH convolved with the clamped cosine, A0 = pi, A1 = 2pi/3). Emission is
+// light from (docs/architecture/baker-sections.md "Probe grid"). Each probe
+// gathers radiance over the sphere from the solved radiosity and projects it
+// onto the first two SH bands (Ramamoorthi & Hanrahan 2001, "An Efficient
+// Representation for Irradiance Environment Maps": irradiance is radiance SH
+// convolved with the clamped cosine, A0 = pi, A1 = 2pi/3). Emission is
 // estimated from two strategies, sphere directions and points on emissive
 // triangles, weighted by the balance heuristic (Veach 1997, ch. 9: the
 // multi-sample estimator sum_i f(x_i) / sum_s n_s p_s(x_i) over both

@@ -1,4 +1,4 @@
-// LOD proxies of the static geometry (docs/architecture.md "Runtime: LOD proxies"):
+// LOD proxies of the static geometry (docs/architecture/baker-sections.md "LOD proxies"):
 // the runtime renders its index shadow maps from these instead of the full
 // meshes, so each proxy face names the patch it stands for. Each object is
 // simplified on its own (quadric edge collapse, simplify_mesh.h) and every

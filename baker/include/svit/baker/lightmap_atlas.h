@@ -24,9 +24,9 @@ struct AtlasSettings {
   /// xatlas charts each instance in pieces of at most this many consecutive
   /// triangles (0: whole instances). Chart growing costs about faces^1.7 a
   /// piece (third_party_notes/xatlas.md), so bounded pieces keep the atlas
-  /// linear in triangles; charts end at piece borders (Sponza at 1024:
-  /// 20.2 s -> 9.4 s on a loaded 2-core machine, +4.5 % charts, +3.6 % page
-  /// texels). Authored UVs ignore it.
+  /// linear in triangles; charts end at piece borders, which costs a few
+  /// percent more charts and page texels (docs/bench/atlas_pieces.md).
+  /// Authored UVs ignore it.
   size_t chart_piece_triangles = 1024;
 };
 

@@ -4,7 +4,7 @@
 // per-emitter baseline form factors, LOD proxies of the static geometry
 // (fast-simplification) mapped back to patches, and an L1 SH probe grid for
 // dynamic objects. Built only for levels with dynamic objects or runtime
-// lights (docs/architecture.md "Pay for what is used").
+// lights (docs/architecture/runtime-facade.md "Pay for what is used").
 
 #include <atomic>
 #include <cstdint>

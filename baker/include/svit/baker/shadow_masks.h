@@ -1,10 +1,10 @@
 #pragma once
-// Shadow masks (thesis 5.3 steps 9-10, docs/architecture.md §7.11): for a
-// level with dynamic objects, the static visibility of each significant
-// baked light (point, spot, directional, the sun) per lightmap texel, so
-// the runtime can shade that light's direct light per pixel and multiply
-// in the dynamic objects' shadow from its own depth map. The lighting
-// passes leave those lights' direct light out of the lightmap
+// Shadow masks (thesis 5.3 steps 9-10, docs/architecture/baker-lightmaps.md
+// "Shadow masks"): for a level with dynamic objects, the static visibility of
+// each significant baked light (point, spot, directional, the sun) per
+// lightmap texel, so the runtime can shade that light's direct light per
+// pixel and multiply in the dynamic objects' shadow from its own depth map.
+// The lighting passes leave those lights' direct light out of the lightmap
 // (TexelLightingSettings::masked); their bounce stays in it.
 
 #include <atomic>

@@ -2,7 +2,7 @@
 // Irradiance per lightmap texel: direct light by shadow rays to light
 // samples, and indirect light (and the sky) by a final gather against the
 // interpolated radiosity solution, so the lightmap keeps texel detail while
-// the solver stays coarse (docs/architecture.md "Lightmaps").
+// the solver stays coarse (docs/architecture/baker-lightmaps.md "Lightmaps").
 
 #include <atomic>
 #include <cstdint>
