@@ -147,9 +147,9 @@ int vertexVisibility(Sample s, uint t, vec3 v, vec3 tri_centre) {
   // quarter of its distance) is hidden: that surface shares no corner with
   // it (bar grazing views), and its own or a neighbour's id a texel away
   // would only put it on the occluder's silhouette, as would depth a texel
-  // away, widening every silhouette by a texel of false visibility
-  // (measured on Sponza: +0.5-1.3% of a sample's flux). Most hidden
-  // vertices stop here, after two fetches.
+  // away, widening every silhouette by a texel of false visibility (a bias
+  // that grows with the silhouettes a sample sees). Most hidden vertices
+  // stop here, after two fetches.
   if (tap_m < depth_m - kClearlyInFront * scale_m) return 0;
   if (u_neighbour_ids != 0 && id.y != kNone && sharesCorner(id.y, v)) return 1;
   if (u_edge_taps == 0) return 0;

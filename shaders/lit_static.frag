@@ -5,9 +5,9 @@
 // direct irradiance, shadow mask x caster map) / pi + emission, the
 // emission scaled as its bake emitter is (a lamp dimmed or off).
 // Albedo = base colour factor x base colour texture (sRGB-decoded by the
-// texture format). Single-sided surfaces are black from behind; the
-// lightmap holds irradiance in lux (docs/architecture.md §4). Link with
-// svit_shading.frag (the shared functions declared below).
+// texture format). Single-sided surfaces are black from behind; the lightmap
+// holds irradiance in lux (docs/architecture.md "Units and conventions").
+// Link with svit_shading.frag (the shared functions declared below).
 // Bindings and uniform locations: runtime/src/gl/scene_renderer_bindings.h.
 
 in vec3 v_position;

@@ -42,8 +42,9 @@ struct WalkOptions {
 };
 
 /// The headless default: a deterministic budget in point samples, so every
-/// frame is reproducible and a level walks in minutes (settling fully every
-/// frame took minutes per frame on Sponza).
+/// frame is reproducible and a level walks in minutes (settling fully would
+/// render every out-of-date emitter's maps each frame: on a large level,
+/// minutes a frame).
 inline constexpr int kHeadlessSamplesPerFrame = 32;
 
 /// What parsing found: options, a request for help, or a usage error.
