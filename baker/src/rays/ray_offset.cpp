@@ -22,7 +22,7 @@
 // uniform over the hemisphere (grazing ones included) from float-arithmetic
 // barycentric points: 4 ULPs holds there and 2 does not, so 16 keeps a
 // factor 4 (tests/stability/stability_geometry_test.cpp,
-// Offsets.NoSelfIntersectionAtAnyScale, checks it).
+// Offsets.NoSelfIntersectionAtAnyScaleOrDistance, checks it).
 
 #include <algorithm>
 #include <cmath>
