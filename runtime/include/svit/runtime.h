@@ -1,9 +1,9 @@
 #pragma once
 // svit::Runtime — what a game links to keep the baked lighting right while
 // objects and lights move (thesis ch. 5, docs/architecture/runtime-facade.md
-// "The runtime pipeline"). The bake holds the static solution; the runtime
-// tracks per-patch irradiance deltas against it, computed from index shadow
-// maps rendered from point samples of emitters, bounced, and compensated as
+// "A frame"). The bake holds the static solution; the runtime tracks
+// per-patch irradiance deltas against it, computed from index shadow maps
+// rendered from point samples of emitters, bounced, and compensated as
 // ambient; the host shades with the lightmaps plus those deltas (GLSL in
 // shaders/, see shadingSources()).
 //

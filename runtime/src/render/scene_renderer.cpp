@@ -2,7 +2,7 @@
 // interpolated runtime deltas + runtime lights) and the dynamic objects
 // (probe grid + lights + the runtime's patch deltas), tone mapped in the
 // shaders into an RGBA8 target, with the linear radiance beside it in an
-// RGBA32F one (docs/architecture/runtime-render.md "Shading"). Everything
+// RGBA32F one (docs/architecture/runtime-render.md "Drawing"). Everything
 // that depends only on the level is built in create(); a frame allocates GL
 // objects only when something grows (more dynamic triangles or lights than
 // before), and does no work for features the level lacks.
