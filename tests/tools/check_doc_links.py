@@ -74,9 +74,11 @@ def repository_files(root):
 
 
 def expand(name):
-    """`a.{h,cpp}` -> [`a.h`, `a.cpp`] (one brace group)."""
-    m = re.match(r"(.*)\{([^}]*)\}(.*)", name)
-    return [m.group(1) + part + m.group(3) for part in m.group(2).split(",")] if m else [name]
+    """`a.{h,cpp}` -> [`a.h`, `a.cpp`]; every brace group, so `{a,b}.{h,cpp}` gives four."""
+    m = re.match(r"(.*?)\{([^}]*)\}(.*)", name)
+    if not m:
+        return [name]
+    return [e for part in m.group(2).split(",") for e in expand(m.group(1) + part + m.group(3))]
 
 
 def source_exists(name, files):
@@ -91,7 +93,8 @@ def check_file(path, files):
     for number, line in lines_outside_code(text):
         for m in CODE_SPAN.finditer(line):
             name = m.group(1).strip()
-            if SOURCE_NAME.match(name):
+            # `a.{h,cpp}` is a source name when its expansions are.
+            if SOURCE_NAME.match(name) or all(SOURCE_NAME.match(p) for p in expand(name)):
                 problems += [f"{path}:{number}: `{name}`: no such source file in the repository"
                              for part in expand(name) if not source_exists(part, files)][:1]
         line = CODE_SPAN.sub("", line)  # inline code is not a link

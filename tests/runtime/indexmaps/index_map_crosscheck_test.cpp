@@ -1,4 +1,4 @@
-// Cross-check (docs/architecture.md "Runtime: index shadow maps"): the per-receiver
+// Cross-check (docs/architecture/runtime-indexmaps.md "Cross-check"): the per-receiver
 // flux an index map gives a point sample must match Embree rays shot from
 // the same sample with the same lobe, on the Cornell box and, when ../shared/scenes is there,
 // Sponza.
