@@ -73,6 +73,8 @@ for name in "${levels[@]}"; do
   fi
   run "$build_a" a "$name"
   run "$build_b" b "$name"
+  files_a=$(cd "$work/a/$name" && find . -type f | sort)
+  files_b=$(cd "$work/b/$name" && find . -type f | sort)
   while IFS= read -r file; do
     if cmp -s "$work/a/$name/$file" "$work/b/$name/$file"; then
       same=$((same + 1))
@@ -80,13 +82,13 @@ for name in "${levels[@]}"; do
       different=$((different + 1))
       echo "DIFFERENT $name/$file"
     fi
-  done < <(cd "$work/a/$name" && find . -type f | sort)
-  missing=$(diff <(cd "$work/a/$name" && find . -type f | sort) <(cd "$work/b/$name" && find . -type f | sort) || true)
+  done <<<"$files_a"
+  missing=$(diff <(echo "$files_a") <(echo "$files_b") || true)
   if [[ -n $missing ]]; then
     different=$((different + 1))
     echo "DIFFERENT $name: file sets differ: $missing"
   fi
-  echo "$name: $(cd "$work/a/$name" && find . -type f | wc -l) files compared"
+  echo "$name: $(wc -l <<<"$files_a") files compared"
 done
 echo "byte identity: $same identical, $different different"
 ((different == 0))
