@@ -47,6 +47,9 @@ layout(location = 24) uniform float u_emission_scale;  // the lamp's dimmer (Sce
 layout(binding = 9) uniform usampler2DArray u_shadow_mask;
 layout(location = 25) uniform int u_masked_begin;
 layout(location = 26) uniform int u_masked_end;
+// 1: the batch draws backs no baked light reaches (BakeBackUv kUnlitBackPage):
+// they have no texels, so neither the lightmap nor the masks are read.
+layout(location = 27) uniform int u_unlit_side;
 
 vec3 svitDirectIrradiance(vec3 p, vec3 n);
 struct GpuLight {
@@ -215,7 +218,8 @@ void main() {
     return;
   }
   vec3 n = normalize(v_normal) * (front ? 1.0 : -1.0);
-  vec3 irradiance = texture(u_lightmap, v_uv_lightmap).rgb;
+  vec3 irradiance = u_unlit_side != 0 ? vec3(0.0) : texture(u_lightmap, v_uv_lightmap).rgb;
+  bool masked = u_masked_end > u_masked_begin && u_unlit_side == 0;
   vec3 emission = u_emissive * u_emission_scale;
   if (u_emissive_texture_use.x != 0) {
     vec2 uv = transformUv(u_emissive_texture_use.y == 1 ? v_uv1 : v_uv0, u_emissive_transform, u_emissive_rotation);
@@ -230,7 +234,7 @@ void main() {
   }
   vec3 change = irradiance * delta.w + delta.rgb;
   if (u_view == 2) {
-    if (u_masked_end > u_masked_begin) irradiance += maskedIrradiance(v_position, n, v_uv_lightmap);
+    if (masked) irradiance += maskedIrradiance(v_position, n, v_uv_lightmap);
     o_colour = vec4(svitDeltaFalseColour(change, svitDisplay(base.rgb * irradiance / kPi + emission)), 1.0);
     o_radiance = vec4(o_colour.rgb, kSurfaceKind);
     return;
@@ -238,7 +242,7 @@ void main() {
   if (u_view == 1) irradiance += change + svitDirectIrradiance(v_position, n);
   // A delta may overshoot the baked value (a shadow deeper than the light).
   irradiance = max(irradiance, vec3(0.0));
-  if (u_masked_end > u_masked_begin) irradiance += maskedIrradiance(v_position, n, v_uv_lightmap);
+  if (masked) irradiance += maskedIrradiance(v_position, n, v_uv_lightmap);
   o_radiance = vec4(base.rgb * irradiance / kPi + emission, kSurfaceKind);
   o_colour = vec4(svitDisplay(o_radiance.rgb), 1.0);
 }

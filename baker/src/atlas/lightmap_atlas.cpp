@@ -98,18 +98,19 @@ void authoredCharts(const BakeGeometry& geometry, const std::vector<InstanceRang
   }
 }
 
-/// The backs of the double-sided triangles as faces of their own: their
-/// authored UVs on a twin of their page, appended after the authored pages
-/// (only pages that hold a double-sided triangle get one), their charts
+/// The backs of the double-sided triangles light reaches as faces of their
+/// own: their authored UVs on a twin of their page, appended after the
+/// authored pages (only pages that hold such a back get one), their charts
 /// numbered after the fronts'.
-void addAuthoredBacks(const BakeGeometry& geometry, LightmapAtlas* atlas) {
+void addAuthoredBacks(const BakeGeometry& geometry, const AtlasSettings& settings,
+                      LightmapAtlas* atlas) {
   const size_t count = geometry.triangleCount();
   std::vector<int> twin(size_t(atlas->page_count), -1);
   int twins = 0;
   uint32_t charts = 0;
   for (size_t t = 0; t < count; ++t) charts = std::max(charts, atlas->triangle_chart[t] + 1);
   for (size_t t = 0; t < count; ++t) {
-    if (!geometry.double_sided[t]) continue;
+    if (!hasBackFace(geometry, settings, t)) continue;
     int& page = twin[atlas->triangle_page[t]];
     if (page < 0) page = atlas->page_count + twins++;
     atlas->back_triangles.push_back(uint32_t(t));
@@ -164,7 +165,7 @@ Expected<LightmapAtlas> buildAuthored(const Scene& scene, const BakeGeometry& ge
   atlas.page_width = atlas.page_height = size;
   atlas.page_count = int(page_world_m2.size());
   authoredCharts(geometry, ranges, &atlas);
-  addAuthoredBacks(geometry, &atlas);
+  addAuthoredBacks(geometry, settings, &atlas);
   return atlas;
 }
 
@@ -203,6 +204,11 @@ Expected<LightmapAtlas> buildLightmapAtlas(const Scene& scene, const BakeGeometr
       geometry.instance.size() != count || geometry.mesh_triangle.size() != count) {
     return Status(StatusCode::kInvalidInput,
                   scene.source_path + ": bake geometry arrays disagree in length");
+  }
+  if (!settings.lit_backs.empty() && settings.lit_backs.size() != count) {
+    return Status(StatusCode::kInvalidInput,
+                  "atlas settings: lit_backs holds " + std::to_string(settings.lit_backs.size()) +
+                      " triangles, the geometry " + std::to_string(count));
   }
   for (size_t t = 0; t < count; ++t) {
     const uint32_t i = geometry.instance[t];

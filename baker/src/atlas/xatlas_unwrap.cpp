@@ -219,14 +219,14 @@ void chartGroup(const Scene& scene, const BakeGeometry& geometry,
 }
 
 /// The back copies of an instance's double-sided triangles' charts (a
-/// lightmap per side): the faces of `front` whose triangle is double-sided,
-/// with their layout UVs and charts; empty when it has none.
-ChartedMesh backCopy(const BakeGeometry& geometry, const InstanceRange& r,
-                     const ChartedMesh& front) {
+/// lightmap per side): the faces of `front` whose triangle's back is a face
+/// (hasBackFace), with their layout UVs and charts; empty when it has none.
+ChartedMesh backCopy(const BakeGeometry& geometry, const AtlasSettings& settings,
+                     const InstanceRange& r, const ChartedMesh& front) {
   ChartedMesh back;
   std::vector<uint32_t> vertex_of(front.xref.size(), kNoChart);
   for (size_t f = 0; f < front.chart.size(); ++f) {
-    if (!geometry.double_sided[r.first + front.xref[front.indices[f * 3]] / 3]) continue;
+    if (!hasBackFace(geometry, settings, r.first + front.xref[front.indices[f * 3]] / 3)) continue;
     for (int k = 0; k < 3; ++k) {
       const uint32_t v = front.indices[f * 3 + size_t(k)];
       if (vertex_of[v] == kNoChart) {
@@ -437,12 +437,12 @@ Expected<LightmapAtlas> buildWithXatlas(const Scene& scene, const BakeGeometry& 
   std::vector<ChartedMesh> backs;
   backs.reserve(ranges.size());  // packed points into it
   for (size_t r = 0; r < ranges.size(); ++r) {
-    backs.push_back(backCopy(geometry, ranges[r], *packed[r].charted));
+    backs.push_back(backCopy(geometry, settings, ranges[r], *packed[r].charted));
     if (!backs.back().chart.empty()) packed.push_back({&backs.back(), r, true});
   }
   LightmapAtlas atlas;
   for (uint32_t t = 0; t < geometry.triangleCount(); ++t) {
-    if (geometry.double_sided[t]) {
+    if (hasBackFace(geometry, settings, t)) {
       atlas.back_triangles.push_back(t);
       total_m2 += geometry.areas_m2[t];
     }

@@ -63,7 +63,7 @@ Expected<std::vector<ProbeResult>> probeBake(const std::string& out_dir,
                                                    std::to_string(point.normal.z) + ")");
     }
     ProbeResult result;
-    result.irradiance = (*pages)[hit->page].sampleBilinear(hit->uv);
+    result.irradiance = samplePage(*pages, hit->page, hit->uv);
     if (!masked->empty()) {  // the lightmap leaves the masked lights' direct light to shading
       const Vec3& n = surfaces->normal(hit->triangle);
       const Vec3 side = hit->side == 0 ? n : Vec3{-n.x, -n.y, -n.z};

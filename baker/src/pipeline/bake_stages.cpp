@@ -97,6 +97,22 @@ nlohmann::ordered_json seriesJson(const std::vector<ErrorPoint>& series, bool wi
 
 // The bake file's lightmap part: the pages' names and hashes, and every
 // static triangle's lightmap coordinates.
+// Every double-sided triangle's back, ascending: on its own face where it
+// has one, else unlit (kUnlitBackPage: no light reaches it, it reads black).
+std::vector<BakeBackUv> backUvs(const BakeGeometry& geometry, const LightmapAtlas& atlas) {
+  std::vector<BakeBackUv> backs;
+  for (uint32_t t = 0; t < geometry.triangleCount(); ++t) {
+    if (!geometry.double_sided[t]) continue;
+    const uint32_t face = atlas.face(t, 1);
+    BakeBackUv uv;
+    uv.triangle = t;
+    uv.page = face == t ? kUnlitBackPage : atlas.triangle_page[face];
+    for (int k = 0; k < 3; ++k) uv.uv[k] = atlas.triangle_uv[face * 3 + size_t(k)];
+    backs.push_back(uv);
+  }
+  return backs;
+}
+
 BakeData lightmapBakeData(const BakeOptions& options, uint64_t level_hash,
                           const BakeGeometry& geometry, const LightmapAtlas& atlas,
                           const LightmapPages& pages) {
@@ -120,14 +136,7 @@ BakeData lightmapBakeData(const BakeOptions& options, uint64_t level_hash,
     for (int k = 0; k < 3; ++k) uv.uv[k] = atlas.triangle_uv[t * 3 + size_t(k)];
     data.triangle_uvs.push_back(uv);
   }
-  for (size_t i = 0; i < atlas.back_triangles.size(); ++i) {
-    const size_t face = atlas.frontCount() + i;
-    BakeBackUv uv;
-    uv.triangle = atlas.back_triangles[i];
-    uv.page = atlas.triangle_page[face];
-    for (int k = 0; k < 3; ++k) uv.uv[k] = atlas.triangle_uv[face * 3 + size_t(k)];
-    data.back_uvs.push_back(uv);
-  }
+  data.back_uvs = backUvs(geometry, atlas);
   return data;
 }
 
@@ -241,6 +250,7 @@ TexelCounts countTexels(const LightmapPages& pages) {
 // Everything report.json says, but the final stage timings and total.
 struct ReportInputs {
   const Scene& scene;
+  const BakeGeometry& geometry;
   uint64_t level_hash;
   size_t degenerate;
   const RadiositySolver& solver;
@@ -253,6 +263,25 @@ struct ReportInputs {
   const nlohmann::ordered_json& left_out;
   bool with_reference;
 };
+
+/// The double-sided triangles whose backs no light reaches, left without
+/// texels of their own (RadiositySolver::litBacks), and what they would
+/// have cost at the atlas's density.
+nlohmann::ordered_json unlitBacksJson(const BakeGeometry& geometry, const AtlasSettings& settings,
+                                      const LightmapAtlas& atlas) {
+  size_t double_sided = 0;
+  double unlit_m2 = 0;
+  for (uint32_t t = 0; t < geometry.triangleCount(); ++t) {
+    if (!geometry.double_sided[t]) continue;
+    ++double_sided;
+    if (atlas.face(t, 1) == t) unlit_m2 += geometry.areas_m2[t];
+  }
+  const size_t unlit = double_sided - atlas.back_triangles.size();
+  return {{"double_sided_triangles", double_sided},
+          {"unlit", unlit},
+          {"unlit_m2", unlit_m2},
+          {"texels_left_out", std::llround(unlit_m2 * settings.texels_per_m * settings.texels_per_m)}};
+}
 
 /// The level the bake lit, as report.json names it for svit-probe and the
 /// tools: with --sun/--sky that is OUT/level.json (the bare glTF alone
@@ -309,6 +338,7 @@ nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
       {"dilated_texels", counts.dilated},
       {"buried_texels", counts.buried},
       {"back_faces", in.atlas.back_triangles.size()},
+      {"unlit_backs", unlitBacksJson(in.geometry, in.atlas_settings, in.atlas)},
       {"back_texels", std::count_if(in.texels.samples.begin(), in.texels.samples.end(),
                                     [&](const TexelSample& s) { return in.atlas.isBack(s.face); })},
       {"lighting_passes", in.lighting.accumulator.passes()},
@@ -526,6 +556,7 @@ Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level,
   out.settings.max_page_size = run.options.max_page_size;
   out.settings.threads = run.options.threads;
   if (!run.clock.report(0, run.clock.remaining())) return run.cancelled;
+  out.settings.lit_backs = solver.litBacks();
   Expected<LightmapAtlas> atlas = buildLightmapAtlas(level.scene, level.geometry, out.settings);
   if (!atlas.ok()) return atlas.status();
   out.atlas = std::move(atlas).value();
@@ -617,7 +648,7 @@ Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
   run.clock.endStage("write");
 
   nlohmann::ordered_json json =
-      reportJson(run, ReportInputs{level.scene, level.level_hash, level.degenerate, solver,
+      reportJson(run, ReportInputs{level.scene, level.geometry, level.level_hash, level.degenerate, solver,
                                    atlas.settings, atlas.atlas, atlas.texels, pages, lighting, data,
                                    *left_out, with_reference});
   json["shadow_masks"] = *masks;

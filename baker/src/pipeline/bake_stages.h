@@ -114,8 +114,9 @@ struct AtlasTexels {
   TexelSet texels;
 };
 
-/// The chart atlas at the plan's density, then its texels ("atlas" and
-/// "texels" stages); those no light reaches (solver.lightReach) are buried.
+/// The chart atlas at the plan's density, with faces for the backs light
+/// reaches (solver.litBacks), then its texels ("atlas" and "texels"
+/// stages); those no light reaches (solver.lightReach) are buried.
 Expected<AtlasTexels> buildAtlasTexels(BakeRun& run, const LoadedLevel& level,
                                        const RadiositySolver& solver);
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 
+#include "lit_backs.h"
 #include "radiosity_state.h"
 #include "util/double_math.h"
 
@@ -324,6 +325,13 @@ SolverStats RadiositySolver::stats() const {
 
 LightReachVerdict RadiositySolver::lightReach(const Vec3& point, const Vec3& normal) const {
   return state_->reach.verdict(dvec(point), dvec(normal));
+}
+
+std::vector<uint8_t> RadiositySolver::litBacks(LitBacksStats* stats) const {
+  LitBacks backs = findLitBacks(*state_->geometry, *state_->caster, state_->lights, state_->reach,
+                                state_->threads);
+  if (stats) *stats = backs.stats;
+  return std::move(backs.lit);
 }
 
 }  // namespace svit::baker

@@ -36,9 +36,16 @@ struct BakeTriangleUv {
 
 /// The lightmap of a double-sided triangle's back, when it has one of its
 /// own (a lightmap per side).
+/// BakeBackUv::page of a back that no baked light reaches (the outside of
+/// a closed room or of the Cornell box, where exporters made every wall
+/// double-sided): it has no texels, and reads black wherever the level's
+/// lightmaps and shadow masks are read; runtime lights still light it.
+inline constexpr uint32_t kUnlitBackPage = 0xffffffffu;
+
+/// The back of a double-sided triangle: its own lightmap, or kUnlitBackPage.
 struct BakeBackUv {
   uint32_t triangle = 0;  ///< BakeData::triangle_uvs index
-  uint32_t page = 0;
+  uint32_t page = 0;      ///< BakeData::pages index, or kUnlitBackPage
   Vec2 uv[3];  ///< page coordinates in [0, 1], v down the rows, corners as the front's
 };
 

@@ -24,7 +24,7 @@ struct SurfaceHit {
   Vec3 point;             ///< nearest point on the triangle, world metres
   float w1 = 0, w2 = 0;   ///< barycentric weights of corners 1 and 2
   double distance_m = 0;  ///< from the query point
-  uint32_t page = 0;      ///< lightmap page of that side
+  uint32_t page = 0;      ///< lightmap page of that side (kUnlitBackPage: a back no light reaches)
   Vec2 uv;                ///< lightmap page coordinates there (the back's own where it has one)
 };
 

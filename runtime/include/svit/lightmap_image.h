@@ -3,6 +3,7 @@
 // baker writes and what svit-probe and the runtime read. Sampling matches a
 // GL sampler: bilinear, texel centres at (i + 0.5) / size, clamp to edge.
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,12 @@ struct LightmapImage {
   /// Bilinear lookup at page coordinates `uv` in [0, 1] (u right, v down the rows).
   Rgb sampleBilinear(Vec2 uv) const;
 };
+
+/// Page `page` of `pages` sampled at `uv`; 0 where `page` is none of them
+/// (the back no baked light reaches, BakeBackUv's kUnlitBackPage).
+inline Rgb samplePage(const std::vector<LightmapImage>& pages, uint32_t page, Vec2 uv) {
+  return page < pages.size() ? pages[page].sampleBilinear(uv) : Rgb{0, 0, 0};
+}
 
 /// Writes an fp32 RGB EXR (with a "comments" attribute when `comments` is
 /// set) via `path`.tmp and a rename. Errors: non-finite

@@ -48,7 +48,7 @@ Rgb Runtime::irradianceAt(const Vec3& point, const Vec3& normal, float max_dista
   const rt::StaticLevel& level = impl_->level;
   const std::optional<SurfaceHit> hit = level.surfaces.nearest(point, normal);
   if (!hit || hit->distance_m > max_distance_m) return {nan, nan, nan};
-  const Rgb e = level.pages[hit->page].sampleBilinear(hit->uv);
+  const Rgb e = samplePage(level.pages, hit->page, hit->uv);
   // Shaded per pixel beside the lightmap: the masked lights' direct light.
   const glm::dvec3 masked = level.masked.empty() ? glm::dvec3(0.0) : impl_->maskedDirectAt(*hit);
   // The delta as shading interpolates it: between the welded vertices of

@@ -129,7 +129,8 @@ struct Tessellation {
   std::vector<std::vector<size_t>> patch_items;
 };
 
-// The lightmap of an element's side: a back's own, where it has one.
+// The lightmap of an element's side: a back's own, where it has one (or
+// kUnlitBackPage: none, it reads black).
 struct SideUv {
   uint32_t page = 0;
   const Vec2* uv = nullptr;  ///< 3 corners
@@ -186,7 +187,7 @@ Status tessellatePatches(const BakeData& bake, const BakedSurfaces& surfaces, si
                                                      std::to_string(element) + " is out of range");
       }
       const SideUv side = sideUv(bake, element);
-      if (side.page >= page_count) {
+      if (side.page >= page_count && side.page != kUnlitBackPage) {
         return Status(StatusCode::kInvalidInput,
                       "bake patch " + std::to_string(p) + ": element " + std::to_string(element) +
                           " is on lightmap page " + std::to_string(side.page) + " of " +
@@ -226,7 +227,7 @@ void addReceiver(const Scene& scene, const BakeData& bake, const std::vector<Lig
     emission += kPi * dvec(mesh.triangle_emission[tri.mesh_triangle]) * item.area;
     const Vec2 uv{(item.uv[0].x + item.uv[1].x + item.uv[2].x) / 3,
                   (item.uv[0].y + item.uv[1].y + item.uv[2].y) / 3};
-    irradiance += dvec(pages[item.page].sampleBilinear(uv)) * item.area;
+    irradiance += dvec(samplePage(pages, item.page, uv)) * item.area;
     if (!masked.empty()) {  // what the lightmap leaves to the masked lights
       const glm::dvec3 side = cross / std::max(glm::length(cross), 1e-300);
       masked_irradiance += dvec(masked.bakedIrradiance(fromGlm(glm::vec3(item.centroid)),

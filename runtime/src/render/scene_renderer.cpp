@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <optional>
 #include <utility>
 
 #include <glm/glm.hpp>
@@ -570,7 +571,8 @@ void SceneRenderer::Impl::drawStatic(const FramePass& pass, const ShadingResourc
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b::kVertexDeltas, resources.vertex_deltas);
   }
   glBindVertexArray(static_vao.id());
-  uint32_t bound_material = UINT32_MAX, bound_page = UINT32_MAX;
+  uint32_t bound_material = UINT32_MAX;
+  std::optional<uint32_t> bound_page;  // kUnlitBackPage is a page value too
   float bound_emission_scale = 1.0f;
   glUniform1f(b::kEmissionScale, 1.0f);
   gl::DrawnSides bound_sides = gl::DrawnSides::kBoth;  // culling off (beginFrame)
@@ -592,8 +594,12 @@ void SceneRenderer::Impl::drawStatic(const FramePass& pass, const ShadingResourc
       bound_emission_scale = emission_scale;
     }
     if (batch.page != bound_page) {
-      glBindTextureUnit(b::kLightmapUnit, lightmaps.texture(batch.page));
-      if (!masks.empty()) glBindTextureUnit(b::kShadowMaskUnit, masks.texture(batch.page));
+      // A back no baked light reaches has no page: black but for the runtime.
+      const bool unlit = batch.page == kUnlitBackPage;
+      glUniform1i(b::kUnlitSide, unlit ? 1 : 0);
+      if (!unlit) glBindTextureUnit(b::kLightmapUnit, lightmaps.texture(batch.page));
+      if (!masks.empty() && !unlit)
+        glBindTextureUnit(b::kShadowMaskUnit, masks.texture(batch.page));
       // The runtime's deltas in lightmap space, when it makes them.
       const bool delta_map = batch.page < delta_maps.size();
       glUniform1i(b::kUseDeltaMap, delta_map ? 1 : 0);

@@ -63,6 +63,9 @@ inline constexpr int kEmissionScale = 24;
 /// int: the masked baked lights are lights [begin, end) (lit_static.frag)
 inline constexpr int kMaskedBegin = 25;
 inline constexpr int kMaskedEnd = 26;
+/// int: 1 where the batch draws backs no baked light reaches
+/// (kUnlitBackPage): no lightmap, no masked light (lit_static.frag)
+inline constexpr int kUnlitSide = 27;
 // Dynamic only: probe grid.
 inline constexpr int kProbeOrigin = 19;   ///< vec3: centre of probe (0,0,0)
 inline constexpr int kProbeSpacing = 20;  ///< vec3

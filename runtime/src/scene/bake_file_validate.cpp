@@ -92,7 +92,8 @@ Status checkLightmapCorners(const BakeData& d, const std::string& path, const st
   return Status();
 }
 
-// Backs by ascending triangle (findBackUv searches them), each on a page.
+// Backs by ascending triangle (findBackUv searches them), each on a page or
+// unlit (kUnlitBackPage).
 Status validateBackUvs(const BakeData& d, const std::string& path) {
   if (Status s = checkCount(path, "BUVS", "backs", d.back_uvs.size()); !s.ok()) return s;
   for (size_t i = 0; i < d.back_uvs.size(); ++i) {
@@ -107,7 +108,8 @@ Status validateBackUvs(const BakeData& d, const std::string& path) {
                                " does not follow the previous back's " +
                                num(d.back_uvs[i - 1].triangle));
     }
-    if (Status s = checkLightmapCorners(d, path, where, uv.page, uv.uv); !s.ok()) return s;
+    const uint32_t page = uv.page == kUnlitBackPage ? 0 : uv.page;
+    if (Status s = checkLightmapCorners(d, path, where, page, uv.uv); !s.ok()) return s;
   }
   return Status();
 }

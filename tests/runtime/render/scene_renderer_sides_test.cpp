@@ -2,8 +2,9 @@
 // rooms split by a double-sided partition, a lamp in one (the leak tests'
 // level, tests/baker/pipeline/leak_levels.cpp), baked and rendered from each room
 // looking at the partition. Its lit side shows the lamp's light; its dark
-// side, drawn with its own back lightmap, is black (with one lightmap for
-// both sides it showed the lit side's light). Label `gl` (xvfb-run).
+// side, which faces the sealed room, has no texels (kUnlitBackPage) and is
+// drawn black (with one lightmap for both sides it showed the lit side's
+// light). Label `gl` (xvfb-run).
 
 #include <gtest/gtest.h>
 
@@ -26,6 +27,7 @@ namespace fs = std::filesystem;
 struct PartitionViews {
   double lit = 0, dark = 0;  ///< mean linear radiance of the partition, cd/m2
   size_t back_faces = 0;     ///< double-sided triangles with a back lightmap
+  size_t unlit_backs = 0;    ///< of them, backs no light reaches (kUnlitBackPage)
 };
 
 /// Mean radiance of the middle quarter of the frame (the partition fills it).
@@ -60,6 +62,7 @@ PartitionViews renderPartition() {
   EXPECT_TRUE(bake.ok() && scene.ok());
   if (!bake.ok() || !scene.ok()) return views;
   views.back_faces = bake->back_uvs.size();
+  for (const BakeBackUv& back : bake->back_uvs) views.unlit_backs += back.page == kUnlitBackPage;
   test::GlTestContext context;
   EXPECT_TRUE(context.ok());
   if (!context.ok()) return views;
@@ -87,9 +90,11 @@ PartitionViews renderPartition() {
 
 TEST(SceneRendererSides, EachSideOfADoubleSidedPartitionShowsItsOwnRoomsLight) {
   const PartitionViews views = renderPartition();
-  std::printf("double-sided partition: lit side %.4g cd/m2, dark side %.4g cd/m2 (%zu backs)\n",
-              views.lit, views.dark, views.back_faces);
+  std::printf(
+      "double-sided partition: lit side %.4g cd/m2, dark side %.4g cd/m2 (%zu backs, %zu unlit)\n",
+      views.lit, views.dark, views.back_faces, views.unlit_backs);
   EXPECT_EQ(views.back_faces, 2u) << "the partition's two triangles";
+  EXPECT_EQ(views.unlit_backs, 2u) << "its back faces the sealed room: no texels, drawn black";
   EXPECT_GT(views.lit, 0.5) << "the lamp-lit side (100 cd at 1.5 m, albedo 0.5: ~7 cd/m2)";
   EXPECT_LT(views.dark, 1e-4 * views.lit) << "the dark room's side reads " << views.dark
                                           << " cd/m2 against the lit side's " << views.lit;

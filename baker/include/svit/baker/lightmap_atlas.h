@@ -28,11 +28,20 @@ struct AtlasSettings {
   /// percent more charts and page texels (docs/bench/atlas_pieces.md).
   /// Authored UVs ignore it.
   size_t chart_piece_triangles = 1024;
+  /// Per triangle: 1 where a double-sided triangle's back gets a face of
+  /// its own (RadiositySolver::litBacks: light reaches it); a back left
+  /// out reads black. Empty: every double-sided back gets one.
+  std::vector<uint8_t> lit_backs;
 };
+
+/// Whether triangle t's back is a face of the atlas `settings` build.
+inline bool hasBackFace(const BakeGeometry& geometry, const AtlasSettings& settings, size_t t) {
+  return geometry.double_sided[t] && (settings.lit_backs.empty() || settings.lit_backs[t]);
+}
 
 /// Where every static triangle (BakeGeometry order) lies in the lightmap.
 /// The lightmap's faces are the triangles' fronts, face t for triangle t,
-/// then the backs of the double-sided ones (a lightmap per side: each side
+/// then the backs of the double-sided ones that light reaches (a lightmap per side: each side
 /// of a partition between a lit and a dark room gets its own light), face
 /// triangleCount() + i for back_triangles[i]. The per-face arrays hold the
 /// fronts first, then the backs.

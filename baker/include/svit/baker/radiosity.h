@@ -152,6 +152,16 @@ enum class InterpolationMode {
 
 class ElementTree;
 
+/// What RadiositySolver::litBacks found (lit_backs.h).
+struct LitBacksStats {
+  size_t double_sided = 0;  ///< triangles
+  size_t lit = 0;           ///< of them, backs light reaches
+  size_t sealed = 0;        ///< dark because the leak guard's flood never reached their back
+  size_t rays = 0;
+  int rounds = 0;  ///< fixed-point rounds over backs that see other backs
+  double seconds = 0;
+};
+
 class RadiositySolver {
  public:
   /// Sets up elements, clusters, emitters and light sources for the static
@@ -208,6 +218,12 @@ class RadiositySolver {
   /// lies beyond (a room's corner, the floor under a wall), which
   /// irradianceAt counts as reached.
   LightReachVerdict lightReach(const Vec3& point, const Vec3& normal) const;
+  /// Per triangle: 1 where it is double-sided and some baked light can
+  /// reach its back (a sky its rays escape to, a light in sight, a lit side
+  /// in view), so the back needs a lightmap of its own; 0 elsewhere. Cast
+  /// with the solver's caster and threads; deterministic, independent of
+  /// the seed and of the solution.
+  std::vector<uint8_t> litBacks(LitBacksStats* stats = nullptr) const;
 
   /// Per-triangle front irradiance of a reference solution; from then on the
   /// error series also carries the true relative error.
