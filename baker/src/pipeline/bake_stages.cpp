@@ -277,10 +277,11 @@ nlohmann::ordered_json unlitBacksJson(const BakeGeometry& geometry, const AtlasS
     if (atlas.face(t, 1) == t) unlit_m2 += geometry.areas_m2[t];
   }
   const size_t unlit = double_sided - atlas.back_triangles.size();
-  return {{"double_sided_triangles", double_sided},
-          {"unlit", unlit},
-          {"unlit_m2", unlit_m2},
-          {"texels_left_out", std::llround(unlit_m2 * settings.texels_per_m * settings.texels_per_m)}};
+  return {
+      {"double_sided_triangles", double_sided},
+      {"unlit", unlit},
+      {"unlit_m2", unlit_m2},
+      {"texels_left_out", std::llround(unlit_m2 * settings.texels_per_m * settings.texels_per_m)}};
 }
 
 /// The level the bake lit, as report.json names it for svit-probe and the
@@ -648,9 +649,9 @@ Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
   run.clock.endStage("write");
 
   nlohmann::ordered_json json =
-      reportJson(run, ReportInputs{level.scene, level.geometry, level.level_hash, level.degenerate, solver,
-                                   atlas.settings, atlas.atlas, atlas.texels, pages, lighting, data,
-                                   *left_out, with_reference});
+      reportJson(run, ReportInputs{level.scene, level.geometry, level.level_hash, level.degenerate,
+                                   solver, atlas.settings, atlas.atlas, atlas.texels, pages,
+                                   lighting, data, *left_out, with_reference});
   json["shadow_masks"] = *masks;
   for (const auto& [key, value] : extra_report.items()) json[key] = value;
   return writeBake(run, pages, data, lighting.series, json);

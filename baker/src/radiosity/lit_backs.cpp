@@ -69,8 +69,7 @@ class BackLookout {
     const std::array<glm::dvec3, 4> points = lookoutPoints(geometry_, t);
     const float magnitude = cornerMagnitude(geometry_, t);
     std::array<Vec3, 4> origins;
-    for (int k = 0; k < 4; ++k)
-      origins[k] = offsetRayOrigin(vec3(points[k]), vec3(n), magnitude);
+    for (int k = 0; k < 4; ++k) origins[k] = offsetRayOrigin(vec3(points[k]), vec3(n), magnitude);
     Rng rng(mix64(0x6c69744261636b73ull ^ uint64_t(t)));
     for (int half = 0; half < 2 && !out.lit; ++half) lookAround(origins, n, rng, out);
     if (!out.lit) lookAtLights(origins, n, out);

@@ -40,7 +40,6 @@ inline constexpr int kLitBackRays = 64;
 /// The lit backs of `geometry`'s double-sided triangles. Deterministic for
 /// any thread count.
 LitBacks findLitBacks(const BakeGeometry& geometry, const RayCaster& caster,
-                      const std::vector<LightSource>& lights, const LightReach& reach,
-                      int threads);
+                      const std::vector<LightSource>& lights, const LightReach& reach, int threads);
 
 }  // namespace svit::baker

@@ -46,7 +46,7 @@ inline constexpr uint32_t kUnlitBackPage = 0xffffffffu;
 struct BakeBackUv {
   uint32_t triangle = 0;  ///< BakeData::triangle_uvs index
   uint32_t page = 0;      ///< BakeData::pages index, or kUnlitBackPage
-  Vec2 uv[3];  ///< page coordinates in [0, 1], v down the rows, corners as the front's
+  Vec2 uv[3];             ///< page coordinates in [0, 1], v down the rows, corners as the front's
 };
 
 /// A patch: a cluster-tree node of bounded area and similar normal, the unit

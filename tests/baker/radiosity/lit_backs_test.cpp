@@ -113,7 +113,7 @@ TEST(LitBacks, BacksThatSeeOnlyEachOtherSettleDarkUnlessOneIsLit) {
     b.addQuad("-z", {10, 0, 0}, {12, 0, 0}, {12, 2, 0}, {10, 2, 0}, grey);
     b.addQuad("+z", {10, 0, 2}, {10, 2, 2}, {12, 2, 2}, {12, 0, 2}, grey);
     const int panel = b.material({0.5f, 0.5f, 0.5f}, {}, true);
-    b.addQuad("a", {0, 0, 0}, {0, 0, 2}, {0, 2, 2}, {0, 2, 0}, panel);      // front -x
+    b.addQuad("a", {0, 0, 0}, {0, 0, 2}, {0, 2, 2}, {0, 2, 0}, panel);              // front -x
     b.addQuad("b", {0.5f, 0, 0}, {0.5f, 2, 0}, {0.5f, 2, 2}, {0.5f, 0, 2}, panel);  // front +x
     b.addPointLight(lamp, 100);
     return b.scene();
