@@ -9,6 +9,7 @@
 
 #include "bake_output.h"
 #include "bake_stages.h"
+#include "pass_sizing.h"
 #include "lightmap_error.h"
 #include "svit/bake_file.h"
 #include "svit/level.h"
@@ -90,10 +91,16 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const LoadedLevel& leve
   LightmapErrorEstimator estimator(level, atlas, solver, run.options);
   const double solver_seconds = solver.stats().seconds;
   for (ErrorPoint& p : out.series) p.ref_rel_error = std::numeric_limits<double>::quiet_NaN();
+  Expected<PassSizing> sizing =
+      sizePassesToBudget(run, level, solver, atlas, finishSeconds(plan, 0.0));
+  if (!sizing.ok()) return sizing.status();
+  out.sizing = *sizing;
   out.gather_rays = plan.gather_rays;
   const double stage_start = run.clock.stageStart();
-  double pass_seconds = 0;
-  for (uint32_t pass = 0; wantLightingPass(plan, pass, run.clock.elapsed(), pass_seconds); ++pass) {
+  double slowest_pass_s = 0, filter_s = 0;
+  for (uint32_t pass = 0; wantLightingPass(plan, pass, run.clock.elapsed(), slowest_pass_s,
+                                           finishSeconds(plan, filter_s));
+       ++pass) {
     const double pass_start = run.clock.elapsed();
     const TexelLightingSettings lighting_settings = passLightingSettings(run, level, pass);
     // Stage progress: the share of the stage's time used (with a budget),
@@ -110,13 +117,15 @@ Expected<LightingPasses> runLightingPasses(BakeRun& run, const LoadedLevel& leve
                     });
     if (!lit.ok()) return run.orCancelled(lit.status());
     out.accumulator.add(*lit);
-    pass_seconds = run.clock.elapsed() - pass_start;
+    slowest_pass_s = std::max(slowest_pass_s, run.clock.elapsed() - pass_start);
     ErrorPoint point;
     point.t_s = solver_seconds + (run.clock.elapsed() - stage_start);
     // One filtering of the passes for both measures (and, after the last
     // pass, for the pages).
     const bool measured = measuredPass(pass);
+    const double filter_start = run.clock.elapsed();
     out.filtered = measured ? bakeLighting(atlas, run.options, out.accumulator) : FilteredPasses{};
+    if (measured) filter_s = run.clock.elapsed() - filter_start;
     estimator.estimate(out.accumulator, out.accumulator.relativeError(),
                        measured ? &out.filtered : nullptr, point);
     point.rays = solver.stats().rays;

@@ -23,10 +23,11 @@ constexpr double kSolverBaseSeconds = 30.0;
 constexpr double kSolverSecondsPerQuality = 600.0;
 // Lighting passes without a budget: 8 at quality 1, never fewer than one.
 constexpr double kPassesPerQuality = 8.0;
-// With a budget, a pass starts only if one 20% slower than the last still
-// ends 1 s before the budget, the time left for pages and writing.
-constexpr double kPassTimeSafety = 1.2;
-constexpr double kPassTimeMarginS = 1.0;
+// With a budget, a pass starts only if one 5% slower than the slowest so
+// far still leaves the measured filtering and pages and 0.1 s for the
+// write (pass_sizing.h): passes of a bake vary by a few percent.
+constexpr double kPassTimeSafety = 1.05;
+constexpr double kPassTimeMarginS = 0.1;
 // Rays per texel and pass: few, so a pass is cheap and a bake runs many,
 // whose spread gives the error estimate; the sun's disk is small and needs
 // fewer than area lights.
@@ -76,11 +77,11 @@ double atlasTexelsPerM(const BakePlan& plan, double total_area_m2) {
                     kMinAutoTexelsPerM, kMaxAutoTexelsPerM);
 }
 
-bool wantLightingPass(const BakePlan& plan, uint32_t pass, double elapsed_s, double last_pass_s) {
+bool wantLightingPass(const BakePlan& plan, uint32_t pass, double elapsed_s, double pass_s,
+                      double finish_s) {
   if (pass >= plan.max_lighting_passes) return false;
   if (plan.has_budget) {
-    return !(pass > 0 && elapsed_s + last_pass_s * plan.pass_time_safety + plan.pass_time_margin_s >
-                             plan.budget_s);
+    return !(pass > 0 && elapsed_s + pass_s * plan.pass_time_safety + finish_s > plan.budget_s);
   }
   return pass < plan.quality_passes;
 }

@@ -25,9 +25,11 @@ struct BakePlan {
   // Lighting passes.
   uint32_t quality_passes = 1;       ///< passes without a budget
   uint32_t max_lighting_passes = 0;  ///< hard cap, budget or not
-  /// with a budget: the next pass is assumed this much slower than the last
+  /// with a budget: the next pass is assumed this much slower than the slowest so far
   double pass_time_safety = 0;
-  double pass_time_margin_s = 0;    ///< with a budget: seconds kept free for pages and writing
+  /// with a budget: seconds kept free for writing, beyond the measured
+  /// filtering and pages (pass_sizing.h finishSeconds)
+  double pass_time_margin_s = 0;
   uint32_t gather_rays = 0;         ///< final-gather rays per texel and pass
   uint32_t area_light_samples = 0;  ///< shadow rays to emissive surfaces per texel and pass
   uint32_t sun_samples = 0;         ///< shadow rays across the sun's disk per texel and pass
@@ -42,7 +44,9 @@ BakePlan planBake(const BakeOptions& options);
 double atlasTexelsPerM(const BakePlan& plan, double total_area_m2);
 
 /// Whether a lighting pass `pass` (0-based) should run, `elapsed_s` into the
-/// bake, the previous pass having taken `last_pass_s`.
-bool wantLightingPass(const BakePlan& plan, uint32_t pass, double elapsed_s, double last_pass_s);
+/// bake, the slowest pass so far having taken `pass_s`, with `finish_s`
+/// needed after the last pass (the first pass always runs).
+bool wantLightingPass(const BakePlan& plan, uint32_t pass, double elapsed_s, double pass_s,
+                      double finish_s);
 
 }  // namespace svit::baker

@@ -264,6 +264,16 @@ struct ReportInputs {
   bool with_reference;
 };
 
+/// How the budget sized the lighting passes (pass_sizing.h); null without one.
+nlohmann::ordered_json passSizingJson(const PassSizing& sizing, uint32_t gather_rays) {
+  if (!sizing.sized) return nullptr;
+  return {{"probe_s", sizing.probe_s},
+          {"predicted_pass_s", sizing.predicted_pass_s},
+          {"seconds_for_passes", sizing.seconds_for_passes},
+          {"ray_share", sizing.ray_share},
+          {"gather_rays_per_pass", gather_rays}};
+}
+
 /// The double-sided triangles whose backs no light reaches, left without
 /// texels of their own (RadiositySolver::litBacks), and what they would
 /// have cost at the atlas's density.
@@ -343,7 +353,8 @@ nlohmann::ordered_json reportJson(const BakeRun& run, const ReportInputs& in) {
       {"back_texels", std::count_if(in.texels.samples.begin(), in.texels.samples.end(),
                                     [&](const TexelSample& s) { return in.atlas.isBack(s.face); })},
       {"lighting_passes", in.lighting.accumulator.passes()},
-      {"gather_rays_per_texel", in.lighting.accumulator.passes() * in.lighting.gather_rays}};
+      {"gather_rays_per_texel", in.lighting.accumulator.passes() * in.lighting.gather_rays},
+      {"pass_sizing", passSizingJson(in.lighting.sizing, in.lighting.gather_rays)}};
   nlohmann::ordered_json warnings = in.scene.warnings;
   if (in.degenerate > 0) {
     warnings.push_back(

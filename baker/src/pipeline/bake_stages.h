@@ -142,9 +142,19 @@ TexelLightingSettings passLightingSettings(const BakeRun& run, const LoadedLevel
 
 // What the lighting passes leave: their running mean and the error series
 // (the solver's points, then one per pass).
+/// How a budget sized the passes (pass_sizing.h).
+struct PassSizing {
+  bool sized = false;             ///< false: no budget, the plan's rays
+  double probe_s = 0;             ///< the probe pass's wall time
+  double predicted_pass_s = 0;    ///< a full pass at the plan's rays, from the probe
+  double seconds_for_passes = 0;  ///< what the budget leaves them
+  double ray_share = 1;           ///< of the plan's gather and area-light rays, per pass
+};
+
 struct LightingPasses {
   TexelAccumulator accumulator;
   std::vector<ErrorPoint> series;
+  PassSizing sizing;
   uint32_t gather_rays = 0;  ///< per texel and pass
   double solver_error = 0;   ///< the solver's estimated relative error
   /// bakeLighting of `accumulator`: the texels the pages are built from
