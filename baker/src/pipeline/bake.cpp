@@ -214,13 +214,19 @@ Expected<BakeResult> bakeLevel(const BakeOptions& options,
   Expected<AtlasTexels> atlas = buildAtlasTexels(run, **level, **solver);
   if (!atlas.ok()) return atlas.status();
   if (Status s = checkReferenceAtlas(*reference_pages, atlas->texels); !s.ok()) return s;
+  run.clock.endStage("runtime");
+
+  // The runtime's parts before the passes: a budget sizes the passes to
+  // what is left after them (pass_sizing.h).
+  Expected<RuntimeParts> runtime = buildRuntimeParts(run, **level, **solver, *atlas);
+  if (!runtime.ok()) return runtime.status();
   run.clock.endStage("lighting");
 
   Expected<LightingPasses> lighting =
       runLightingPasses(run, **level, **solver, *atlas, *reference_pages);
   if (!lighting.ok()) return lighting.status();
-  return finishBake(run, **level, **solver, *atlas, std::move(*lighting), *reference_pages,
-                    nlohmann::ordered_json::object());
+  return finishBake(run, **level, **solver, *atlas, std::move(*lighting), std::move(*runtime),
+                    *reference_pages, nlohmann::ordered_json::object());
 }
 
 }  // namespace svit::baker

@@ -95,8 +95,6 @@ nlohmann::ordered_json seriesJson(const std::vector<ErrorPoint>& series, bool wi
   return out;
 }
 
-// The bake file's lightmap part: the pages' names and hashes, and every
-// static triangle's lightmap coordinates.
 // Every double-sided triangle's back, ascending: on its own face where it
 // has one, else unlit (kUnlitBackPage: no light reaches it, it reads black).
 std::vector<BakeBackUv> backUvs(const BakeGeometry& geometry, const LightmapAtlas& atlas) {
@@ -113,10 +111,12 @@ std::vector<BakeBackUv> backUvs(const BakeGeometry& geometry, const LightmapAtla
   return backs;
 }
 
-BakeData lightmapBakeData(const BakeOptions& options, uint64_t level_hash,
-                          const BakeGeometry& geometry, const LightmapAtlas& atlas,
-                          const LightmapPages& pages) {
-  BakeData data;
+// The bake file's lightmap part, added to `data` (which holds the runtime's
+// parts already): the pages' names and hashes, and every static triangle's
+// lightmap coordinates.
+void addLightmapSections(const BakeOptions& options, uint64_t level_hash,
+                         const BakeGeometry& geometry, const LightmapAtlas& atlas,
+                         const LightmapPages& pages, BakeData& data) {
   data.level_hash = level_hash;
   data.seed = options.seed;
   for (size_t p = 0; p < pages.images.size(); ++p) {
@@ -137,7 +137,6 @@ BakeData lightmapBakeData(const BakeOptions& options, uint64_t level_hash,
     data.triangle_uvs.push_back(uv);
   }
   data.back_uvs = backUvs(geometry, atlas);
-  return data;
 }
 
 // Adds the runtime's sections to `data` when the level needs them; returns
@@ -171,9 +170,9 @@ nlohmann::ordered_json maskedLightJson(const Scene& scene, const BakeData& data,
   const BakeMaskedLight& light = data.masks.lights[k];
   const BakeEmitter& emitter = data.emitters[light.emitter];
   size_t texels = 0, page_texels = 0;
-  for (size_t p = 0; p < data.pages.size(); ++p) {
+  for (size_t p = 0; p < data.masks.pages.size(); ++p) {
     texels += maskTexelsOf(data.masks, k, p);
-    page_texels += size_t(data.pages[p].width) * data.pages[p].height;
+    page_texels += data.masks.pages[p].size() / (size_t(data.masks.layers()) * 4);
   }
   const std::string name = emitter.kind == BakeEmitter::Kind::kSun ? std::string("sun")
                            : emitter.kind == BakeEmitter::Kind::kPatch
@@ -624,9 +623,24 @@ TexelLightingSettings passLightingSettings(const BakeRun& run, const LoadedLevel
   return settings;
 }
 
+Expected<RuntimeParts> buildRuntimeParts(BakeRun& run, const LoadedLevel& level,
+                                         const RadiositySolver& solver, const AtlasTexels& atlas) {
+  RuntimeParts parts;
+  Expected<nlohmann::ordered_json> left_out =
+      addRuntimeSections(run, level.scene, level.geometry, *level.caster, solver, parts.data);
+  if (!left_out.ok()) return left_out.status();
+  parts.left_out = std::move(*left_out);
+  Expected<nlohmann::ordered_json> masks =
+      addShadowMasks(run, level, atlas, parts.data, parts.left_out);
+  if (!masks.ok()) return masks.status();
+  parts.masks = std::move(*masks);
+  if (!run.clock.report(1, run.clock.remaining())) return run.cancelled;
+  return parts;
+}
+
 Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
                                 const RadiositySolver& solver, const AtlasTexels& atlas,
-                                LightingPasses lighting,
+                                LightingPasses lighting, RuntimeParts runtime,
                                 const std::vector<LightmapImage>& reference_pages,
                                 const nlohmann::ordered_json& extra_report) {
   run.clock.endStage("pages");
@@ -643,27 +657,20 @@ Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
       page.comments = "svit: black: the level has no light source to bake (report.json)";
     }
   }
-  BakeData data =
-      lightmapBakeData(run.options, level.level_hash, level.geometry, atlas.atlas, pages);
-  run.clock.endStage("runtime");
-
-  Expected<nlohmann::ordered_json> left_out =
-      addRuntimeSections(run, level.scene, level.geometry, *level.caster, solver, data);
-  if (!left_out.ok()) return left_out.status();
+  BakeData& data = runtime.data;
+  addLightmapSections(run.options, level.level_hash, level.geometry, atlas.atlas, pages, data);
   if (data.back_uvs.empty()) {
-    left_out->push_back(
+    runtime.left_out.push_back(
         {{"section", "back_uvs"}, {"reason", "the level has no double-sided static triangles"}});
   }
-  Expected<nlohmann::ordered_json> masks = addShadowMasks(run, level, atlas, data, *left_out);
-  if (!masks.ok()) return masks.status();
   if (!run.clock.report(1, run.clock.remaining())) return run.cancelled;
   run.clock.endStage("write");
 
   nlohmann::ordered_json json =
       reportJson(run, ReportInputs{level.scene, level.geometry, level.level_hash, level.degenerate,
                                    solver, atlas.settings, atlas.atlas, atlas.texels, pages,
-                                   lighting, data, *left_out, with_reference});
-  json["shadow_masks"] = *masks;
+                                   lighting, data, runtime.left_out, with_reference});
+  json["shadow_masks"] = runtime.masks;
   for (const auto& [key, value] : extra_report.items()) json[key] = value;
   return writeBake(run, pages, data, lighting.series, json);
 }

@@ -1,8 +1,8 @@
 #pragma once
 // The stages of a bake that a whole bake (bake.cpp) and a sharded one
 // (sharded_bake.cpp) share: loading, the radiosity, the atlas and its
-// texels, the lighting settings, and the finish (pages, bake file, runtime
-// sections, report, write-then-swap). A sharded bake runs the same stages
+// texels, the runtime's sections and masks, the lighting settings, and the
+// finish (pages, bake file, report, write-then-swap). A sharded bake runs the same stages
 // in other processes, so its output is the whole bake's by construction.
 // Internal.
 
@@ -19,6 +19,7 @@
 #include "bake_plan.h"
 #include "lightmap/filtered_passes.h"
 #include "lightmap/texel_accumulator.h"
+#include "svit/bake_file.h"
 #include "svit/baker/bake.h"
 #include "svit/baker/bake_geometry.h"
 #include "svit/baker/lightmap_atlas.h"
@@ -161,15 +162,30 @@ struct LightingPasses {
   FilteredPasses filtered;
 };
 
-/// Writes the bake: pages (filtered, stitched, dilated), bake file, the
-/// runtime's sections when the level needs them, and report.json (with
+/// What the runtime reads besides the lightmaps, and the report's account
+/// of it: the runtime's sections and the shadow masks (BakeData's runtime
+/// fields; its lightmap fields empty), the sections left out with why, and
+/// report.json's "shadow_masks". None of it reads the lighting passes, so
+/// it is built before them and a budget's passes get what it leaves.
+struct RuntimeParts {
+  BakeData data;
+  nlohmann::ordered_json left_out = nlohmann::ordered_json::array();
+  nlohmann::ordered_json masks;
+};
+
+/// The runtime's sections when the level needs them, and the shadow masks
+/// of the lights chosen for masking ("runtime" stage: the caller starts it).
+Expected<RuntimeParts> buildRuntimeParts(BakeRun& run, const LoadedLevel& level,
+                                         const RadiositySolver& solver, const AtlasTexels& atlas);
+
+/// Writes the bake: pages (filtered, stitched, dilated), bake file (the
+/// lightmap sections and `runtime`'s), and report.json (with
 /// `extra_report` merged in at the top level), into a staging directory
-/// swapped in at OUT ("pages", "runtime", "write" stages). With
-/// `reference_pages`, the last pass's true error is measured on the pages
-/// written.
+/// swapped in at OUT ("pages", "write" stages). With `reference_pages`,
+/// the last pass's true error is measured on the pages written.
 Expected<BakeResult> finishBake(BakeRun& run, const LoadedLevel& level,
                                 const RadiositySolver& solver, const AtlasTexels& atlas,
-                                LightingPasses lighting,
+                                LightingPasses lighting, RuntimeParts runtime,
                                 const std::vector<LightmapImage>& reference_pages,
                                 const nlohmann::ordered_json& extra_report);
 

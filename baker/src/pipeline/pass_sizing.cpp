@@ -40,8 +40,7 @@ Expected<PassSizing> sizePassesToBudget(BakeRun& run, const LoadedLevel& level,
   if (!lit.ok()) return run.orCancelled(lit.status());
   out.sized = true;
   out.probe_s = run.clock.elapsed() - start;
-  out.predicted_pass_s =
-      out.probe_s * double(atlas.texels.samples.size()) / double(probe.size());
+  out.predicted_pass_s = out.probe_s * double(atlas.texels.samples.size()) / double(probe.size());
   out.seconds_for_passes = std::max(0.0, run.plan.budget_s - run.clock.elapsed() - finish_s);
   if (out.predicted_pass_s > 0) {
     const double share = out.seconds_for_passes / (kMinBudgetPasses * out.predicted_pass_s);

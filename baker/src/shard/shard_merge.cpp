@@ -175,8 +175,12 @@ Expected<BakeResult> mergeShardedBake(const std::string& work_dir, const std::st
   Expected<MergedShards> merged = mergeShards(run, work_dir, *loaded);
   if (!merged.ok()) return merged.status();
   const nlohmann::ordered_json extra = shardedReport(*loaded, *merged);
+  run.clock.endStage("runtime");
+  Expected<RuntimeParts> runtime =
+      buildRuntimeParts(run, *loaded->level, *loaded->solver, loaded->atlas);
+  if (!runtime.ok()) return runtime.status();
   return finishBake(run, *loaded->level, *loaded->solver, loaded->atlas,
-                    lightingFromShards(*loaded, *merged, run), {}, extra);
+                    lightingFromShards(*loaded, *merged, run), std::move(*runtime), {}, extra);
 }
 
 }  // namespace svit::baker

@@ -63,7 +63,7 @@ Status validateBakeOptions(const BakeOptions& options);
 
 /// What the progress callback sees.
 struct BakeProgress {
-  /// "load", "radiosity", "atlas", "texels", "lighting", "pages", "runtime", "write"
+  /// "load", "radiosity", "atlas", "texels", "runtime", "lighting", "pages", "write"
   std::string stage;
   double stage_fraction = 0;  ///< 0..1 within the stage
   double elapsed_s = 0;
