@@ -21,6 +21,11 @@ uint32_t scaledRays(uint32_t rays, double share) {
 
 }  // namespace
 
+double rayShare(double seconds_for_passes, double predicted_pass_s) {
+  if (!(predicted_pass_s > 0)) return 1.0;
+  return std::clamp(seconds_for_passes / (kMinBudgetPasses * predicted_pass_s), kMinRayShare, 1.0);
+}
+
 double finishSeconds(const BakePlan& plan, double filter_s) {
   return 1.5 * filter_s + plan.pass_time_margin_s;
 }
@@ -42,10 +47,7 @@ Expected<PassSizing> sizePassesToBudget(BakeRun& run, const LoadedLevel& level,
   out.probe_s = run.clock.elapsed() - start;
   out.predicted_pass_s = out.probe_s * double(atlas.texels.samples.size()) / double(probe.size());
   out.seconds_for_passes = std::max(0.0, run.plan.budget_s - run.clock.elapsed() - finish_s);
-  if (out.predicted_pass_s > 0) {
-    const double share = out.seconds_for_passes / (kMinBudgetPasses * out.predicted_pass_s);
-    out.ray_share = std::clamp(share, kMinRayShare, 1.0);
-  }
+  out.ray_share = rayShare(out.seconds_for_passes, out.predicted_pass_s);
   run.plan.gather_rays = scaledRays(run.plan.gather_rays, out.ray_share);
   run.plan.area_light_samples = scaledRays(run.plan.area_light_samples, out.ray_share);
   return out;
