@@ -267,8 +267,10 @@ struct ReportInputs {
 nlohmann::ordered_json passSizingJson(const PassSizing& sizing, uint32_t gather_rays) {
   if (!sizing.sized) return nullptr;
   return {{"probe_s", sizing.probe_s},
-          {"predicted_pass_s", sizing.predicted_pass_s},
+          {"full_pass_s", sizing.full_pass_s},
+          {"fixed_pass_s", sizing.fixed_pass_s},
           {"seconds_for_passes", sizing.seconds_for_passes},
+          {"planned_passes", sizing.planned_passes},
           {"ray_share", sizing.ray_share},
           {"gather_rays_per_pass", gather_rays}};
 }

@@ -146,9 +146,11 @@ TexelLightingSettings passLightingSettings(const BakeRun& run, const LoadedLevel
 /// How a budget sized the passes (pass_sizing.h).
 struct PassSizing {
   bool sized = false;             ///< false: no budget, the plan's rays
-  double probe_s = 0;             ///< the probe pass's wall time
-  double predicted_pass_s = 0;    ///< a full pass at the plan's rays, from the probe
+  double probe_s = 0;             ///< the probe passes' wall time
+  double full_pass_s = 0;         ///< a pass at the plan's rays, from the probes
+  double fixed_pass_s = 0;        ///< the part of it that does not shrink with the rays
   double seconds_for_passes = 0;  ///< what the budget leaves them
+  uint32_t planned_passes = 0;    ///< that fill those seconds (the clock decides)
   double ray_share = 1;           ///< of the plan's gather and area-light rays, per pass
 };
 

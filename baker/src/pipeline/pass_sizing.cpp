@@ -19,11 +19,66 @@ uint32_t scaledRays(uint32_t rays, double share) {
   return std::max(1u, uint32_t(std::lround(double(rays) * share)));
 }
 
+// The probe texels lit with `share` of pass 0's rays (its solution half
+// too, so its cost is the one predicted); its wall seconds.
+Expected<double> probeSeconds(BakeRun& run, const LoadedLevel& level, const RadiositySolver& solver,
+                              const AtlasTexels& atlas, const std::vector<uint32_t>& probe,
+                              double share) {
+  TexelLightingSettings settings = passLightingSettings(run, level, 0);
+  settings.gather_rays = scaledRays(settings.gather_rays, share);
+  settings.area_light_samples = scaledRays(settings.area_light_samples, share);
+  const double start = run.clock.elapsed();
+  Expected<std::vector<TexelIrradiance>> lit =
+      lightTexelList(level.scene, level.geometry, *level.caster, solver, atlas.texels, probe,
+                     settings, run.cancel, {});
+  if (!lit.ok()) return run.orCancelled(lit.status());
+  return run.clock.elapsed() - start;
+}
+
+// A whole pass's cost from the probes: all rays twice (the first also
+// warms caches and threads; the faster counts), then a quarter of them.
+Expected<PassCost> measurePassCost(BakeRun& run, const LoadedLevel& level,
+                                   const RadiositySolver& solver, const AtlasTexels& atlas,
+                                   double& probe_s) {
+  const std::vector<uint32_t> probe = probeTexels(atlas.texels);
+  double seconds[3] = {0, 0, 0};
+  const double shares[3] = {1.0, 1.0, kMinRayShare};
+  for (int k = 0; k < 3; ++k) {
+    Expected<double> s = probeSeconds(run, level, solver, atlas, probe, shares[k]);
+    if (!s.ok()) return s.status();
+    seconds[k] = *s;
+    probe_s += *s;
+  }
+  const double scale = double(atlas.texels.samples.size()) / double(probe.size());
+  const double full = std::min(seconds[0], seconds[1]) * scale, quarter = seconds[2] * scale;
+  PassCost cost;
+  cost.per_share_s = std::max(0.0, (full - quarter) / (1 - kMinRayShare));
+  cost.fixed_s = std::max(0.0, full - cost.per_share_s);
+  return cost;
+}
+
 }  // namespace
 
-double rayShare(double seconds_for_passes, double predicted_pass_s) {
-  if (!(predicted_pass_s > 0)) return 1.0;
-  return std::clamp(seconds_for_passes / (kMinBudgetPasses * predicted_pass_s), kMinRayShare, 1.0);
+uint32_t filteringsOf(uint32_t passes) {
+  uint32_t filterings = 0;
+  for (uint32_t measured = 4; measured <= passes; measured *= 2) ++filterings;
+  const bool last_measured = (passes & (passes - 1)) == 0;
+  return filterings + (passes >= 4 && !last_measured ? 1 : 0);
+}
+
+PassPlan planPasses(double seconds_for_passes, const PassCost& cost, double filter_s) {
+  PassPlan plan;
+  const double usable = seconds_for_passes / kPassPlanSlack;
+  if (!(cost.at(1) > 0) || !(usable > 0)) return plan;
+  // The seconds each of n passes has, once their filterings are paid.
+  const auto perPass = [&](uint32_t n) { return (usable - filteringsOf(n) * filter_s) / n; };
+  uint32_t n = kFewestPasses;
+  while (perPass(n) > cost.at(1) && n < 100000) ++n;
+  const double share = cost.per_share_s > 0 ? (perPass(n) - cost.fixed_s) / cost.per_share_s : 1.0;
+  plan.ray_share = std::clamp(share, kMinRayShare, 1.0);
+  plan.passes = n;
+  while (plan.passes > 1 && perPass(plan.passes) < cost.at(plan.ray_share)) --plan.passes;
+  return plan;
 }
 
 double finishSeconds(const BakePlan& plan, double filter_s) {
@@ -35,19 +90,16 @@ Expected<PassSizing> sizePassesToBudget(BakeRun& run, const LoadedLevel& level,
                                         double finish_s) {
   PassSizing out;
   if (!run.plan.has_budget || atlas.texels.samples.empty()) return out;
-  const std::vector<uint32_t> probe = probeTexels(atlas.texels);
-  // Pass 0's own settings (and solution half), so its cost is the one predicted.
-  const TexelLightingSettings settings = passLightingSettings(run, level, 0);
-  const double start = run.clock.elapsed();
-  Expected<std::vector<TexelIrradiance>> lit =
-      lightTexelList(level.scene, level.geometry, *level.caster, solver, atlas.texels, probe,
-                     settings, run.cancel, {});
-  if (!lit.ok()) return run.orCancelled(lit.status());
+  Expected<PassCost> cost = measurePassCost(run, level, solver, atlas, out.probe_s);
+  if (!cost.ok()) return cost.status();
   out.sized = true;
-  out.probe_s = run.clock.elapsed() - start;
-  out.predicted_pass_s = out.probe_s * double(atlas.texels.samples.size()) / double(probe.size());
+  out.full_pass_s = cost->at(1);
+  out.fixed_pass_s = cost->fixed_s;
   out.seconds_for_passes = std::max(0.0, run.plan.budget_s - run.clock.elapsed() - finish_s);
-  out.ray_share = rayShare(out.seconds_for_passes, out.predicted_pass_s);
+  const double filter_s = run.options.indirect_filter ? kFilterPassShare * cost->at(1) : 0.0;
+  const PassPlan planned = planPasses(out.seconds_for_passes, *cost, filter_s);
+  out.planned_passes = planned.passes;
+  out.ray_share = planned.ray_share;
   run.plan.gather_rays = scaledRays(run.plan.gather_rays, out.ray_share);
   run.plan.area_light_samples = scaledRays(run.plan.area_light_samples, out.ray_share);
   return out;

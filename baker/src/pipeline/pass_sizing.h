@@ -4,15 +4,18 @@
 // split-half estimate and the filter need them alike), so the last one
 // that fits leaves up to a pass of the budget unused: at 10 s on the
 // Cornell box a pass of 16 gather rays took a tenth of the budget and
-// bakes ended at 8.1-9.1 s. Before the first pass a timed gather over
-// every 32nd texel predicts a pass, and the rays per texel and pass shrink
-// (down to a quarter) until at least 30 passes fit the time the passes
-// have, so what the last one leaves is at most a thirtieth of it. Never
-// below a quarter: a pass has costs that do not shrink with its rays (the
-// texel's setup, a shadow ray per light), and a single gather ray has no
-// stratification. The double-sided Cornell box at 256 texels/m (1.6 M
-// texels) in 10 s runs one pass at a quarter (17.7 % RMS against Mitsuba,
-// ending at 8.3 s); two passes of one gather ray each read 113 %.
+// bakes ended at 8.1-9.1 s. Before the first pass, timed passes over every
+// 16th texel at all of the plan's rays and at a quarter of them measure a
+// pass's cost: a part that shrinks with its rays and a part that does not
+// (texel setup, a shadow ray per point light: a fifth of a pass on the
+// double-sided Cornell box). The fewest passes that fill the time the
+// passes have then run (4 at least, for the filter and the split half),
+// with their rays shrunk (to a quarter at most) so that they fill it: with
+// a fixed part, the same seconds in more, smaller passes cast fewer rays
+// (30 passes at a quarter cast 5.8 passes' rays in 10 s, 11 at 0.9 cast 9.7).
+// The plan keeps time for the filterings of the measured passes (4, 8, 16,
+// ... and the last), each taken as kFilterPassShare of a pass: the filter's
+// cost is unknown until it has run once.
 
 #include <cstdint>
 
@@ -20,24 +23,52 @@
 
 namespace svit::baker {
 
-/// Every this many texels one is lit by the probe pass.
-inline constexpr uint32_t kProbeStride = 32;
-/// Passes the budget should hold at least (where a quarter of the rays allow).
-inline constexpr double kMinBudgetPasses = 30;
-/// Smallest share of the plan's rays a pass keeps.
+/// Every this many texels one is lit by the probe passes.
+inline constexpr uint32_t kProbeStride = 16;
+/// Smallest share of the plan's rays a pass keeps: below it a pass is
+/// mostly its fixed part, and a single gather ray has no stratification.
 inline constexpr double kMinRayShare = 0.25;
+/// Passes a budget holds at least (the filter and the split half need them).
+inline constexpr uint32_t kFewestPasses = 4;
+/// The passes are planned to fill the time less this share of slack: a next
+/// pass starts only if 1.05x the slowest one fits (bake_plan.h), and passes
+/// vary by a few percent.
+inline constexpr double kPassPlanSlack = 1.06;
+
+/// A filtering of the passes as a share of a pass at the plan's rays (the
+/// double-sided Cornell box at 64 texels/m: 0.22 s against 0.51 s; where
+/// rays cost more, as on Sponza, it is less).
+inline constexpr double kFilterPassShare = 0.45;
+
+/// A whole pass's cost at a share s of the plan's rays.
+struct PassCost {
+  double fixed_s = 0;      ///< what does not shrink with the rays
+  double per_share_s = 0;  ///< what does, at all of them
+  double at(double share) const { return fixed_s + per_share_s * share; }
+};
+
+/// The passes planned for `seconds_for_passes` at `cost`.
+struct PassPlan {
+  uint32_t passes = 0;
+  double ray_share = 1;
+};
+
+/// The filterings a bake of `passes` lighting passes runs: at 4, 8, 16, ...
+/// passes (the measured ones the filter runs on), and after the last.
+uint32_t filteringsOf(uint32_t passes);
+
+/// The fewest passes, kFewestPasses at least, that with their filterings
+/// (`filter_s` each) fill `seconds_for_passes` (less kPassPlanSlack) at no
+/// more than the plan's rays, and the share of them that fills it
+/// (kMinRayShare at least: then fewer fit). Pure.
+PassPlan planPasses(double seconds_for_passes, const PassCost& cost, double filter_s = 0);
 
 /// With a budget, probes the pass cost and scales run.plan's gather rays and
-/// area-light samples per pass so that kMinBudgetPasses fit the time left
-/// but `finish_s` (rayShare); without one, changes nothing. Errors:
-/// cancellation.
+/// area-light samples per pass by planPasses' share for the time left but
+/// `finish_s`; without one, changes nothing. Errors: cancellation.
 Expected<PassSizing> sizePassesToBudget(BakeRun& run, const LoadedLevel& level,
                                         const RadiositySolver& solver, const AtlasTexels& atlas,
                                         double finish_s);
-
-/// The share of the plan's rays a pass keeps when a pass at the plan's rays
-/// takes `predicted_pass_s` and the passes have `seconds_for_passes`.
-double rayShare(double seconds_for_passes, double predicted_pass_s);
 
 /// The seconds after the last pass: its filtering (measured, `filter_s`),
 /// the pages (half as long at most, measured on the Cornell box and the

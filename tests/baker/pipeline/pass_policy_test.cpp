@@ -1,6 +1,6 @@
 // The budget's pass policy (issue 46 item 2): how a measured pass cost
-// becomes the rays a pass keeps (pass_sizing.h), and when the next pass
-// still fits (bake_plan.h). Pure functions; the bakes that use them are
+// becomes the passes and the rays each keeps (pass_sizing.h), and when the
+// next pass still fits (bake_plan.h). Pure functions; the bakes that use them are
 // measured in tests/bench/double_sided_bake.sh.
 
 #include <gtest/gtest.h>
@@ -13,24 +13,73 @@
 namespace svit::baker {
 namespace {
 
-TEST(PassPolicy, CheapPassesKeepTheirRays) {
-  // 100 s for passes of 1 s: 100 passes fit, more than kMinBudgetPasses.
-  EXPECT_DOUBLE_EQ(rayShare(100, 1), 1.0);
-  EXPECT_DOUBLE_EQ(rayShare(100, 0), 1.0);  // nothing measured: the plan's rays
+// The planned passes fill the usable seconds to within one pass, at least
+// kFewestPasses of them where a quarter of the rays allows.
+void expectFills(double seconds, const PassCost& cost, const PassPlan& plan) {
+  const double usable = seconds / kPassPlanSlack;
+  EXPECT_LE(plan.passes * cost.at(plan.ray_share), usable + 1e-9);
+  EXPECT_GT((plan.passes + 1) * cost.at(plan.ray_share), usable);
+  EXPECT_GE(plan.ray_share, kMinRayShare);
+  EXPECT_LE(plan.ray_share, 1.0);
 }
 
-TEST(PassPolicy, RaysShrinkUntilThirtyPassesFitDownToAQuarter) {
-  EXPECT_NEAR(rayShare(15, 1), 0.5, 1e-12);  // 30 passes of half the rays
-  EXPECT_NEAR(rayShare(10, 1), 1.0 / 3, 1e-12);
-  // 6 s: 30 passes would need a fifth of the rays; a quarter gives 24.
-  EXPECT_DOUBLE_EQ(rayShare(6, 1), kMinRayShare);
+TEST(PassPolicy, TheFewestPassesThatFillTheTimeAtNoMoreThanThePlansRays) {
+  // The double-sided Cornell box at 10 s: a pass 0.57 s, 0.13 s of it fixed.
+  const PassCost cornell{0.13, 0.44};
+  const PassPlan plan = planPasses(6, cornell);
+  expectFills(6, cornell, plan);
+  EXPECT_EQ(plan.passes, 10u);
+  EXPECT_GT(plan.ray_share, 0.95);
+  // More, smaller passes in the same seconds cast fewer rays: 30 passes at
+  // a quarter would cast 5.8 passes' worth.
+  EXPECT_GT(plan.passes * plan.ray_share, 1.5 * 6 / cornell.at(kMinRayShare) * kMinRayShare);
+  const PassPlan cheap = planPasses(100, {0.1, 0.9});
+  expectFills(100, {0.1, 0.9}, cheap);
+  EXPECT_GT(cheap.ray_share, 0.98);
 }
 
-TEST(PassPolicy, NeverBelowAQuarterEvenWhereFewPassesFit) {
+TEST(PassPolicy, FilteringsAtFourEightSixteenPassesAndAfterTheLast) {
+  EXPECT_EQ(filteringsOf(1), 0u);  // the filter needs four passes
+  EXPECT_EQ(filteringsOf(3), 0u);
+  EXPECT_EQ(filteringsOf(4), 1u);  // the last pass was measured: its filtering is reused
+  EXPECT_EQ(filteringsOf(5), 2u);
+  EXPECT_EQ(filteringsOf(8), 2u);
+  EXPECT_EQ(filteringsOf(9), 3u);
+  EXPECT_EQ(filteringsOf(40), 5u);  // 4, 8, 16, 32 and the last
+}
+
+TEST(PassPolicy, ThePlanKeepsTimeForTheFilterings) {
+  const PassCost cornell{0.13, 0.44};
+  const double filter_s = 0.25;
+  const PassPlan plan = planPasses(6, cornell, filter_s);
+  EXPECT_EQ(plan.passes, 9u);
+  const double used = plan.passes * cornell.at(plan.ray_share) + filteringsOf(9) * filter_s;
+  EXPECT_LE(used, 6 / kPassPlanSlack + 1e-9);
+  EXPECT_GT(used, 6 / kPassPlanSlack - cornell.at(1));
+  EXPECT_LT(plan.ray_share, planPasses(6, cornell).ray_share + 1e-12);
+}
+
+TEST(PassPolicy, FourPassesWithFewerRaysWhereFullOnesWouldNotFit) {
+  const PassPlan plan = planPasses(2, {0.1, 1.0});
+  expectFills(2, {0.1, 1.0}, plan);
+  EXPECT_EQ(plan.passes, kFewestPasses);
+  EXPECT_LT(plan.ray_share, 0.5);
+}
+
+TEST(PassPolicy, NeverBelowAQuarterEvenWhereFewerPassesFit) {
   // 5 s for passes of 11.3 s (the double-sided Cornell box at 256 texels/m
-  // in 10 s): one pass at a quarter, not two of one gather ray.
-  EXPECT_DOUBLE_EQ(rayShare(5, 11.3), kMinRayShare);
-  EXPECT_DOUBLE_EQ(rayShare(0, 1), kMinRayShare);
+  // in 10 s): one pass at a quarter, not four of one gather ray each.
+  const PassCost dense{2.3, 9.0};
+  const PassPlan plan = planPasses(5, dense);
+  EXPECT_DOUBLE_EQ(plan.ray_share, kMinRayShare);
+  EXPECT_EQ(plan.passes, 1u);
+  EXPECT_DOUBLE_EQ(planPasses(0, dense).ray_share, 1.0);  // no time: the plan's rays, one pass
+}
+
+TEST(PassPolicy, AllFixedCostOrNoneMeasuredKeepsThePlansRays) {
+  EXPECT_DOUBLE_EQ(planPasses(10, {1.0, 0.0}).ray_share, 1.0);
+  EXPECT_EQ(planPasses(10, {1.0, 0.0}).passes, 9u);
+  EXPECT_DOUBLE_EQ(planPasses(10, {0.0, 0.0}).ray_share, 1.0);
 }
 
 TEST(PassPolicy, TheNextPassStartsOnlyWhereItAndTheFinishFit) {
