@@ -2,8 +2,9 @@
 // The stages of a bake that a whole bake (bake.cpp) and a sharded one
 // (sharded_bake.cpp) share: loading, the radiosity, the atlas and its
 // texels, the runtime's sections and masks, the lighting settings, and the
-// finish (pages, bake file, report, write-then-swap). A sharded bake runs the same stages
-// in other processes, so its output is the whole bake's by construction.
+// finish (pages, bake file, report, write-then-swap). A sharded bake runs
+// the same stages in other processes, so its output is the whole bake's by
+// construction.
 // Internal.
 
 #include <atomic>

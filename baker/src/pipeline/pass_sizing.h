@@ -7,12 +7,12 @@
 // bakes ended at 8.1-9.1 s. Before the first pass, timed passes over every
 // 16th texel at all of the plan's rays and at a quarter of them measure a
 // pass's cost: a part that shrinks with its rays and a part that does not
-// (texel setup, a shadow ray per point light: a fifth of a pass on the
-// double-sided Cornell box). The fewest passes that fill the time the
-// passes have then run (4 at least, for the filter and the split half),
-// with their rays shrunk (to a quarter at most) so that they fill it: with
-// a fixed part, the same seconds in more, smaller passes cast fewer rays
-// (30 passes at a quarter cast 5.8 passes' rays in 10 s, 11 at 0.9 cast 9.7).
+// (texel setup, a shadow ray per point light). The fewest passes that fill
+// the time the passes have then run (4 at least, for the filter and the
+// split half), with their rays shrunk (to a quarter at most) so that they
+// fill it: more, smaller passes in the same seconds cast fewer rays (on the
+// double-sided Cornell box in 10 s, 23-27 passes at a quarter cast 6-7
+// passes' worth; 10-12 at 0.95-0.97 cast 10-11).
 // The plan keeps time for the filterings of the measured passes (4, 8, 16,
 // ... and the last), each taken as kFilterPassShare of a pass: the filter's
 // cost is unknown until it has run once.

@@ -82,12 +82,18 @@ TEST(PassPolicy, AllFixedCostOrNoneMeasuredKeepsThePlansRays) {
   EXPECT_DOUBLE_EQ(planPasses(10, {0.0, 0.0}).ray_share, 1.0);
 }
 
-TEST(PassPolicy, TheNextPassStartsOnlyWhereItAndTheFinishFit) {
+// The plan of a bake with a 10 s budget (`passes` 0) or `passes` passes.
+BakePlan planOf(uint32_t passes) {
   BakeOptions options;
   options.level_path = "level.gltf";
   options.out_dir = "out";
-  options.time_budget_s = 10;
-  const BakePlan plan = planBake(options);
+  if (passes == 0) options.time_budget_s = 10;
+  options.passes = passes;
+  return planBake(options);
+}
+
+TEST(PassPolicy, TheNextPassStartsOnlyWhereItAndTheFinishFit) {
+  const BakePlan plan = planOf(0);
   ASSERT_TRUE(plan.has_budget);
   const double finish = finishSeconds(plan, 0.2);
   EXPECT_DOUBLE_EQ(finish, 1.5 * 0.2 + plan.pass_time_margin_s);
@@ -98,12 +104,8 @@ TEST(PassPolicy, TheNextPassStartsOnlyWhereItAndTheFinishFit) {
   EXPECT_FALSE(wantLightingPass(plan, plan.max_lighting_passes, 0, 0, 0));
 }
 
-TEST(PassPolicy, WithoutABudgetTheQualityCountsThePasses) {
-  BakeOptions options;
-  options.level_path = "level.gltf";
-  options.out_dir = "out";
-  options.passes = 6;
-  const BakePlan plan = planBake(options);
+TEST(PassPolicy, WithoutABudgetThePassesAreCounted) {
+  const BakePlan plan = planOf(6);
   EXPECT_FALSE(plan.has_budget);
   EXPECT_TRUE(wantLightingPass(plan, 5, 1e9, 1e9, 1e9));
   EXPECT_FALSE(wantLightingPass(plan, 6, 0, 0, 0));
