@@ -78,7 +78,12 @@ PassPlan planPasses(double seconds_for_passes, const PassCost& cost, double filt
   plan.ray_share = std::clamp(share, kMinRayShare, 1.0);
   plan.passes = n;
   while (plan.passes > 1 && perPass(plan.passes) < cost.at(plan.ray_share)) --plan.passes;
-  return plan;
+  if (plan.passes >= kFewestPasses || !(cost.per_share_s > 0)) return plan;
+  // Too little time for kFewestPasses at a quarter: thinner filtered
+  // passes, or one pass with what fits.
+  if (share >= kFilteredPassesMinShare) return {kFewestPasses, share};
+  const double one = (usable - cost.fixed_s) / cost.per_share_s;
+  return {1, std::clamp(one, kMinRayShare, 1.0)};
 }
 
 double finishSeconds(const BakePlan& plan, double filter_s) {

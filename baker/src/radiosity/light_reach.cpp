@@ -97,7 +97,7 @@ void LightReach::markTriangle(const glm::dvec3 (&c)[3]) {
 
 // A light inside a voxel some surface passes through floods from the free
 // voxels around it; one outside the grid is outside every wall, with the sun.
-void LightReach::seed(const glm::dvec3& p, std::vector<uint32_t>& frontier) {
+void LightReach::seed(const glm::dvec3& p, std::vector<size_t>& frontier) {
   uint32_t x, y, z;
   if (!cellOf(p, &x, &y, &z)) return seedBoundary(frontier);
   for (int dz = -1; dz <= 1; ++dz) {
@@ -110,13 +110,13 @@ void LightReach::seed(const glm::dvec3& p, std::vector<uint32_t>& frontier) {
         const size_t i = index(uint32_t(X), uint32_t(Y), uint32_t(Z));
         if (bit(solid_, i) || bit(reached_, i)) continue;
         setBit(reached_, i);
-        frontier.push_back(uint32_t(i));
+        frontier.push_back(i);
       }
     }
   }
 }
 
-void LightReach::seedBoundary(std::vector<uint32_t>& frontier) {
+void LightReach::seedBoundary(std::vector<size_t>& frontier) {
   // The margin is one connected shell of free voxels: its corner floods it.
   if (bit(reached_, 0)) return;
   setBit(reached_, 0);
@@ -129,39 +129,29 @@ void LightReach::seedBoundary(std::vector<uint32_t>& frontier) {
 // sealed from the light. Returns how many were opened.
 size_t LightReach::openSmallPockets(size_t max_voxels) {
   std::vector<uint64_t> seen = reached_;
-  std::vector<uint32_t> pocket;
+  std::vector<size_t> pocket;
+  std::vector<VoxelRun> runs;
   size_t opened = 0;
-  const size_t count = size_t(nx_) * ny_ * nz_;
-  for (size_t i = 0; i < count; ++i) {
-    if (bit(solid_, i) || bit(seen, i)) continue;
-    setBit(seen, i);
-    pocket.assign(1, uint32_t(i));
-    floodInto(pocket, seen);
-    if (pocket.size() > max_voxels) continue;
-    for (uint32_t j : pocket) setBit(reached_, j);
-    ++opened;
+  for (size_t word = 0; word < seen.size(); ++word) {
+    for (uint64_t free = ~(solid_[word] | seen[word]); free != 0;
+         free = ~(solid_[word] | seen[word])) {
+      const size_t i = (word << 6) + size_t(__builtin_ctzll(free));
+      setBit(seen, i);
+      pocket.assign(1, i);
+      runs.clear();
+      if (floodVoxels(rows_, solid_, seen, pocket, &runs) > max_voxels) continue;
+      for (const auto& [first, length] : runs)
+        for (size_t j = first; j < first + length; ++j) setBit(reached_, j);
+      ++opened;
+    }
   }
   return opened;
 }
 
-void LightReach::flood(std::vector<uint32_t>& frontier) { floodInto(frontier, reached_); }
-
-// Breadth-first through 6-connected free voxels, marking them in `marks`.
-void LightReach::floodInto(std::vector<uint32_t>& frontier, std::vector<uint64_t>& marks) const {
-  const int64_t steps[6] = {
-      1, -1, int64_t(nx_), -int64_t(nx_), int64_t(nx_) * ny_, -int64_t(nx_) * ny_};
-  for (size_t f = 0; f < frontier.size(); ++f) {
-    const uint32_t i = frontier[f];
-    const uint32_t x = i % nx_, y = (i / nx_) % ny_, z = i / (nx_ * ny_);
-    const bool inside[6] = {x + 1 < nx_, x > 0, y + 1 < ny_, y > 0, z + 1 < nz_, z > 0};
-    for (int s = 0; s < 6; ++s) {
-      if (!inside[s]) continue;
-      const size_t j = size_t(int64_t(i) + steps[s]);
-      if (bit(solid_, j) || bit(marks, j)) continue;
-      setBit(marks, j);
-      frontier.push_back(uint32_t(j));
-    }
-  }
+// The bits of each row past nx are solid: a run along x stops in its row.
+void LightReach::markRowPadding() {
+  for (size_t row = 0; row < size_t(ny_) * nz_; ++row)
+    for (size_t x = nx_; x < rows_.rowBits(); ++x) setBit(solid_, row * rows_.rowBits() + x);
 }
 
 LightReach LightReach::build(const BakeGeometry& geometry, const std::vector<LightSource>& lights,
@@ -177,15 +167,17 @@ LightReach LightReach::build(const BakeGeometry& geometry, const std::vector<Lig
   r.nx_ = uint32_t(cells.x);
   r.ny_ = uint32_t(cells.y);
   r.nz_ = uint32_t(cells.z);
-  const size_t count = size_t(r.nx_) * r.ny_ * r.nz_;
-  r.solid_.assign((count + 63) / 64, 0);
-  r.reached_.assign((count + 63) / 64, 0);
+  r.rows_ = VoxelRows::forSize(r.nx_, r.ny_, r.nz_);
+  const size_t count = r.rows_.bits();
+  r.solid_.assign(r.rows_.words(), 0);
+  r.reached_.assign(r.rows_.words(), 0);
+  r.markRowPadding();
   for (size_t t = 0; t < geometry.triangleCount(); ++t) {
     const glm::dvec3 c[3] = {dvec(geometry.corner(t, 0)), dvec(geometry.corner(t, 1)),
                              dvec(geometry.corner(t, 2))};
     r.markTriangle(c);
   }
-  std::vector<uint32_t> frontier;
+  std::vector<size_t> frontier;
   for (const LightSource& light : lights) {
     if (light.kind == LightKind::kPoint || light.kind == LightKind::kSpot)
       r.seed(light.position, frontier);
@@ -202,7 +194,7 @@ LightReach LightReach::build(const BakeGeometry& geometry, const std::vector<Lig
     r.seed(centroid + n * r.voxel_, frontier);
     if (geometry.double_sided[t]) r.seed(centroid - n * r.voxel_, frontier);
   }
-  r.flood(frontier);
+  floodVoxels(r.rows_, r.solid_, r.reached_, frontier);
   r.stats_.sealed_pockets_opened = r.openSmallPockets(kMaxPocketVoxels);
   size_t solid = 0, reached = 0;
   for (uint64_t word : r.solid_) solid += size_t(__builtin_popcountll(word));

@@ -24,6 +24,7 @@
 #include <glm/glm.hpp>
 
 #include "light_sources.h"
+#include "voxel_flood.h"
 #include "svit/baker/bake_geometry.h"
 #include "svit/baker/radiosity.h"
 
@@ -69,19 +70,19 @@ class LightReach {
   const LightReachStats& stats() const { return stats_; }
 
  private:
-  size_t index(uint32_t x, uint32_t y, uint32_t z) const { return (size_t(z) * ny_ + y) * nx_ + x; }
+  size_t index(uint32_t x, uint32_t y, uint32_t z) const { return rows_.index(x, y, z); }
   bool cellOf(const glm::dvec3& p, uint32_t* x, uint32_t* y, uint32_t* z) const;
   void markTriangle(const glm::dvec3 (&c)[3]);
-  void seed(const glm::dvec3& p, std::vector<uint32_t>& frontier);
-  void seedBoundary(std::vector<uint32_t>& frontier);
-  void flood(std::vector<uint32_t>& frontier);
-  void floodInto(std::vector<uint32_t>& frontier, std::vector<uint64_t>& marks) const;
+  void markRowPadding();
+  void seed(const glm::dvec3& p, std::vector<size_t>& frontier);
+  void seedBoundary(std::vector<size_t>& frontier);
   size_t openSmallPockets(size_t max_voxels);
 
   LightReachStats stats_;
   glm::dvec3 origin_{0.0};
   double voxel_ = 0;
   uint32_t nx_ = 0, ny_ = 0, nz_ = 0;
+  VoxelRows rows_;  ///< how the bitsets lay the grid out (rows padded to words)
   std::vector<uint64_t> solid_, reached_;  ///< bitsets over the grid
 };
 

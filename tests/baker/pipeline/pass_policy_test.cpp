@@ -66,13 +66,25 @@ TEST(PassPolicy, FourPassesWithFewerRaysWhereFullOnesWouldNotFit) {
   EXPECT_LT(plan.ray_share, 0.5);
 }
 
-TEST(PassPolicy, NeverBelowAQuarterEvenWhereFewerPassesFit) {
+TEST(PassPolicy, FourThinnerPassesWhereAQuarterFitsFewerThanFour) {
+  // The Cornell box in a 1 s budget: 0.32 s for passes of 0.31 s. Three
+  // passes at a quarter would go unfiltered; four at 0.22 are filtered.
+  const PassCost cornell{0.01, 0.3};
+  const PassPlan plan = planPasses(0.32, cornell);
+  EXPECT_EQ(plan.passes, kFewestPasses);
+  EXPECT_LT(plan.ray_share, kMinRayShare);
+  EXPECT_GE(plan.ray_share, kFilteredPassesMinShare);
+  EXPECT_LE(plan.passes * cornell.at(plan.ray_share), 0.32 / kPassPlanSlack + 1e-9);
+}
+
+TEST(PassPolicy, OnePassWithWhatFitsWhereFourWouldBeTooThin) {
   // 5 s for passes of 11.3 s (the double-sided Cornell box at 256 texels/m
-  // in 10 s): one pass at a quarter, not four of one gather ray each.
+  // in 10 s): one pass at the share that fits, never below a quarter.
   const PassCost dense{2.3, 9.0};
   const PassPlan plan = planPasses(5, dense);
-  EXPECT_DOUBLE_EQ(plan.ray_share, kMinRayShare);
   EXPECT_EQ(plan.passes, 1u);
+  EXPECT_NEAR(plan.ray_share, (5 / kPassPlanSlack - 2.3) / 9.0, 1e-12);
+  EXPECT_DOUBLE_EQ(planPasses(3, dense).ray_share, kMinRayShare);
   EXPECT_DOUBLE_EQ(planPasses(0, dense).ray_share, 1.0);  // no time: the plan's rays, one pass
 }
 
