@@ -1,21 +1,18 @@
 #pragma once
 // Lighting passes sized to a time budget from their measured cost (issue 46
-// item 2). Passes are whole (each lights every texel once, and the
-// split-half estimate and the filter need them alike), so the last one
-// that fits leaves up to a pass of the budget unused: at 10 s on the
-// Cornell box a pass of 16 gather rays took a tenth of the budget and
-// bakes ended at 8.1-9.1 s. Before the first pass, timed passes over every
-// 16th texel at all of the plan's rays and at a quarter of them measure a
-// pass's cost: a part that shrinks with its rays and a part that does not
-// (texel setup, a shadow ray per point light). The fewest passes that fill
-// the time the passes have then run (4 at least, for the filter and the
-// split half), with their rays shrunk (to a quarter at most) so that they
-// fill it: more, smaller passes in the same seconds cast fewer rays (on the
-// double-sided Cornell box in 10 s, 23-27 passes at a quarter cast 6-7
-// passes' worth; 10-12 at 0.95-0.97 cast 10-11).
-// The plan keeps time for the filterings of the measured passes (4, 8, 16,
-// ... and the last), each taken as kFilterPassShare of a pass: the filter's
-// cost is unknown until it has run once.
+// item 2; the figures behind each choice: docs/architecture/baker-pipeline.md,
+// "Passes sized to the budget"). Passes are whole (each lights every texel
+// once, and the split-half estimate and the filter need them alike), so the
+// last one that fits leaves up to a pass of the budget unused. Before the
+// first pass, timed passes over every 16th texel at all of the plan's rays
+// and at a quarter of them measure a pass's cost: a part that shrinks with
+// its rays and a part that does not (texel setup, a shadow ray per point
+// light). The fewest passes that fill the time the passes have then run (4
+// at least, for the filter and the split half), with their rays shrunk so
+// that they fill it (to a quarter, or an eighth where only that lets four
+// fit): more, smaller passes in the same seconds cast fewer rays. The plan keeps time for the
+// filterings of the measured passes (4, 8, 16, ... and the last), each taken as kFilterPassShare of
+// a pass: the filter's cost is unknown until it has run once.
 
 #include <cstdint>
 
@@ -31,19 +28,16 @@ inline constexpr double kMinRayShare = 0.25;
 /// Passes a budget holds at least (the filter and the split half need them).
 inline constexpr uint32_t kFewestPasses = 4;
 /// Where kFewestPasses do not fit at kMinRayShare, they still run down to
-/// this share: the filter they allow outweighs the rays (the Cornell box in
-/// 1 s: 3 unfiltered passes at a quarter read 13.7 % against Cycles, 1.5 s
-/// with 4 filtered passes at 0.4 3.4 %). Below it, one pass with as many
-/// rays as fit (at 256 texels/m in 10 s, two passes of one ray read 113 %).
+/// this share: the filter they allow outweighs the rays. Below it, one pass
+/// with as many rays as fit (unfiltered passes of a ray or two are noise).
 inline constexpr double kFilteredPassesMinShare = 0.125;
 /// The passes are planned to fill the time less this share of slack: a next
 /// pass starts only if 1.05x the slowest one fits (bake_plan.h), and passes
 /// vary by a few percent.
 inline constexpr double kPassPlanSlack = 1.06;
 
-/// A filtering of the passes as a share of a pass at the plan's rays (the
-/// double-sided Cornell box at 64 texels/m: 0.22 s against 0.51 s; where
-/// rays cost more, as on Sponza, it is less).
+/// A filtering of the passes as a share of a pass at the plan's rays, as
+/// on the double-sided Cornell box; where rays cost more it is less.
 inline constexpr double kFilterPassShare = 0.45;
 
 /// A whole pass's cost at a share s of the plan's rays.

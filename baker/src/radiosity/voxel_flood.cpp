@@ -57,7 +57,8 @@ void seedRow(const std::vector<uint64_t>& solid, std::vector<uint64_t>& marks, s
   for (size_t word = (row_start + x0) >> 6; word <= (row_start + x1) >> 6; ++word) {
     const size_t lo = word << 6;
     const size_t from = std::max(lo, row_start + x0), to = std::min(lo + 63, row_start + x1);
-    uint64_t bits = freeBits(solid, marks, word) & span(uint32_t(from - lo), uint32_t(to - from + 1));
+    uint64_t bits =
+        freeBits(solid, marks, word) & span(uint32_t(from - lo), uint32_t(to - from + 1));
     while (bits != 0) {
       const size_t first = lo + size_t(__builtin_ctzll(bits));
       marks[word] |= uint64_t(1) << (first - lo);

@@ -4,7 +4,7 @@
 // run seeds the free runs beside it in the four neighbouring rows. Marks
 // exactly the voxels a breadth-first flood through 6-connected free voxels
 // marks, touching each row's words once per run instead of pushing every
-// voxel: the Cornell box's 27 M voxels took 0.5 s a bake breadth-first.
+// voxel (docs/architecture/baker-radiosity.md "Leaks" has the timings).
 // Internal.
 
 #include <cstddef>

@@ -94,8 +94,9 @@ TEST(VoxelFlood, MarksWhatABreadthFirstFloodMarksAtEveryRowLength) {
 TEST(VoxelFlood, StopsAtMarksAlreadySetAndCountsOnlyWhatItMarks) {
   const Grid g = randomGrid(70, 4, 3, 0.0, 7);  // all free
   std::vector<uint64_t> marks(g.rows.words(), 0);
+  // A marked wall at z = 1.
   for (uint32_t y = 0; y < 4; ++y)
-    for (uint32_t x = 0; x < 70; ++x) setBit(marks, g.rows.index(x, y, 1));  // a marked wall at z = 1
+    for (uint32_t x = 0; x < 70; ++x) setBit(marks, g.rows.index(x, y, 1));
   const size_t start = g.rows.index(3, 2, 0);
   setBit(marks, start);
   std::vector<size_t> seeds = {start};
