@@ -9,8 +9,8 @@
 
 #include "bake_output.h"
 #include "bake_stages.h"
-#include "pass_sizing.h"
 #include "lightmap_error.h"
+#include "pass_sizing.h"
 #include "svit/bake_file.h"
 #include "svit/level.h"
 #include "svit/lightmap_image.h"
@@ -30,11 +30,6 @@ double pagesReferenceError(const LoadedLevel& level, const AtlasTexels& atlas,
                                                  passes.mean, bakePageSettings(atlas, options));
   return referenceError(atlas.texels, pages.images, reference);
 }
-
-// Passes after which the error against a reference and the split-half
-// estimate are measured: 1, 2, 4, 8, ... (and the last), so a budgeted
-// bake spends a few page builds on them.
-bool measuredPass(uint32_t pass) { return ((pass + 1) & pass) == 0; }
 
 // The pages of the --reference bake, checked to be of the same level; none
 // without --reference.

@@ -77,6 +77,8 @@ double atlasTexelsPerM(const BakePlan& plan, double total_area_m2) {
                     kMinAutoTexelsPerM, kMaxAutoTexelsPerM);
 }
 
+bool measuredPass(uint32_t pass) { return ((pass + 1) & pass) == 0; }
+
 bool wantLightingPass(const BakePlan& plan, uint32_t pass, double elapsed_s, double pass_s,
                       double finish_s) {
   if (pass >= plan.max_lighting_passes) return false;

@@ -43,6 +43,12 @@ BakePlan planBake(const BakeOptions& options);
 /// puts about 256k texels on that area, clamped to [1, 512] texels per metre.
 double atlasTexelsPerM(const BakePlan& plan, double total_area_m2);
 
+/// Whether the passes are filtered and measured after pass `pass` (0-based):
+/// after 1, 2, 4, 8, ... passes (and the last), the error against a
+/// reference and the split-half estimate, so a budgeted bake spends a few
+/// page builds on them.
+bool measuredPass(uint32_t pass);
+
 /// Whether a lighting pass `pass` (0-based) should run, `elapsed_s` into the
 /// bake, the slowest pass so far having taken `pass_s`, with `finish_s`
 /// needed after the last pass (the first pass always runs).

@@ -60,10 +60,11 @@ Expected<PassCost> measurePassCost(BakeRun& run, const LoadedLevel& level,
 }  // namespace
 
 uint32_t filteringsOf(uint32_t passes) {
+  if (passes < kFilteredPasses) return 0;
   uint32_t filterings = 0;
-  for (uint32_t measured = 4; measured <= passes; measured *= 2) ++filterings;
-  const bool last_measured = (passes & (passes - 1)) == 0;
-  return filterings + (passes >= 4 && !last_measured ? 1 : 0);
+  for (uint32_t pass = kFilteredPasses - 1; pass < passes; ++pass)
+    filterings += measuredPass(pass) ? 1 : 0;
+  return filterings + (measuredPass(passes - 1) ? 0 : 1);
 }
 
 PassPlan planPasses(double seconds_for_passes, const PassCost& cost, double filter_s) {
@@ -73,7 +74,7 @@ PassPlan planPasses(double seconds_for_passes, const PassCost& cost, double filt
   // The seconds each of n passes has, once their filterings are paid.
   const auto perPass = [&](uint32_t n) { return (usable - filteringsOf(n) * filter_s) / n; };
   uint32_t n = kFewestPasses;
-  while (perPass(n) > cost.at(1) && n < 100000) ++n;
+  while (perPass(n) > cost.at(1) && n < kMaxBakePasses) ++n;
   const double share = cost.per_share_s > 0 ? (perPass(n) - cost.fixed_s) / cost.per_share_s : 1.0;
   plan.ray_share = std::clamp(share, kMinRayShare, 1.0);
   plan.passes = n;

@@ -16,7 +16,9 @@
 
 #include <cstdint>
 
+#include "bake_plan.h"
 #include "bake_stages.h"
+#include "lightmap/filtered_passes.h"
 
 namespace svit::baker {
 
@@ -25,8 +27,9 @@ inline constexpr uint32_t kProbeStride = 16;
 /// Smallest share of the plan's rays a pass keeps: below it a pass is
 /// mostly its fixed part, and a single gather ray has no stratification.
 inline constexpr double kMinRayShare = 0.25;
-/// Passes a budget holds at least (the filter and the split half need them).
-inline constexpr uint32_t kFewestPasses = 4;
+/// Passes a budget holds at least: those the filter needs (and the split
+/// half).
+inline constexpr uint32_t kFewestPasses = kFilteredPasses;
 /// Where kFewestPasses do not fit at kMinRayShare, they still run down to
 /// this share: the filter they allow outweighs the rays. Below it, one pass
 /// with as many rays as fit (unfiltered passes of a ray or two are noise).
@@ -53,8 +56,8 @@ struct PassPlan {
   double ray_share = 1;
 };
 
-/// The filterings a bake of `passes` lighting passes runs: at 4, 8, 16, ...
-/// passes (the measured ones the filter runs on), and after the last.
+/// The filterings a bake of `passes` lighting passes runs: after each
+/// measured pass (measuredPass) from kFilteredPasses on, and after the last.
 uint32_t filteringsOf(uint32_t passes);
 
 /// The fewest passes, kFewestPasses at least, that with their filterings

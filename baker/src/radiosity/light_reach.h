@@ -24,9 +24,9 @@
 #include <glm/glm.hpp>
 
 #include "light_sources.h"
-#include "voxel_flood.h"
 #include "svit/baker/bake_geometry.h"
 #include "svit/baker/radiosity.h"
+#include "voxel_flood.h"
 
 namespace svit::baker {
 
